@@ -1,0 +1,387 @@
+//! The scene description file (TOML) and how it becomes a [`Scene`].
+//!
+//! ```toml
+//! [environment]
+//! source = "builtin:sky"            # builtin:sky | builtin:studio | builtin:constant | a path | asset:REL
+//! sun_elevation_deg = 35.0          # built-in sky only
+//! rotation_deg = 0.0                # about +Y
+//! intensity = 1.0
+//!
+//! [[object]]
+//! name = "teapot"
+//! source = "builtin:teapot"         # builtin:teapot|sphere|torus|box|plane, a .obj/.gltf/.glb path, or asset:REL
+//! resolution = 12                   # tessellation of built-ins
+//! translation = [0.0, 0.0, 0.0]
+//! rotation_deg = [0.0, 0.0, 0.0]    # XYZ Euler angles, applied before translation
+//! scale = 1.0
+//! moves = true                      # whether the object may translate at run time
+//! material = { model = "blinn-phong", kd = [0.7, 0.5, 0.3], ks = [0.3, 0.3, 0.3], exponent = 15.0 }
+//!
+//! [[camera]]
+//! name = "main"
+//! position = [0.0, 4.0, 10.0]
+//! target = [0.0, 1.0, 0.0]
+//! fov_y_deg = 40.0
+//! ```
+//!
+//! Relative paths resolve against the scene file's folder; `asset:REL` resolves through
+//! [`crate::assets::locate`]. A file source can yield several objects (glTF nodes, OBJ groups:
+//! `split`); they are named `NAME/CHILD`.
+
+use crate::loaders::{GltfObjects, ObjObjects};
+use crate::material::Material;
+use crate::mesh::{Mesh, MeshOptions, Weld};
+use crate::{Camera, Motion, Scene, SceneError, SceneObject, assets, shapes, teapot};
+use glam::{EulerRot, Mat4, Quat, Vec3};
+use serde::{Deserialize, Serialize};
+use std::path::{Path, PathBuf};
+use vcut_envmap::{EnvMap, InvalidTexels, procedural};
+
+/// A whole scene file.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, Default)]
+#[serde(deny_unknown_fields)]
+pub struct SceneDesc {
+    /// The lighting.
+    #[serde(default)]
+    pub environment: EnvironmentDesc,
+    /// The objects, in order.
+    #[serde(default, rename = "object")]
+    pub objects: Vec<ObjectDesc>,
+    /// Cameras; the first is the default view.
+    #[serde(default, rename = "camera")]
+    pub cameras: Vec<CameraDesc>,
+}
+
+/// The `[environment]` table.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct EnvironmentDesc {
+    /// `builtin:sky`, `builtin:studio`, `builtin:constant`, a file path or `asset:REL`.
+    pub source: String,
+    /// Rotation about +Y in degrees.
+    pub rotation_deg: f32,
+    /// Radiance scale.
+    pub intensity: f32,
+    /// Lat-long width built-in maps are baked at (height is half).
+    pub resolution: u32,
+    /// Built-in sky: sun elevation above the horizon, degrees.
+    pub sun_elevation_deg: f32,
+    /// Built-in sky: sun azimuth from +Z towards +X, degrees.
+    pub sun_azimuth_deg: f32,
+    /// Built-in sky: turbidity.
+    pub turbidity: f32,
+    /// Built-in sky: sun diameter, degrees.
+    pub sun_diameter_deg: f32,
+    /// Built-in sky: sun radiance over zenith luminance.
+    pub sun_to_zenith: f32,
+    /// Clamp NaN/Inf/negative texels instead of refusing the file.
+    pub clamp_invalid: bool,
+}
+
+impl Default for EnvironmentDesc {
+    fn default() -> Self {
+        let sky = procedural::PreethamSky::default();
+        Self {
+            source: "builtin:sky".into(),
+            rotation_deg: 0.0,
+            intensity: 1.0,
+            resolution: 1024,
+            sun_elevation_deg: 30.0,
+            sun_azimuth_deg: 45.0,
+            turbidity: sky.turbidity,
+            sun_diameter_deg: sky.sun_diameter_deg,
+            sun_to_zenith: sky.sun_to_zenith,
+            clamp_invalid: false,
+        }
+    }
+}
+
+/// How a file source is split into objects.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Split {
+    /// glTF: one object per node with a mesh.
+    MeshNodes,
+    /// glTF: one object per root node.
+    TopLevelNodes,
+    /// OBJ: one object per group.
+    Groups,
+    /// The whole file is one object.
+    File,
+}
+
+/// One `[[object]]` entry.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct ObjectDesc {
+    /// Name (defaults to the source's).
+    pub name: Option<String>,
+    /// `builtin:teapot|sphere|torus|box|plane`, a `.obj/.gltf/.glb` path, or `asset:REL`.
+    pub source: String,
+    /// Tessellation of built-ins (teapot: quads per patch edge; sphere: rings; plane/box: cells per edge).
+    pub resolution: Option<u32>,
+    /// Size of built-ins (sphere radius, torus major radius, box edge, plane side).
+    pub size: Option<f32>,
+    /// Uniformly rescale so the object is this tall and stands on y = 0 (before the transform).
+    pub stand_height: Option<f32>,
+    /// Translation.
+    pub translation: [f32; 3],
+    /// XYZ Euler rotation, degrees.
+    pub rotation_deg: [f32; 3],
+    /// Uniform scale.
+    pub scale: f32,
+    /// Whether the object may translate at run time.
+    pub moves: bool,
+    /// BRDF (overrides the file's).
+    pub material: Option<Material>,
+    /// Splitting of file sources.
+    pub split: Option<Split>,
+    /// Weld vertices closer than this distance.
+    pub weld: Option<f32>,
+}
+
+impl Default for ObjectDesc {
+    fn default() -> Self {
+        Self {
+            name: None,
+            source: String::new(),
+            resolution: None,
+            size: None,
+            stand_height: None,
+            translation: [0.0; 3],
+            rotation_deg: [0.0; 3],
+            scale: 1.0,
+            moves: false,
+            material: None,
+            split: None,
+            weld: None,
+        }
+    }
+}
+
+/// One `[[camera]]` entry.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct CameraDesc {
+    /// Name.
+    pub name: String,
+    /// Eye position.
+    pub position: [f32; 3],
+    /// Point looked at.
+    pub target: [f32; 3],
+    /// Up vector.
+    pub up: [f32; 3],
+    /// Vertical field of view, degrees.
+    pub fov_y_deg: f32,
+}
+
+impl Default for CameraDesc {
+    fn default() -> Self {
+        Self { name: "main".into(), position: [0.0, 2.0, 8.0], target: [0.0; 3], up: [0.0, 1.0, 0.0], fov_y_deg: 40.0 }
+    }
+}
+
+impl SceneDesc {
+    /// Parses TOML; `path` names the file in errors.
+    pub fn parse(text: &str, path: &Path) -> Result<SceneDesc, SceneError> {
+        toml::from_str(text).map_err(|e| SceneError::SceneFile { path: path.into(), reason: e.to_string() })
+    }
+
+    /// Reads and parses a scene file.
+    pub fn read(path: &Path) -> Result<SceneDesc, SceneError> {
+        let text = std::fs::read_to_string(path).map_err(|source| SceneError::Io { path: path.into(), source })?;
+        Self::parse(&text, path)
+    }
+
+    /// The description as TOML.
+    pub fn to_toml(&self) -> String {
+        toml::to_string_pretty(self).unwrap_or_default()
+    }
+
+    /// Builds the scene; relative paths resolve against `base`, errors name `file`.
+    pub fn instantiate(&self, base: &Path, file: &Path) -> Result<Scene, SceneError> {
+        let environment = self.environment.load(base, file)?;
+        let mut objects = Vec::new();
+        for (i, o) in self.objects.iter().enumerate() {
+            objects.extend(o.load(base, file, i)?);
+        }
+        let mut seen = std::collections::HashSet::new();
+        for o in &objects {
+            if !seen.insert(o.name.clone()) {
+                return Err(SceneError::SceneFile {
+                    path: file.into(),
+                    reason: format!("two objects are named '{}'", o.name),
+                });
+            }
+        }
+        let cameras = self
+            .cameras
+            .iter()
+            .map(|c| Camera {
+                name: c.name.clone(),
+                position: Vec3::from(c.position),
+                target: Vec3::from(c.target),
+                up: Vec3::from(c.up),
+                fov_y_deg: c.fov_y_deg,
+            })
+            .collect();
+        Ok(Scene { objects, environment, cameras })
+    }
+}
+
+/// Resolves a source string to a path: `asset:REL` through the asset search path, otherwise
+/// relative to `base`; a missing file is an error naming the scene file.
+fn resolve(source: &str, base: &Path, file: &Path) -> Result<PathBuf, SceneError> {
+    let path = match source.strip_prefix("asset:") {
+        Some(rel) => assets::locate(rel)?,
+        None => base.join(source),
+    };
+    if !path.exists() {
+        return Err(SceneError::MissingFile { path, referenced_from: file.into() });
+    }
+    Ok(path)
+}
+
+impl EnvironmentDesc {
+    /// Loads or bakes the map, then applies rotation and intensity.
+    pub fn load(&self, base: &Path, file: &Path) -> Result<EnvMap, SceneError> {
+        let mut map = match self.source.as_str() {
+            "builtin:sky" => {
+                let mut sky =
+                    procedural::PreethamSky::from_elevation_azimuth(self.sun_elevation_deg, self.sun_azimuth_deg);
+                sky.turbidity = self.turbidity;
+                sky.sun_diameter_deg = self.sun_diameter_deg;
+                sky.sun_to_zenith = self.sun_to_zenith;
+                sky.bake(self.resolution)
+            }
+            "builtin:studio" => procedural::Studio::default().bake(self.resolution),
+            "builtin:constant" => EnvMap::constant([1.0; 3]),
+            s if s.starts_with("builtin:") => {
+                return Err(SceneError::UnknownBuiltin {
+                    name: s.into(),
+                    known: "builtin:sky, builtin:studio, builtin:constant",
+                });
+            }
+            s => {
+                let path = resolve(s, base, file)?;
+                let invalid = if self.clamp_invalid { InvalidTexels::Clamp } else { InvalidTexels::Reject };
+                vcut_envmap::load(&path, invalid)?.0
+            }
+        };
+        map.set_rotation_y_degrees(self.rotation_deg);
+        map.set_intensity(self.intensity);
+        Ok(map)
+    }
+}
+
+impl ObjectDesc {
+    /// Builds or loads the object(s) this entry names, transformed to world space.
+    pub fn load(&self, base: &Path, file: &Path, index: usize) -> Result<Vec<SceneObject>, SceneError> {
+        let bad =
+            |reason: String| SceneError::SceneFile { path: file.into(), reason: format!("object {index}: {reason}") };
+        let res = self.resolution;
+        let size = self.size;
+        let shape = |r: Result<Mesh, crate::mesh::MeshError>| {
+            r.map_err(|source| SceneError::Mesh { path: file.into(), object: self.source.clone(), source })
+        };
+        let mut parts: Vec<(String, Mesh, Option<Material>)> = match self.source.as_str() {
+            "builtin:teapot" => {
+                let (m, _) = teapot::teapot(res.unwrap_or(12)).map_err(|source| SceneError::Mesh {
+                    path: file.into(),
+                    object: "teapot".into(),
+                    source,
+                })?;
+                vec![("teapot".into(), m, None)]
+            }
+            "builtin:sphere" => {
+                let rings = res.unwrap_or(32);
+                vec![("sphere".into(), shape(shapes::sphere(size.unwrap_or(1.0), 2 * rings, rings))?, None)]
+            }
+            "builtin:torus" => {
+                let n = res.unwrap_or(32);
+                let r = size.unwrap_or(1.0);
+                vec![("torus".into(), shape(shapes::torus(r, 0.3 * r, 2 * n, n))?, None)]
+            }
+            "builtin:box" => {
+                let e = size.unwrap_or(1.0);
+                vec![("box".into(), shape(shapes::cuboid(Vec3::splat(e), res.unwrap_or(8)))?, None)]
+            }
+            "builtin:plane" => {
+                vec![("plane".into(), shape(shapes::plane(size.unwrap_or(10.0), res.unwrap_or(64)))?, None)]
+            }
+            s if s.starts_with("builtin:") => {
+                return Err(SceneError::UnknownBuiltin {
+                    name: s.into(),
+                    known: "builtin:teapot, builtin:sphere, builtin:torus, builtin:box, builtin:plane",
+                });
+            }
+            "" => return Err(bad("no source".into())),
+            s => {
+                let path = resolve(s, base, file)?;
+                let (g, o) = match self.split {
+                    Some(Split::MeshNodes) | None => (GltfObjects::MeshNodes, ObjObjects::File),
+                    Some(Split::TopLevelNodes) => (GltfObjects::TopLevelNodes, ObjObjects::File),
+                    Some(Split::Groups) => (GltfObjects::MeshNodes, ObjObjects::Groups),
+                    Some(Split::File) => (GltfObjects::TopLevelNodes, ObjObjects::File),
+                };
+                let weld = self.weld.map_or(Weld::None, Weld::Within);
+                let out = crate::loaders::load_file(&path, g, o, MeshOptions { weld, ..Default::default() })?;
+                let mut parts: Vec<_> = out.objects.into_iter().map(|o| (o.name, o.mesh, Some(o.material))).collect();
+                if self.split == Some(Split::File) && parts.len() > 1 {
+                    let (name, mut first, mat) = parts.remove(0);
+                    for (_, m, _) in &parts {
+                        first.append(m);
+                    }
+                    parts = vec![(name, first, mat)];
+                }
+                parts
+            }
+        };
+        if let Some(h) = self.stand_height {
+            if !(h.is_finite() && h > 0.0) {
+                return Err(bad(format!("stand_height = {h} must be > 0")));
+            }
+            let b = crate::mesh::Bounds::of_points(parts.iter().flat_map(|p| p.1.positions().iter().copied()));
+            let tall = (b.max.y - b.min.y).max(f32::MIN_POSITIVE);
+            let m = Mat4::from_scale(Vec3::splat(h / tall))
+                * Mat4::from_translation(Vec3::new(-0.5 * (b.min.x + b.max.x), -b.min.y, -0.5 * (b.min.z + b.max.z)));
+            for p in &mut parts {
+                p.1.transform(m);
+            }
+        }
+        if !(self.scale.is_finite() && self.scale != 0.0) {
+            return Err(bad(format!("scale = {} must be finite and non-zero", self.scale)));
+        }
+        let r = self.rotation_deg.map(f32::to_radians);
+        let xf = Mat4::from_scale_rotation_translation(
+            Vec3::splat(self.scale),
+            Quat::from_euler(EulerRot::XYZ, r[0], r[1], r[2]),
+            Vec3::from(self.translation),
+        );
+        if !xf.is_finite() {
+            return Err(bad("non-finite transform".into()));
+        }
+        if let Some(m) = &self.material {
+            m.validate().map_err(|e| bad(format!("material: {e}")))?;
+        }
+        let single = parts.len() == 1;
+        let own = self.name.clone();
+        Ok(parts
+            .into_iter()
+            .map(|(child, mut mesh, mat)| {
+                mesh.transform(xf);
+                let name = match (&own, single) {
+                    (Some(n), true) => n.clone(),
+                    (Some(n), false) => format!("{n}/{child}"),
+                    (None, _) => child,
+                };
+                SceneObject {
+                    name,
+                    mesh,
+                    material: self.material.or(mat).unwrap_or_default(),
+                    motion: if self.moves { Motion::Movable } else { Motion::Static },
+                }
+            })
+            .collect())
+    }
+}

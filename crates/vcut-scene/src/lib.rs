@@ -1,0 +1,275 @@
+//! Scenes for precomputed visibility-cut rendering: rigid objects with validated meshes and
+//! BRDF parameters, an environment map, and cameras.
+//!
+//! - **Objects** ([`SceneObject`]) are the rigid units that can later translate ([`Motion`]).
+//!   Meshes ([`Mesh`]) are validated once: finite positions, in-range indices, zero-area triangles
+//!   dropped and counted, unit normals (area-weighted where missing), optional welding.
+//! - **Loading**: glTF 2.0 (`.gltf` + `.bin`, `.glb`) with the node hierarchy flattened to world
+//!   space, and OBJ ([`loaders`]); glTF PBR materials map onto our BRDF parameters
+//!   ([`material`]).
+//! - **Built-ins**: the Utah teapot from its 32 Bézier patches ([`teapot`]), sphere, torus, box
+//!   and plane ([`shapes`]); built-in scenes `teapot`, `bunny`, `spheres` ([`scenes`]).
+//! - **Scene files** (TOML, [`desc`]) compose all of these with an environment map and cameras.
+//!
+//! # Invariants
+//! Objects are in world space at rest; names are unique within a scene. This crate knows nothing
+//! about rays, cuts or images; environment maps come from `vcut-envmap`.
+//!
+//! # Example
+//! ```
+//! use vcut_scene::Scene;
+//! let scene = Scene::open("builtin:spheres").unwrap();
+//! assert_eq!(scene.objects.len(), 3);
+//! let ground = scene.object("ground").unwrap();
+//! assert!(ground.mesh.normals().iter().all(|n| n.y > 0.99));
+//! ```
+
+pub mod assets;
+pub mod desc;
+pub mod loaders;
+pub mod material;
+pub mod mesh;
+pub mod scenes;
+pub mod shapes;
+pub mod teapot;
+
+pub use desc::SceneDesc;
+pub use material::{BrdfModel, Material};
+pub use mesh::{Bounds, Mesh, MeshError, MeshOptions, MeshReport, Weld};
+
+use glam::Vec3;
+use std::path::{Path, PathBuf};
+use vcut_envmap::EnvMap;
+
+/// Whether an object may move at run time.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Motion {
+    /// Never moves: nothing needs a field of it unless something moves relative to it.
+    Static,
+    /// May translate.
+    Movable,
+}
+
+/// A rigid object in world space.
+#[derive(Debug, Clone)]
+pub struct SceneObject {
+    /// Unique name.
+    pub name: String,
+    /// Geometry at rest, world space.
+    pub mesh: Mesh,
+    /// BRDF parameters.
+    pub material: Material,
+    /// Static or movable.
+    pub motion: Motion,
+}
+
+/// A pinhole camera.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Camera {
+    /// Name.
+    pub name: String,
+    /// Eye position.
+    pub position: Vec3,
+    /// Point looked at.
+    pub target: Vec3,
+    /// Up vector.
+    pub up: Vec3,
+    /// Vertical field of view in degrees.
+    pub fov_y_deg: f32,
+}
+
+/// Objects, lighting and cameras.
+#[derive(Debug, Clone)]
+pub struct Scene {
+    /// The objects.
+    pub objects: Vec<SceneObject>,
+    /// Distant lighting.
+    pub environment: EnvMap,
+    /// Cameras (the first is the default view).
+    pub cameras: Vec<Camera>,
+}
+
+/// Why a scene could not be loaded. Every variant names the file involved.
+#[derive(Debug, thiserror::Error)]
+pub enum SceneError {
+    /// A file could not be read.
+    #[error("{}: cannot read: {source}", path.display())]
+    Io {
+        /// The file.
+        path: PathBuf,
+        /// The OS error.
+        source: std::io::Error,
+    },
+    /// A scene file names a file that does not exist.
+    #[error("{}: referenced from {} does not exist", path.display(), referenced_from.display())]
+    MissingFile {
+        /// The missing file.
+        path: PathBuf,
+        /// The scene file naming it.
+        referenced_from: PathBuf,
+    },
+    /// The extension names no format we read.
+    #[error("{}: unknown format (expected .toml scene, .obj, .gltf or .glb)", path.display())]
+    UnknownFormat {
+        /// The file.
+        path: PathBuf,
+    },
+    /// The scene file is malformed.
+    #[error("{}: {reason}", path.display())]
+    SceneFile {
+        /// The scene file.
+        path: PathBuf,
+        /// What is wrong (TOML errors give line and column).
+        reason: String,
+    },
+    /// glTF parsing or validation failed.
+    #[error("{}: invalid glTF: {reason}", path.display())]
+    Gltf {
+        /// The file.
+        path: PathBuf,
+        /// What is wrong.
+        reason: String,
+    },
+    /// OBJ parsing failed.
+    #[error("{}: invalid OBJ: {reason}", path.display())]
+    Obj {
+        /// The file.
+        path: PathBuf,
+        /// What is wrong.
+        reason: String,
+    },
+    /// A mesh failed validation.
+    #[error("{}: object '{object}': {source}", path.display())]
+    Mesh {
+        /// The file.
+        path: PathBuf,
+        /// The object.
+        object: String,
+        /// What is wrong with its mesh.
+        source: MeshError,
+    },
+    /// An unknown `builtin:` name.
+    #[error("unknown built-in '{name}' (known: {known})")]
+    UnknownBuiltin {
+        /// The name given.
+        name: String,
+        /// The names we know.
+        known: &'static str,
+    },
+    /// A shared asset is not found.
+    #[error("asset '{name}' not found (set VCUT_ASSETS to the shared assets folder; looked in {searched}, ...)")]
+    AssetMissing {
+        /// The asset's relative path.
+        name: String,
+        /// Some of the folders searched.
+        searched: String,
+    },
+    /// The environment map failed to load.
+    #[error(transparent)]
+    EnvMap(#[from] vcut_envmap::EnvMapError),
+}
+
+impl Scene {
+    /// Opens `builtin:NAME`, a `.toml` scene file, or a bare mesh file (`.obj`, `.gltf`,
+    /// `.glb`: its objects under the default sky, static).
+    pub fn open(spec: &str) -> Result<Scene, SceneError> {
+        if let Some(name) = spec.strip_prefix("builtin:") {
+            let desc = scenes::builtin(name).ok_or_else(|| SceneError::UnknownBuiltin {
+                name: spec.into(),
+                known: "builtin:teapot, builtin:bunny, builtin:spheres",
+            })?;
+            return desc.instantiate(Path::new("."), Path::new(spec));
+        }
+        let path = Path::new(spec);
+        let ext = path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
+        match ext.as_deref() {
+            Some("toml") => Self::load_file(path),
+            Some("obj" | "gltf" | "glb") => {
+                let desc = SceneDesc {
+                    objects: vec![desc::ObjectDesc { source: spec.into(), ..Default::default() }],
+                    ..Default::default()
+                };
+                let base = std::env::current_dir().unwrap_or_default();
+                desc.instantiate(&base, path)
+            }
+            _ => Err(SceneError::UnknownFormat { path: path.into() }),
+        }
+    }
+
+    /// Loads a TOML scene file; relative paths in it resolve against its folder.
+    pub fn load_file(path: &Path) -> Result<Scene, SceneError> {
+        let desc = SceneDesc::read(path)?;
+        let base = path.parent().map(Path::to_path_buf).unwrap_or_default();
+        desc.instantiate(&base, path)
+    }
+
+    /// The object called `name`.
+    pub fn object(&self, name: &str) -> Option<&SceneObject> {
+        self.objects.iter().find(|o| o.name == name)
+    }
+
+    /// Total vertex count.
+    pub fn vertex_count(&self) -> usize {
+        self.objects.iter().map(|o| o.mesh.vertex_count()).sum()
+    }
+
+    /// Total triangle count.
+    pub fn triangle_count(&self) -> usize {
+        self.objects.iter().map(|o| o.mesh.triangle_count()).sum()
+    }
+
+    /// Bounds of everything.
+    pub fn bounds(&self) -> Bounds {
+        Bounds::of_points(self.objects.iter().flat_map(|o| o.mesh.positions().iter().copied()))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn builtin_teapot_scene_has_paper_like_size() {
+        let s = Scene::open("builtin:teapot").unwrap();
+        assert_eq!(s.objects.len(), 3);
+        let v = s.vertex_count();
+        assert!((11_000..=12_000).contains(&v), "{v} vertices");
+        for o in &s.objects {
+            o.mesh.validate().unwrap();
+        }
+        assert_eq!(s.object("teapot").unwrap().motion, Motion::Movable);
+    }
+
+    #[test]
+    fn unknown_builtin_is_an_error() {
+        let e = Scene::open("builtin:nothing").unwrap_err();
+        assert!(e.to_string().contains("builtin:nothing"), "{e}");
+    }
+
+    #[test]
+    fn scene_file_naming_a_missing_mesh_names_both_files() {
+        let text = "[[object]]\nsource = \"no/such/mesh.obj\"\n";
+        let desc = SceneDesc::parse(text, Path::new("my_scene.toml")).unwrap();
+        let e = desc.instantiate(Path::new("/tmp"), Path::new("my_scene.toml")).unwrap_err();
+        let msg = e.to_string();
+        assert!(msg.contains("mesh.obj") && msg.contains("my_scene.toml") && msg.contains("does not exist"), "{msg}");
+    }
+
+    #[test]
+    fn scene_file_syntax_error_names_file_and_line() {
+        let e = SceneDesc::parse("[[object]]\nsource = \n", Path::new("broken.toml")).unwrap_err();
+        let msg = e.to_string();
+        assert!(msg.contains("broken.toml") && msg.contains("line 2"), "{msg}");
+        let e = SceneDesc::parse("[[object]]\nsorce = \"x\"\n", Path::new("typo.toml")).unwrap_err();
+        assert!(e.to_string().contains("sorce"), "{e}");
+    }
+
+    #[test]
+    fn builtin_descriptions_round_trip_through_toml() {
+        for name in scenes::BUILTIN_SCENES {
+            let d = scenes::builtin(name).unwrap();
+            let back = SceneDesc::parse(&d.to_toml(), Path::new("x.toml")).unwrap();
+            assert_eq!(back, d, "{name}");
+        }
+    }
+}

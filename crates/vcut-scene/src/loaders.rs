@@ -1,0 +1,631 @@
+//! glTF 2.0 (`.gltf` + buffers, `.glb`) and Wavefront OBJ loading into rigid objects.
+//!
+//! glTF: the node hierarchy of the default scene (or the first, or every root node when the file
+//! has no scene) is flattened to world space. [`GltfObjects::MeshNodes`] makes every node with a
+//! mesh an object; [`GltfObjects::TopLevelNodes`] merges everything under each root node into one
+//! object. Triangle lists, strips and fans are read; points and lines are skipped and counted.
+//! Each object takes the material of its first primitive (one BRDF per object, see
+//! [`crate::material`]).
+//!
+//! OBJ: [`ObjObjects::File`] makes the whole file one object, [`ObjObjects::Groups`] one object
+//! per `o`/`g` group. Polygons are triangulated; `.mtl` files are not read.
+//!
+//! Every error names the file; accessors are bounds-checked before they are read, so malformed
+//! files give errors, not panics (the `fuzz/` target `scene_files` checks this).
+
+use crate::SceneError;
+use crate::material::Material;
+use crate::mesh::{Mesh, MeshOptions, MeshReport};
+use glam::{Mat3, Mat4, Vec3};
+use std::path::Path;
+
+/// Which glTF nodes become objects.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum GltfObjects {
+    /// Every node that has a mesh (the default).
+    #[default]
+    MeshNodes,
+    /// Every root node, with all meshes below it merged.
+    TopLevelNodes,
+}
+
+/// How an OBJ file is split into objects.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum ObjObjects {
+    /// The whole file is one object (the default).
+    #[default]
+    File,
+    /// One object per `o` / `g` group.
+    Groups,
+}
+
+/// One rigid object read from a file, in world space.
+#[derive(Debug, Clone)]
+pub struct LoadedObject {
+    /// Node, mesh or group name (or a generated one).
+    pub name: String,
+    /// The validated mesh.
+    pub mesh: Mesh,
+    /// Its material (mapped from the file, or the default).
+    pub material: Material,
+    /// What validation changed.
+    pub report: MeshReport,
+}
+
+/// Everything a file gave.
+#[derive(Debug, Clone, Default)]
+pub struct LoadOutput {
+    /// The objects.
+    pub objects: Vec<LoadedObject>,
+    /// Primitives skipped because they are points or lines.
+    pub skipped_primitives: usize,
+    /// Vertices as the file counts them (OBJ: `v` lines; glTF: POSITION counts summed over the
+    /// meshes, each mesh once however many nodes instance it).
+    pub file_vertices: usize,
+    /// Triangles as the file counts them (after triangulating polygons; glTF per mesh as above).
+    pub file_triangles: usize,
+}
+
+impl LoadOutput {
+    /// Makes object names unique: a repeated name gets `#2`, `#3`, … appended.
+    fn dedupe_names(&mut self) {
+        let mut seen = std::collections::HashMap::<String, usize>::new();
+        for o in &mut self.objects {
+            let n = seen.entry(o.name.clone()).or_insert(0);
+            *n += 1;
+            if *n > 1 {
+                o.name = format!("{}#{}", o.name, n);
+            }
+        }
+    }
+}
+
+/// Loads a `.gltf`, `.glb` or `.obj` file by its extension.
+pub fn load_file(
+    path: &Path,
+    gltf_objects: GltfObjects,
+    obj_objects: ObjObjects,
+    options: MeshOptions,
+) -> Result<LoadOutput, SceneError> {
+    let ext = path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
+    let bytes = std::fs::read(path).map_err(|source| SceneError::Io { path: path.into(), source })?;
+    match ext.as_deref() {
+        Some("gltf" | "glb") => load_gltf_bytes(&bytes, path.parent(), path, gltf_objects, options),
+        Some("obj") => load_obj_bytes(&bytes, path, obj_objects, options),
+        _ => Err(SceneError::UnknownFormat { path: path.into() }),
+    }
+}
+
+/// Accumulates the geometry of one object across primitives and nodes.
+#[derive(Default)]
+struct Builder {
+    positions: Vec<Vec3>,
+    normals: Vec<Vec3>,
+    triangles: Vec<[u32; 3]>,
+    material: Option<Material>,
+}
+
+impl Builder {
+    fn finish(self, name: String, path: &Path, options: MeshOptions) -> Result<Option<LoadedObject>, SceneError> {
+        if self.triangles.is_empty() {
+            return Ok(None);
+        }
+        let (mesh, report) = Mesh::build(self.positions, Some(self.normals), self.triangles, options)
+            .map_err(|source| SceneError::Mesh { path: path.into(), object: name.clone(), source })?;
+        Ok(Some(LoadedObject { name, mesh, material: self.material.unwrap_or_default(), report }))
+    }
+}
+
+/// Decodes glTF or GLB bytes. `base` is the folder external buffers are resolved against (`None`
+/// refuses external references); `name` is used in messages.
+pub fn load_gltf_bytes(
+    bytes: &[u8],
+    base: Option<&Path>,
+    name: &Path,
+    grouping: GltfObjects,
+    options: MeshOptions,
+) -> Result<LoadOutput, SceneError> {
+    let err = |reason: String| SceneError::Gltf { path: name.into(), reason };
+    // Parse first, check the accessor references gltf-json's validation would index blindly
+    // (it panics on a POSITION accessor index past the end — found by `fuzz/` target
+    // scene_files), then validate in full.
+    // gltf's GLB reader subtracts the header size from the declared length unchecked (a length
+    // under 12 overflows — found by the fuzzer).
+    if let Some(declared) = bytes.strip_prefix(b"glTF").and_then(|r| r.get(4..8)) {
+        let declared = u32::from_le_bytes([declared[0], declared[1], declared[2], declared[3]]);
+        if declared < 12 {
+            return Err(err(format!("GLB header declares {declared} bytes, less than the header itself")));
+        }
+    }
+    let unchecked = gltf::Gltf::from_slice_without_validation(bytes).map_err(|e| err(e.to_string()))?;
+    let blob = unchecked.blob;
+    let root = unchecked.document.into_json();
+    check_references(&root).map_err(err)?;
+    let document = gltf::Document::from_json(root).map_err(|e| err(e.to_string()))?;
+    let buffers = import_buffers(&document, base, blob).map_err(err)?;
+    let doc = &document;
+    let roots: Vec<gltf::Node<'_>> = match doc.default_scene().or_else(|| doc.scenes().next()) {
+        Some(scene) => scene.nodes().collect(),
+        None => {
+            let mut is_child = vec![false; doc.nodes().len()];
+            for n in doc.nodes() {
+                for c in n.children() {
+                    is_child[c.index()] = true;
+                }
+            }
+            doc.nodes().filter(|n| !is_child[n.index()]).collect()
+        }
+    };
+    let mut out = LoadOutput::default();
+    for mesh in doc.meshes() {
+        for prim in mesh.primitives() {
+            let n = prim.get(&gltf::Semantic::Positions).map_or(0, |a| a.count());
+            out.file_vertices += n;
+            let idx = prim.indices().map_or(n, |a| a.count());
+            out.file_triangles += match prim.mode() {
+                gltf::mesh::Mode::Triangles => idx / 3,
+                gltf::mesh::Mode::TriangleStrip | gltf::mesh::Mode::TriangleFan => idx.saturating_sub(2),
+                _ => 0,
+            };
+        }
+    }
+    let mut ctx = GltfCtx { buffers: &buffers, name, options, grouping, out: &mut out, visits: 0 };
+    for root in roots {
+        let mut group = Builder::default();
+        ctx.visit(&root, Mat4::IDENTITY, 0, &mut group)?;
+        if grouping == GltfObjects::TopLevelNodes {
+            let obj_name = node_name(&root);
+            if let Some(o) = group.finish(obj_name, name, options)? {
+                ctx.out.objects.push(o);
+            }
+        }
+    }
+    out.dedupe_names();
+    Ok(out)
+}
+
+/// Loads every buffer: the GLB blob, `data:` URIs (base64) or files relative to `base`. Our own
+/// rather than gltf's `import_buffers`, which unwraps on URIs that percent-decode to invalid
+/// UTF-8 (found by the fuzzer).
+fn import_buffers(
+    doc: &gltf::Document,
+    base: Option<&Path>,
+    mut blob: Option<Vec<u8>>,
+) -> Result<Vec<Vec<u8>>, String> {
+    use base64::Engine as _;
+    let mut out = Vec::new();
+    for buffer in doc.buffers() {
+        let mut data = match buffer.source() {
+            gltf::buffer::Source::Bin => {
+                blob.take().ok_or_else(|| format!("buffer {} refers to a missing GLB BIN chunk", buffer.index()))?
+            }
+            gltf::buffer::Source::Uri(uri) if uri.starts_with("data:") => {
+                let (_, payload) = uri
+                    .split_once(";base64,")
+                    .ok_or_else(|| format!("buffer {}: only base64 data URIs are supported", buffer.index()))?;
+                base64::engine::general_purpose::STANDARD
+                    .decode(payload)
+                    .map_err(|e| format!("buffer {}: bad base64 data: {e}", buffer.index()))?
+            }
+            gltf::buffer::Source::Uri(uri) => {
+                let base = base.ok_or_else(|| format!("buffer {} refers to external file '{uri}'", buffer.index()))?;
+                let rel =
+                    percent_decode(uri).ok_or_else(|| format!("buffer {}: malformed URI '{uri}'", buffer.index()))?;
+                let path = base.join(&rel);
+                std::fs::read(&path)
+                    .map_err(|e| format!("buffer {}: cannot read {}: {e}", buffer.index(), path.display()))?
+            }
+        };
+        if data.len() < buffer.length() {
+            return Err(format!(
+                "buffer {} declares {} bytes but holds {}",
+                buffer.index(),
+                buffer.length(),
+                data.len()
+            ));
+        }
+        while data.len() % 4 != 0 {
+            data.push(0);
+        }
+        out.push(data);
+    }
+    Ok(out)
+}
+
+/// `%XX` decoding of a relative URI; `None` for bad escapes or invalid UTF-8.
+fn percent_decode(uri: &str) -> Option<String> {
+    let b = uri.as_bytes();
+    let mut out = Vec::with_capacity(b.len());
+    let mut i = 0;
+    while i < b.len() {
+        if b[i] == b'%' {
+            let hex = std::str::from_utf8(b.get(i + 1..i + 3)?).ok()?;
+            out.push(u8::from_str_radix(hex, 16).ok()?);
+            i += 3;
+        } else {
+            out.push(b[i]);
+            i += 1;
+        }
+    }
+    String::from_utf8(out).ok()
+}
+
+/// Every accessor index a primitive names exists (checked before gltf-json's validation hooks run).
+fn check_references(root: &gltf::json::Root) -> Result<(), String> {
+    let n = root.accessors.len();
+    for (m, mesh) in root.meshes.iter().enumerate() {
+        for (p, prim) in mesh.primitives.iter().enumerate() {
+            let named = prim.attributes.values().map(|a| a.value()).chain(prim.indices.map(|i| i.value()));
+            for a in named {
+                if a >= n {
+                    return Err(format!("mesh {m} primitive {p} names accessor {a}, but there are {n}"));
+                }
+            }
+            for target in prim.targets.iter().flatten() {
+                for a in [target.positions, target.normals, target.tangents].into_iter().flatten() {
+                    if a.value() >= n {
+                        return Err(format!(
+                            "mesh {m} primitive {p} morph target names accessor {}, but there are {n}",
+                            a.value()
+                        ));
+                    }
+                }
+            }
+        }
+    }
+    Ok(())
+}
+
+fn node_name(node: &gltf::Node<'_>) -> String {
+    node.name()
+        .map(str::to_owned)
+        .or_else(|| node.mesh().and_then(|m| m.name().map(str::to_owned)))
+        .unwrap_or_else(|| format!("node{}", node.index()))
+}
+
+struct GltfCtx<'a> {
+    buffers: &'a [Vec<u8>],
+    name: &'a Path,
+    options: MeshOptions,
+    grouping: GltfObjects,
+    out: &'a mut LoadOutput,
+    visits: usize,
+}
+
+/// What an accessor is read as.
+#[derive(Clone, Copy)]
+enum AccessorUse {
+    /// POSITION or NORMAL.
+    Vec3F32,
+    /// Triangle indices.
+    Indices,
+}
+
+/// Deeper than this is taken to be a cycle.
+const MAX_DEPTH: usize = 256;
+
+impl GltfCtx<'_> {
+    fn err(&self, reason: String) -> SceneError {
+        SceneError::Gltf { path: self.name.into(), reason }
+    }
+
+    fn visit(
+        &mut self,
+        node: &gltf::Node<'_>,
+        parent: Mat4,
+        depth: usize,
+        group: &mut Builder,
+    ) -> Result<(), SceneError> {
+        self.visits += 1;
+        if depth > MAX_DEPTH || self.visits > 1_000_000 {
+            return Err(self.err(format!("node {} nests deeper than {MAX_DEPTH} levels (a cycle?)", node.index())));
+        }
+        let local = Mat4::from_cols_array_2d(&node.transform().matrix());
+        let world = parent * local;
+        if !world.is_finite() {
+            return Err(self.err(format!("node {} has a non-finite transform", node.index())));
+        }
+        if let Some(mesh) = node.mesh() {
+            match self.grouping {
+                GltfObjects::MeshNodes => {
+                    let mut own = Builder::default();
+                    self.add_mesh(&mesh, world, &mut own)?;
+                    if let Some(o) = own.finish(node_name(node), self.name, self.options)? {
+                        self.out.objects.push(o);
+                    }
+                }
+                GltfObjects::TopLevelNodes => self.add_mesh(&mesh, world, group)?,
+            }
+        }
+        for child in node.children() {
+            self.visit(&child, world, depth + 1, group)?;
+        }
+        Ok(())
+    }
+
+    fn add_mesh(&mut self, mesh: &gltf::Mesh<'_>, world: Mat4, b: &mut Builder) -> Result<(), SceneError> {
+        use gltf::mesh::Mode;
+        let normal_m = Mat3::from_mat4(world).inverse().transpose();
+        let mirrored = Mat3::from_mat4(world).determinant() < 0.0;
+        for prim in mesh.primitives() {
+            let mode = prim.mode();
+            if !matches!(mode, Mode::Triangles | Mode::TriangleStrip | Mode::TriangleFan) {
+                self.out.skipped_primitives += 1;
+                continue;
+            }
+            let Some(pos_acc) = prim.get(&gltf::Semantic::Positions) else {
+                return Err(self.err(format!("mesh {} has a primitive without POSITION", mesh.index())));
+            };
+            self.check_accessor(&pos_acc, AccessorUse::Vec3F32)?;
+            if let Some(n) = prim.get(&gltf::Semantic::Normals) {
+                self.check_accessor(&n, AccessorUse::Vec3F32)?;
+            }
+            if let Some(i) = prim.indices() {
+                self.check_accessor(&i, AccessorUse::Indices)?;
+            }
+            let reader = prim.reader(|buf| self.buffers.get(buf.index()).map(|d| &d[..]));
+            let positions: Vec<Vec3> = reader
+                .read_positions()
+                .ok_or_else(|| self.err(format!("mesh {}: POSITION cannot be read", mesh.index())))?
+                .map(Vec3::from)
+                .collect();
+            let normals: Vec<Vec3> = match reader.read_normals() {
+                Some(it) => it.map(Vec3::from).collect(),
+                None => vec![Vec3::ZERO; positions.len()],
+            };
+            if normals.len() != positions.len() {
+                return Err(self.err(format!(
+                    "mesh {}: {} normals for {} positions",
+                    mesh.index(),
+                    normals.len(),
+                    positions.len()
+                )));
+            }
+            let indices: Vec<u32> = match reader.read_indices() {
+                Some(it) => it.into_u32().collect(),
+                None => (0..positions.len() as u32).collect(),
+            };
+            let base = b.positions.len() as u32;
+            if let Some(&bad) = indices.iter().find(|&&i| i as usize >= positions.len()) {
+                return Err(self.err(format!(
+                    "mesh {}: index {bad} out of range ({} vertices)",
+                    mesh.index(),
+                    positions.len()
+                )));
+            }
+            let tris: Vec<[u32; 3]> = match mode {
+                Mode::Triangles => indices.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect(),
+                Mode::TriangleStrip => (2..indices.len())
+                    .map(|i| {
+                        let (a, bb, c) = (indices[i - 2], indices[i - 1], indices[i]);
+                        if i % 2 == 0 { [a, bb, c] } else { [bb, a, c] }
+                    })
+                    .collect(),
+                _ => (2..indices.len()).map(|i| [indices[0], indices[i - 1], indices[i]]).collect(),
+            };
+            b.positions.extend(positions.iter().map(|&p| world.transform_point3(p)));
+            b.normals.extend(normals.iter().map(|&n| if n == Vec3::ZERO { n } else { normal_m * n }));
+            b.triangles.extend(tris.into_iter().map(|t| {
+                let t = t.map(|i| i + base);
+                if mirrored { [t[0], t[2], t[1]] } else { t }
+            }));
+            if b.material.is_none() {
+                let pbr = prim.material().pbr_metallic_roughness();
+                let c = pbr.base_color_factor();
+                b.material =
+                    Some(Material::from_gltf_pbr([c[0], c[1], c[2]], pbr.metallic_factor(), pbr.roughness_factor()));
+            }
+        }
+        Ok(())
+    }
+
+    /// Refuses sparse accessors, accessors of the wrong type for their use (gltf's reader meets
+    /// float indices with `unreachable!` — found by the fuzzer), and accessors whose data would
+    /// run past their buffer.
+    fn check_accessor(&self, acc: &gltf::Accessor<'_>, usage: AccessorUse) -> Result<(), SceneError> {
+        use gltf::accessor::{DataType, Dimensions};
+        let ok = match usage {
+            AccessorUse::Vec3F32 => acc.dimensions() == Dimensions::Vec3 && acc.data_type() == DataType::F32,
+            AccessorUse::Indices => {
+                acc.dimensions() == Dimensions::Scalar
+                    && matches!(acc.data_type(), DataType::U8 | DataType::U16 | DataType::U32)
+            }
+        };
+        if !ok {
+            return Err(self.err(format!(
+                "accessor {} is {:?} {:?}, which cannot be used as {}",
+                acc.index(),
+                acc.dimensions(),
+                acc.data_type(),
+                match usage {
+                    AccessorUse::Vec3F32 => "float VEC3 positions or normals",
+                    AccessorUse::Indices => "unsigned integer indices",
+                }
+            )));
+        }
+        if acc.sparse().is_some() {
+            return Err(self.err(format!("accessor {} is sparse (not supported)", acc.index())));
+        }
+        let Some(view) = acc.view() else {
+            return Err(self.err(format!("accessor {} has no buffer view", acc.index())));
+        };
+        let elem = acc.size();
+        let stride = view.stride().unwrap_or(elem);
+        let count = acc.count();
+        // gltf's reader computes `count - 1` and asserts `stride ≥ element size` (an empty
+        // accessor overflowed it — found by the fuzzer).
+        if count == 0 || stride < elem {
+            return Err(self.err(format!(
+                "accessor {} has {count} elements of {elem} bytes with a stride of {stride}",
+                acc.index()
+            )));
+        }
+        let buf_len = self.buffers.get(view.buffer().index()).map_or(0, Vec::len);
+        let need = if count == 0 { Some(0) } else { (count - 1).checked_mul(stride).and_then(|x| x.checked_add(elem)) };
+        let end = need
+            .and_then(|n| n.checked_add(acc.offset()))
+            .filter(|&n| n <= view.length())
+            .and_then(|n| n.checked_add(view.offset()))
+            .filter(|&n| n <= buf_len);
+        if end.is_none() {
+            return Err(self.err(format!(
+                "accessor {} ({count} elements) runs past buffer view {} / buffer {} ({buf_len} bytes)",
+                acc.index(),
+                view.index(),
+                view.buffer().index()
+            )));
+        }
+        Ok(())
+    }
+}
+
+/// Decodes OBJ bytes; `name` is used in messages.
+pub fn load_obj_bytes(
+    bytes: &[u8],
+    name: &Path,
+    grouping: ObjObjects,
+    options: MeshOptions,
+) -> Result<LoadOutput, SceneError> {
+    let err = |reason: String| SceneError::Obj { path: name.into(), reason };
+    check_obj_indices(bytes).map_err(err)?;
+    // Not `single_index`: that path keeps only referenced vertices, and files such as the
+    // Stanford bunny count (and the paper's scene sizes include) unreferenced ones too.
+    let load_options = tobj::LoadOptions { triangulate: true, single_index: false, ..Default::default() };
+    let mut reader = std::io::BufReader::new(bytes);
+    let (models, _) =
+        tobj::load_obj_buf(&mut reader, &load_options, |_| Ok((Vec::new(), std::collections::HashMap::new())))
+            .map_err(|e| err(format!("{e}")))?;
+    let stem = name.file_stem().and_then(|s| s.to_str()).unwrap_or("obj").to_owned();
+    let mut out = LoadOutput {
+        file_vertices: bytes
+            .split(|&b| b == b'\n')
+            .filter(|l| l.trim_ascii_start().starts_with(b"v ") || l.trim_ascii_start().starts_with(b"v\t"))
+            .count(),
+        file_triangles: models.iter().map(|m| m.mesh.indices.len() / 3).sum(),
+        ..LoadOutput::default()
+    };
+    let mut whole = Builder::default();
+    for (k, model) in models.iter().enumerate() {
+        let m = &model.mesh;
+        if m.positions.len() % 3 != 0 {
+            return Err(err(format!("group '{}' has a truncated position array", model.name)));
+        }
+        let n = m.positions.len() / 3;
+        let positions: Vec<Vec3> = m.positions.chunks_exact(3).map(|c| Vec3::new(c[0], c[1], c[2])).collect();
+        // Per-vertex normals only when they are indexed like the positions; otherwise they are
+        // recomputed (area-weighted) from the faces.
+        let same_index = m.normal_indices.is_empty() || m.normal_indices == m.indices;
+        let normals: Vec<Vec3> = if same_index && m.normals.len() == m.positions.len() {
+            m.normals.chunks_exact(3).map(|c| Vec3::new(c[0], c[1], c[2])).collect()
+        } else {
+            vec![Vec3::ZERO; n]
+        };
+        if let Some(&bad) = m.indices.iter().find(|&&i| i as usize >= n) {
+            return Err(err(format!("group '{}': face index {} out of range ({n} vertices)", model.name, bad + 1)));
+        }
+        let tris: Vec<[u32; 3]> = m.indices.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect();
+        let target = match grouping {
+            ObjObjects::File => &mut whole,
+            ObjObjects::Groups => &mut Builder::default(),
+        };
+        let base = target.positions.len() as u32;
+        target.positions.extend(positions);
+        target.normals.extend(normals);
+        target.triangles.extend(tris.into_iter().map(|t| t.map(|i| i + base)));
+        if grouping == ObjObjects::Groups {
+            let group_name = if model.name.is_empty() || model.name == "unnamed_object" {
+                format!("{stem}.{k}")
+            } else {
+                model.name.clone()
+            };
+            let b = std::mem::take(target);
+            if let Some(o) = b.finish(group_name, name, options)? {
+                out.objects.push(o);
+            }
+        }
+    }
+    if grouping == ObjObjects::File {
+        match whole.finish(stem, name, options)? {
+            Some(o) => out.objects.push(o),
+            None => return Err(err("no faces".into())),
+        }
+    }
+    if out.objects.is_empty() {
+        return Err(err("no faces".into()));
+    }
+    // tobj already left out the vertices no face uses; count them where our report can show them.
+    let read: usize = models.iter().map(|m| m.mesh.positions.len() / 3).sum();
+    out.objects[0].report.unreferenced_vertices_dropped += out.file_vertices.saturating_sub(read);
+    out.dedupe_names();
+    Ok(out)
+}
+
+/// Checks every face/line/point index (absolute or relative) refers to an element already
+/// defined, before tobj sees the file: tobj turns out-of-range relative indices into wrapped
+/// `usize` arithmetic that overflows (found by the fuzzer). Errors name the line.
+fn check_obj_indices(bytes: &[u8]) -> Result<(), String> {
+    let (mut nv, mut nvt, mut nvn) = (0i64, 0i64, 0i64);
+    for (lineno, line) in bytes.split(|&b| b == b'\n').enumerate() {
+        let line = String::from_utf8_lossy(line);
+        let mut words = line.split_whitespace();
+        match words.next() {
+            Some("v") => nv += 1,
+            Some("vt") => nvt += 1,
+            Some("vn") => nvn += 1,
+            Some("f" | "l" | "p") => {
+                for w in words {
+                    for (k, part) in w.split('/').enumerate() {
+                        if part.is_empty() {
+                            continue;
+                        }
+                        let count = match k {
+                            0 => nv,
+                            1 => nvt,
+                            2 => nvn,
+                            _ => return Err(format!("line {}: malformed vertex '{w}'", lineno + 1)),
+                        };
+                        let Ok(i) = part.parse::<i64>() else {
+                            return Err(format!("line {}: malformed index '{part}'", lineno + 1));
+                        };
+                        let resolved = if i < 0 { count + i } else { i - 1 };
+                        if i == 0 || resolved < 0 || resolved >= count {
+                            let what = ["vertex", "texture coordinate", "normal"][k];
+                            return Err(format!(
+                                "line {}: {what} index {i} out of range ({count} defined so far)",
+                                lineno + 1
+                            ));
+                        }
+                    }
+                }
+            }
+            _ => {}
+        }
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn obj_out_of_range_index_names_the_file() {
+        let obj = b"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 7\n";
+        let e = load_obj_bytes(obj, Path::new("bad.obj"), ObjObjects::File, MeshOptions::default()).unwrap_err();
+        let msg = e.to_string();
+        assert!(msg.contains("bad.obj") && msg.contains("index") && msg.contains("out of"), "{msg}");
+    }
+
+    #[test]
+    fn obj_groups_split_into_objects() {
+        let obj = b"v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\ng a\nf 1 2 3\ng b\nf 1 3 4\n";
+        let out = load_obj_bytes(obj, Path::new("t.obj"), ObjObjects::Groups, MeshOptions::default()).unwrap();
+        let names: Vec<_> = out.objects.iter().map(|o| o.name.as_str()).collect();
+        assert_eq!(names, ["a", "b"]);
+        let whole = load_obj_bytes(obj, Path::new("t.obj"), ObjObjects::File, MeshOptions::default()).unwrap();
+        assert_eq!(whole.objects.len(), 1);
+        assert_eq!(whole.objects[0].mesh.triangle_count(), 2);
+    }
+}

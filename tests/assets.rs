@@ -1,0 +1,108 @@
+//! Every file in the shared assets folder loads, with the vertex and triangle counts that
+//! `SOURCES.md` states (skipped, with a notice, where the folder is absent).
+
+use std::path::Path;
+use vcut_envmap::InvalidTexels;
+use vcut_scene::loaders::{GltfObjects, ObjObjects, load_file};
+use vcut_scene::{MeshOptions, Scene};
+use vcut_tests::assets_or_skip;
+
+fn counts(path: &Path) -> (usize, usize, usize, usize) {
+    let out = load_file(path, GltfObjects::MeshNodes, ObjObjects::File, MeshOptions::default())
+        .unwrap_or_else(|e| panic!("{e}"));
+    for o in &out.objects {
+        o.mesh.validate().unwrap_or_else(|e| panic!("{}: {}: {e}", path.display(), o.name));
+    }
+    let v = out.objects.iter().map(|o| o.mesh.vertex_count()).sum();
+    let t = out.objects.iter().map(|o| o.mesh.triangle_count()).sum();
+    (out.file_vertices, out.file_triangles, v, t)
+}
+
+#[test]
+fn meshes_match_sources_md() {
+    let Some(a) = assets_or_skip("meshes_match_sources_md") else { return };
+    // (file, SOURCES.md vertices, SOURCES.md triangles)
+    let expected = [
+        ("meshes/stanford-bunny.obj", 35_947, 69_451),
+        ("meshes/bunny_2503v_probulator.obj", 2_503, 4_968),
+        ("meshes/teapot.obj", 3_644, 6_320),
+        ("meshes/ground_plane_16x16.obj", 289, 512),
+        ("gltf/2CylinderEngine.glb", 55_843, 75_730),
+        ("plants/polyhaven_potted_plant_04_1k/potted_plant_04_1k.gltf", 4_006, 6_097),
+    ];
+    for (rel, v, t) in expected {
+        let (fv, ft, lv, lt) = counts(&a.join(rel));
+        assert_eq!((fv, ft), (v, t), "{rel}: file counts");
+        assert!(lv > 0 && lt > 0, "{rel}");
+        println!("{rel}: file {fv} v / {ft} t; loaded {lv} v / {lt} t");
+    }
+    // The bunny's 1,113 vertices that no face uses are dropped; every face is kept.
+    let (_, _, lv, lt) = counts(&a.join("meshes/stanford-bunny.obj"));
+    assert_eq!((lv, lt), (34_834, 69_451));
+}
+
+#[test]
+fn gltf_engine_keeps_its_hierarchy() {
+    let Some(a) = assets_or_skip("gltf_engine_keeps_its_hierarchy") else { return };
+    let p = a.join("gltf/2CylinderEngine.glb");
+    let per_node = load_file(&p, GltfObjects::MeshNodes, ObjObjects::File, MeshOptions::default()).unwrap();
+    let per_root = load_file(&p, GltfObjects::TopLevelNodes, ObjObjects::File, MeshOptions::default()).unwrap();
+    assert!(per_node.objects.len() > 20, "{} objects", per_node.objects.len());
+    let v = |o: &vcut_scene::loaders::LoadOutput| o.objects.iter().map(|x| x.mesh.vertex_count()).sum::<usize>();
+    assert_eq!(v(&per_node), v(&per_root), "grouping does not change geometry");
+    let names: std::collections::HashSet<_> = per_node.objects.iter().map(|o| &o.name).collect();
+    assert_eq!(names.len(), per_node.objects.len(), "object names are unique");
+}
+
+#[test]
+fn envmaps_load_with_finite_power() {
+    let Some(a) = assets_or_skip("envmaps_load_with_finite_power") else { return };
+    for rel in [
+        "envmaps/quarry_01_1k.hdr",
+        "envmaps/royal_esplanade_1k.hdr",
+        "envmaps/spruit_sunrise_1k.hdr",
+        "envmaps/grace.hdr",
+        "envmaps/pisa.hdr",
+        "envmaps/pisa_cube",
+        "envmaps/memorial.exr",
+    ] {
+        let (map, report) = vcut_envmap::load(&a.join(rel), InvalidTexels::Reject).unwrap_or_else(|e| panic!("{e}"));
+        assert_eq!(report.clamped_texels, 0);
+        let p = map.total_power();
+        assert!(p.iter().all(|x| x.is_finite() && *x > 0.0), "{rel}: {p:?}");
+    }
+    // The quarry map's small strong sun: about half the light in 0.05 % of the pixels.
+    let (quarry, _) = vcut_envmap::load(&a.join("envmaps/quarry_01_1k.hdr"), InvalidTexels::Reject).unwrap();
+    let s = quarry.power_stats();
+    assert!(s.top_0_1_percent_share > 0.45, "{}", s.top_0_1_percent_share);
+}
+
+#[test]
+fn bunny_scene_builds_from_the_asset() {
+    if assets_or_skip("bunny_scene_builds_from_the_asset").is_none() {
+        // Without the asset the built-in scene must say what is missing.
+        let e = Scene::open("builtin:bunny").unwrap_err().to_string();
+        assert!(e.contains("stanford-bunny.obj") && e.contains("VCUT_ASSETS"), "{e}");
+        return;
+    }
+    let s = Scene::open("builtin:bunny").unwrap();
+    assert_eq!(s.objects.len(), 2);
+    assert_eq!(s.vertex_count(), 34_834 + 65 * 65);
+    let b = s.object("bunny").unwrap().mesh.bounds();
+    assert!(b.min.y.abs() < 1e-5 && (b.max.y - 1.0).abs() < 1e-5, "stands on the ground, 1 tall: {b:?}");
+}
+
+#[test]
+fn example_scene_files_load() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("..").join("examples");
+    let teapot = Scene::load_file(&root.join("teapot.toml")).unwrap();
+    let builtin = Scene::open("builtin:teapot").unwrap();
+    assert_eq!(teapot.vertex_count(), builtin.vertex_count());
+    assert_eq!(teapot.objects.len(), 3);
+    match Scene::load_file(&root.join("bunny.toml")) {
+        Ok(s) => assert_eq!(s.objects.len(), 2),
+        Err(e) => {
+            assert!(assets_or_skip("example_scene_files_load (bunny)").is_none(), "{e}");
+        }
+    }
+}

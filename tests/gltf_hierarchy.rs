@@ -1,0 +1,88 @@
+//! A hand-written glTF with nested, scaled, rotated and mirrored nodes lands in the right world
+//! positions, with faces still facing out after the mirror.
+
+use glam::Vec3;
+use std::path::Path;
+use vcut_scene::MeshOptions;
+use vcut_scene::loaders::{GltfObjects, load_gltf_bytes};
+
+fn gltf_text() -> String {
+    let positions: Vec<u8> =
+        [0.0f32, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0].iter().flat_map(|f| f.to_le_bytes()).collect();
+    let uri = format!("data:application/octet-stream;base64,{}", vcut_tests::base64(&positions));
+    let s = std::f32::consts::FRAC_1_SQRT_2;
+    // parent: T(1,0,0) · R_y(90°) · S(2); child: T(0,1,0) with the mesh;
+    // mirror: a child of parent given as a column-major matrix, scale (−1, 1, 1) then T(0,0,5).
+    format!(
+        r#"{{"asset":{{"version":"2.0"}},"scene":0,"scenes":[{{"nodes":[0]}}],
+"nodes":[
+ {{"name":"parent","translation":[1,0,0],"rotation":[0,{s},0,{s}],"scale":[2,2,2],"children":[1,2]}},
+ {{"name":"child","translation":[0,1,0],"mesh":0}},
+ {{"name":"mirror","matrix":[-1,0,0,0, 0,1,0,0, 0,0,1,0, 0,0,5,1],"mesh":0}}],
+"meshes":[{{"name":"tri","primitives":[{{"attributes":{{"POSITION":0}}}}]}}],
+"accessors":[{{"bufferView":0,"componentType":5126,"count":3,"type":"VEC3","min":[0,0,0],"max":[1,0,1]}}],
+"bufferViews":[{{"buffer":0,"byteLength":36}}],
+"buffers":[{{"byteLength":36,"uri":"{uri}"}}]}}"#
+    )
+}
+
+fn close(a: Vec3, b: Vec3) -> bool {
+    a.distance(b) < 1e-5
+}
+
+#[test]
+fn nested_nodes_land_in_world_space() {
+    let text = gltf_text();
+    let out = load_gltf_bytes(
+        text.as_bytes(),
+        None,
+        Path::new("nested.gltf"),
+        GltfObjects::MeshNodes,
+        MeshOptions::default(),
+    )
+    .unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(out.objects.len(), 2);
+    let child = out.objects.iter().find(|o| o.name == "child").unwrap();
+    // Worked by hand: local p → +(0,1,0) → ×2 → R_y(90°) (x→−z, z→x) → +(1,0,0).
+    let expect = [Vec3::new(1.0, 2.0, 0.0), Vec3::new(1.0, 2.0, -2.0), Vec3::new(3.0, 2.0, 0.0)];
+    for (p, e) in child.mesh.positions().iter().zip(expect) {
+        assert!(close(*p, e), "{p} vs {e}");
+    }
+    // Face normal of the local triangle is −Y; rotation and uniform scale keep it −Y.
+    assert!(close(child.mesh.normals()[0], -Vec3::Y), "{}", child.mesh.normals()[0]);
+
+    let mirror = out.objects.iter().find(|o| o.name == "mirror").unwrap();
+    // mirror: local (x,y,z) → (−x, y, z+5) → ×2 → R_y → +(1,0,0).
+    let m = |p: Vec3| {
+        let q = Vec3::new(-p.x, p.y, p.z + 5.0) * 2.0;
+        Vec3::new(q.z, q.y, -q.x) + Vec3::X
+    };
+    let local = [Vec3::ZERO, Vec3::X, Vec3::Z];
+    let mut found = 0;
+    for l in local {
+        if mirror.mesh.positions().iter().any(|p| close(*p, m(l))) {
+            found += 1;
+        }
+    }
+    assert_eq!(found, 3);
+    // The mirror flipped the winding back so the face normal and the vertex normal agree.
+    let t = mirror.mesh.triangles()[0];
+    let [a, b, c] = t.map(|i| mirror.mesh.positions()[i as usize]);
+    assert!((b - a).cross(c - a).normalize().dot(mirror.mesh.normals()[t[0] as usize]) > 0.99);
+}
+
+#[test]
+fn top_level_grouping_merges_children() {
+    let text = gltf_text();
+    let out = load_gltf_bytes(
+        text.as_bytes(),
+        None,
+        Path::new("nested.gltf"),
+        GltfObjects::TopLevelNodes,
+        MeshOptions::default(),
+    )
+    .unwrap();
+    assert_eq!(out.objects.len(), 1);
+    assert_eq!(out.objects[0].name, "parent");
+    assert_eq!(out.objects[0].mesh.triangle_count(), 2);
+}

@@ -1,0 +1,98 @@
+//! Helpers shared by the cross-crate tests: where the shared assets are, scratch folders, and
+//! small hand-built files (RGBE, GLB) for malformed-input tests.
+
+use std::path::{Path, PathBuf};
+
+/// The shared assets folder, or `None` after printing a notice that `test` was skipped.
+pub fn assets_or_skip(test: &str) -> Option<PathBuf> {
+    match vcut_scene::assets::dir() {
+        Some(d) => Some(d),
+        None => {
+            println!("SKIPPED {test}: shared assets folder not found (set VCUT_ASSETS)");
+            None
+        }
+    }
+}
+
+/// A fresh scratch folder under the system temp dir, unique to this process and `name`.
+pub fn scratch(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("vcut-tests-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).expect("create scratch dir");
+    d
+}
+
+/// A flat (uncompressed) Radiance RGBE file of `w × h` texels of one colour.
+pub fn rgbe_flat(w: usize, h: usize, rgb: [f32; 3]) -> Vec<u8> {
+    let mut out = format!("#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y {h} +X {w}\n").into_bytes();
+    let max = rgb.iter().cloned().fold(0.0f32, f32::max);
+    let texel = if max < 1e-32 {
+        [0u8; 4]
+    } else {
+        let e = max.log2().floor() as i32 + 1;
+        let scale = 256.0 / 2f32.powi(e);
+        [(rgb[0] * scale) as u8, (rgb[1] * scale) as u8, (rgb[2] * scale) as u8, (e + 128) as u8]
+    };
+    for _ in 0..w * h {
+        out.extend_from_slice(&texel);
+    }
+    out
+}
+
+/// A binary glTF with one triangle, whose buffer declares `declared_len` bytes while the BIN
+/// chunk holds `actual_len` (36 bytes are needed for three float positions).
+pub fn glb_triangle(declared_len: usize, actual_len: usize) -> Vec<u8> {
+    let json = format!(
+        r#"{{"asset":{{"version":"2.0"}},"scene":0,"scenes":[{{"nodes":[0]}}],"nodes":[{{"mesh":0}}],
+"meshes":[{{"primitives":[{{"attributes":{{"POSITION":0}}}}]}}],
+"accessors":[{{"bufferView":0,"componentType":5126,"count":3,"type":"VEC3","min":[0,0,0],"max":[1,1,0]}}],
+"bufferViews":[{{"buffer":0,"byteLength":36}}],"buffers":[{{"byteLength":{declared_len}}}]}}"#
+    );
+    let mut json = json.into_bytes();
+    while json.len() % 4 != 0 {
+        json.push(b' ');
+    }
+    let mut bin: Vec<u8> =
+        [0.0f32, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0].iter().flat_map(|f| f.to_le_bytes()).collect();
+    bin.resize(actual_len, 0);
+    while bin.len() % 4 != 0 {
+        bin.push(0);
+    }
+    let total = 12 + 8 + json.len() + 8 + bin.len();
+    let mut out = Vec::with_capacity(total);
+    out.extend_from_slice(b"glTF");
+    out.extend_from_slice(&2u32.to_le_bytes());
+    out.extend_from_slice(&(total as u32).to_le_bytes());
+    out.extend_from_slice(&(json.len() as u32).to_le_bytes());
+    out.extend_from_slice(b"JSON");
+    out.extend_from_slice(&json);
+    out.extend_from_slice(&(bin.len() as u32).to_le_bytes());
+    out.extend_from_slice(b"BIN\0");
+    out.extend_from_slice(&bin);
+    out
+}
+
+/// Writes `bytes` to `dir/name` and returns the path.
+pub fn write(dir: &Path, name: &str, bytes: &[u8]) -> PathBuf {
+    let p = dir.join(name);
+    std::fs::write(&p, bytes).expect("write scratch file");
+    p
+}
+
+/// Standard base64 (for `data:` URIs in hand-written glTF files).
+pub fn base64(bytes: &[u8]) -> String {
+    const T: &[u8; 64] = b"ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+    let mut out = String::new();
+    for c in bytes.chunks(3) {
+        let n =
+            (u32::from(c[0]) << 16) | (u32::from(*c.get(1).unwrap_or(&0)) << 8) | u32::from(*c.get(2).unwrap_or(&0));
+        for k in 0..4 {
+            if k <= c.len() {
+                out.push(T[((n >> (18 - 6 * k)) & 63) as usize] as char);
+            } else {
+                out.push('=');
+            }
+        }
+    }
+    out
+}

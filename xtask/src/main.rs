@@ -1,0 +1,46 @@
+//! `cargo xtask`: the one orchestrating binary. It wires the library crates together; the logic
+//! lives in the crates. Run with no arguments for help.
+
+mod inspect;
+
+use anyhow::Result;
+use clap::{Parser, Subcommand};
+
+/// Precomputed visibility-cut rendering: pipeline tasks.
+#[derive(Parser)]
+#[command(name = "cargo xtask", version, arg_required_else_help = true)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Print what a scene, mesh or environment map holds: objects, vertex and triangle counts,
+    /// bounds and bounding spheres; for maps the total power, the brightest texel and the share
+    /// of energy in the brightest 0.1 % of texels.
+    Inspect(inspect::InspectArgs),
+    /// Run the main job on the built-in teapot scene under the built-in sky (for now: inspect
+    /// both; later stages add precompute, render and the report).
+    Demo,
+}
+
+fn main() {
+    let cli = Cli::parse();
+    let result: Result<()> = match cli.command {
+        Command::Inspect(args) => inspect::run(&args),
+        Command::Demo => demo(),
+    };
+    if let Err(e) = result {
+        eprintln!("error: {e:#}");
+        std::process::exit(1);
+    }
+}
+
+fn demo() -> Result<()> {
+    println!("== scene builtin:teapot");
+    inspect::run(&inspect::InspectArgs::target("builtin:teapot"))?;
+    println!("\n== environment builtin:sky");
+    inspect::run(&inspect::InspectArgs::target("builtin:sky"))?;
+    Ok(())
+}
