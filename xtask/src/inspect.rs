@@ -41,6 +41,15 @@ fn is_envmap(t: &str) -> bool {
         )
 }
 
+/// Loads an environment map from a file, a cube folder, or `builtin:sky|studio`.
+pub fn load_envmap(spec: &str) -> Result<EnvMap> {
+    Ok(match spec {
+        "builtin:sky" => procedural::PreethamSky::default().bake(1024),
+        "builtin:studio" => procedural::Studio::default().bake(1024),
+        _ => vcut_envmap::load(Path::new(spec), InvalidTexels::Reject)?.0,
+    })
+}
+
 /// Runs `inspect`.
 pub fn run(args: &InspectArgs) -> Result<()> {
     let t = args.target.as_str();

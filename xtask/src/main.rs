@@ -1,6 +1,7 @@
 //! `cargo xtask`: the one orchestrating binary. It wires the library crates together; the logic
 //! lives in the crates. Run with no arguments for help.
 
+mod directions;
 mod inspect;
 
 use anyhow::Result;
@@ -20,6 +21,9 @@ enum Command {
     /// bounds and bounding spheres; for maps the total power, the brightest texel and the share
     /// of energy in the brightest 0.1 % of texels.
     Inspect(inspect::InspectArgs),
+    /// Generate (or load from the cache) N directions by point repulsion and print their
+    /// uniformity as key=value lines; with --env, also build the direction tree and light tree.
+    Directions(directions::DirectionsArgs),
     /// Run the main job on the built-in teapot scene under the built-in sky (for now: inspect
     /// both; later stages add precompute, render and the report).
     Demo,
@@ -29,6 +33,7 @@ fn main() {
     let cli = Cli::parse();
     let result: Result<()> = match cli.command {
         Command::Inspect(args) => inspect::run(&args),
+        Command::Directions(args) => directions::run(&args),
         Command::Demo => demo(),
     };
     if let Err(e) = result {
