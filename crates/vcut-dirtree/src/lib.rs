@@ -98,8 +98,7 @@ impl DirectionTree {
         if cell_areas.len() != n {
             return Err(TreeError::AreaCount { areas: cell_areas.len(), dirs: n });
         }
-        if let Some(i) = (0..n).find(|&i| !(dirs[i].is_finite() && cell_areas[i] >= 0.0 && cell_areas[i].is_finite()))
-        {
+        if let Some(i) = (0..n).find(|&i| !(dirs[i].is_finite() && cell_areas[i] >= 0.0 && cell_areas[i].is_finite())) {
             return Err(TreeError::BadInput(i));
         }
         let height = n.trailing_zeros();
