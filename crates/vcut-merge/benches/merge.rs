@@ -1,0 +1,48 @@
+//! Height (counter) merge against the index baseline on the same cuts, shaped like a frame's:
+//! one SVC times two objects' fields interpolated from 8 cuts each, 32,768 leaves, from tens to
+//! thousands of nodes per cut. The goal is the height merge at ≥ 2× the baseline's speed.
+
+use criterion::{Criterion, criterion_group, criterion_main};
+use std::hint::black_box;
+use vcut_cut::Cut;
+use vcut_merge::baseline::{self, IndexCut, IndexGroup};
+use vcut_merge::testing::random_cut;
+use vcut_merge::{Group, MergedCut, merge};
+
+fn frame_cuts(split: f32, seed: u64) -> (Cut, Vec<Cut>, Vec<Cut>) {
+    let svc = random_cut(15, seed, split, 0.35, 0.3);
+    let a = (0..8).map(|k| random_cut(15, seed ^ (k + 1), split * 0.9, 0.05, 0.7)).collect();
+    let b = (0..8).map(|k| random_cut(15, seed ^ ((k + 1) << 24), split * 0.9, 0.05, 0.7)).collect();
+    (svc, a, b)
+}
+
+fn benches(c: &mut Criterion) {
+    let mut g = c.benchmark_group("merge_svc_x_2x8");
+    g.sample_size(20);
+    let wa = [0.125f32; 8];
+    for (label, split) in [("small", 0.62f32), ("medium", 0.75), ("large", 0.86)] {
+        let (svc, fa, fb) = frame_cuts(split, 42);
+        let nodes = svc.len() + fa.iter().chain(&fb).map(Cut::len).sum::<usize>();
+        println!("{label}: {nodes} input nodes (svc {})", svc.len());
+        let (ra, rb): (Vec<&Cut>, Vec<&Cut>) = (fa.iter().collect(), fb.iter().collect());
+        let svc_ref = &svc;
+        let groups = [Group::single(&svc_ref), Group { cuts: &ra, weights: &wa }, Group { cuts: &rb, weights: &wa }];
+        let mut out = MergedCut::default();
+        g.bench_function(format!("height_{label}"), |b| b.iter(|| merge(black_box(&groups), &mut out)));
+        let isvc = IndexCut::from_cut(&svc);
+        let ia: Vec<IndexCut> = fa.iter().map(IndexCut::from_cut).collect();
+        let ib: Vec<IndexCut> = fb.iter().map(IndexCut::from_cut).collect();
+        let (ra2, rb2): (Vec<&IndexCut>, Vec<&IndexCut>) = (ia.iter().collect(), ib.iter().collect());
+        let isvc_ref = [&isvc];
+        let igroups = [
+            IndexGroup { cuts: &isvc_ref, weights: &[1.0] },
+            IndexGroup { cuts: &ra2, weights: &wa },
+            IndexGroup { cuts: &rb2, weights: &wa },
+        ];
+        g.bench_function(format!("index_{label}"), |b| b.iter(|| baseline::merge(black_box(&igroups), &mut out)));
+    }
+    g.finish();
+}
+
+criterion_group!(merge_benches, benches);
+criterion_main!(merge_benches);
