@@ -12,6 +12,9 @@
 //! - **index baseline** (Akerlund 2007 / Cheslack-Postava 2008): each node's level-order index
 //!   (u16 while 2N−1 fits, u32 above) followed by its f32 value.
 //!
+//! Selection ([`select`]): the cut of leaf values by the paper's top-down split on the node
+//! error `E_k` (eq. 4) and solid angle.
+//!
 //! # Invariants
 //! Heights ≤ H; Σ 2^{h_i} = 2^H; every node starts at a multiple of its own size (so it is a
 //! node of the tree); values are finite. Constructors check all of it; [`Cut::validate`] re-checks
@@ -29,6 +32,7 @@
 //! ```
 
 pub mod codec;
+pub mod select;
 
 pub use codec::ValueFormat;
 
