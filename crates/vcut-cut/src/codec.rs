@@ -148,6 +148,19 @@ fn get_varint(bytes: &[u8]) -> Result<(u64, usize), DecodeError> {
     Err(DecodeError::Count)
 }
 
+/// Reads and checks the node count: 1 ..= 2^H nodes.
+fn read_count(bytes: &[u8], root_height: u32) -> Result<(usize, usize), DecodeError> {
+    if root_height > crate::MAX_ROOT_HEIGHT {
+        return Err(CutError::RootHeight(root_height).into());
+    }
+    let (n, at) = get_varint(bytes)?;
+    let leaves = 1u64 << root_height;
+    if n == 0 || n > leaves {
+        return Err(DecodeError::NodeCount { nodes: n, leaves });
+    }
+    Ok((n as usize, at))
+}
+
 /// Bits per height for a root height.
 pub fn height_bits(root_height: u32) -> u32 {
     if root_height <= 15 { 4 } else { 5 }
@@ -237,15 +250,7 @@ pub fn encode_heights(cut: &Cut, format: ValueFormat) -> Result<Vec<u8>, EncodeE
 
 /// Decodes a height-coded cut from the start of `bytes`; returns it and the bytes used.
 pub fn decode_heights_prefix(bytes: &[u8], root_height: u32, format: ValueFormat) -> Result<(Cut, usize), DecodeError> {
-    if root_height > crate::MAX_ROOT_HEIGHT {
-        return Err(CutError::RootHeight(root_height).into());
-    }
-    let (n, mut at) = get_varint(bytes)?;
-    let leaves = 1u64 << root_height;
-    if n == 0 || n > leaves {
-        return Err(DecodeError::NodeCount { nodes: n, leaves });
-    }
-    let n = n as usize;
+    let (n, mut at) = read_count(bytes, root_height)?;
     let bits = height_bits(root_height);
     let height_bytes = (n * bits as usize).div_ceil(8);
     let needed = at + height_bytes + n * format.bytes();
@@ -306,22 +311,14 @@ pub fn encode_indices(cut: &Cut) -> Vec<u8> {
 
 /// Decodes an index-coded cut from the start of `bytes`; returns it and the bytes used.
 pub fn decode_indices_prefix(bytes: &[u8], root_height: u32) -> Result<(Cut, usize), DecodeError> {
-    if root_height > crate::MAX_ROOT_HEIGHT {
-        return Err(CutError::RootHeight(root_height).into());
-    }
-    let (n, mut at) = get_varint(bytes)?;
-    let leaves = 1u64 << root_height;
-    if n == 0 || n > leaves {
-        return Err(DecodeError::NodeCount { nodes: n, leaves });
-    }
-    let n = n as usize;
+    let (n, mut at) = read_count(bytes, root_height)?;
     let ib = index_bytes(root_height);
     let needed = at + n * (ib + 4);
     if bytes.len() < needed {
         return Err(DecodeError::Truncated { needed, got: bytes.len() });
     }
     let mut heights = Vec::with_capacity(n);
-    let nodes = 2 * leaves - 1;
+    let nodes = 2 * (1u64 << root_height) - 1;
     for (node, c) in bytes[at..at + n * ib].chunks_exact(ib).enumerate() {
         let index = if ib == 2 {
             u32::from(u16::from_le_bytes([c[0], c[1]]))

@@ -231,6 +231,16 @@ enum TexelGeometry {
     PerTexel(Vec<(Vec3, f64)>),
 }
 
+/// (sin φ, cos φ) of every lat-long column centre.
+fn column_trig(width: u32) -> Vec<(f32, f32)> {
+    (0..width)
+        .map(|i| {
+            let phi = 2.0 * std::f64::consts::PI * (f64::from(i) + 0.5) / f64::from(width);
+            (phi.sin() as f32, phi.cos() as f32)
+        })
+        .collect()
+}
+
 impl TexelGeometry {
     fn new(layout: Layout) -> TexelGeometry {
         match layout {
@@ -243,13 +253,7 @@ impl TexelGeometry {
                         (theta.sin() as f32, theta.cos() as f32, omega)
                     })
                     .collect();
-                let cols = (0..width)
-                    .map(|i| {
-                        let phi = 2.0 * std::f64::consts::PI * (f64::from(i) + 0.5) / f64::from(width);
-                        (phi.sin() as f32, phi.cos() as f32)
-                    })
-                    .collect();
-                TexelGeometry::LatLong { rows, cols }
+                TexelGeometry::LatLong { rows, cols: column_trig(width) }
             }
             Layout::Cube { .. } => {
                 let mut geo = Vec::with_capacity(layout.texel_count());
@@ -384,19 +388,13 @@ impl LightTreeBuilder {
                     self.locator.nearest(layout::latlong_dir(u, v).as_dvec3().normalize())
                 })
                 .collect();
-            let cols = (0..width)
-                .map(|i| {
-                    let phi = 2.0 * std::f64::consts::PI * (f64::from(i) + 0.5) / f64::from(width);
-                    (phi.sin() as f32, phi.cos() as f32)
-                })
-                .collect();
             let rows = (0..height)
                 .map(|j| {
                     let theta = std::f64::consts::PI * (f64::from(j) + 0.5) / f64::from(height);
                     (theta.sin() as f32, theta.cos() as f32)
                 })
                 .collect();
-            self.yaw_cache = Some(YawAssignment { width, height, leaves, cols, rows });
+            self.yaw_cache = Some(YawAssignment { width, height, leaves, cols: column_trig(width), rows });
         }
         let Some(assign) = &self.yaw_cache else { unreachable!("filled above") };
         let (w, h) = (width as usize, height as usize);

@@ -57,18 +57,6 @@ pub fn cell_areas(points: &[DVec3]) -> Vec<f64> {
 }
 
 fn cell_area(points: &[DVec3], i: usize, p: DVec3, grid: &SphereGrid, radius: f64, last: bool) -> Option<f64> {
-    cell_area_centroid(points, i, p, grid, radius, last).map(|(a, _)| a)
-}
-
-/// Area and (spherical, area-weighted) centroid direction of cell `i`.
-fn cell_area_centroid(
-    points: &[DVec3],
-    i: usize,
-    p: DVec3,
-    grid: &SphereGrid,
-    radius: f64,
-    last: bool,
-) -> Option<(f64, DVec3)> {
     let a = if p.x.abs() < 0.9 { DVec3::X } else { DVec3::Y };
     let u = p.cross(a).normalize();
     let v = p.cross(u);
@@ -94,41 +82,17 @@ fn cell_area_centroid(
         grid.for_each_near(p, &mut visit);
     }
     if poly.len() < 3 {
-        return Some((0.0, p));
+        return Some(0.0);
     }
     if !last && poly.iter().any(|q| q.x.abs() >= half * 0.999 || q.y.abs() >= half * 0.999) {
         return None;
     }
     let verts: Vec<DVec3> = poly.iter().map(|q| (p + q.x * u + q.y * v).normalize()).collect();
     let mut area = 0.0;
-    let mut centroid = DVec3::ZERO;
     for k in 0..verts.len() {
-        let (b, c) = (verts[k], verts[(k + 1) % verts.len()]);
-        let w = triangle_solid_angle(p, b, c);
-        area += w;
-        centroid += (p + b + c).normalize() * w;
+        area += triangle_solid_angle(p, verts[k], verts[(k + 1) % verts.len()]);
     }
-    Some((area, centroid.normalize_or(p)))
-}
-
-/// Cell areas and centroids (for Lloyd relaxation).
-pub fn cells(points: &[DVec3]) -> Vec<(f64, DVec3)> {
-    let n = points.len().max(1);
-    let s = (4.0 * std::f64::consts::PI / n as f64).sqrt();
-    let radii = [3.0 * s, 6.0 * s, 12.0 * s, 2.5];
-    let grids: Vec<SphereGrid> = radii.iter().map(|&r| SphereGrid::new(points, r)).collect();
-    points
-        .par_iter()
-        .enumerate()
-        .map(|(i, &p)| {
-            for (level, grid) in grids.iter().enumerate() {
-                if let Some(a) = cell_area_centroid(points, i, p, grid, radii[level], level == radii.len() - 1) {
-                    return a;
-                }
-            }
-            (0.0, p)
-        })
-        .collect()
+    Some(area)
 }
 
 #[cfg(test)]
