@@ -25,7 +25,8 @@ enum Command {
     /// uniformity as key=value lines; with --env, also build the direction tree and light tree.
     Directions(directions::DirectionsArgs),
     /// Run the main job on the built-in teapot scene under the built-in sky (for now: inspect
-    /// both; later stages add precompute, render and the report).
+    /// both, then build the 32,768 directions (cached), the direction tree and the sky's light
+    /// tree; later stages add precompute, render and the report).
     Demo,
 }
 
@@ -47,5 +48,13 @@ fn demo() -> Result<()> {
     inspect::run(&inspect::InspectArgs::target("builtin:teapot"))?;
     println!("\n== environment builtin:sky");
     inspect::run(&inspect::InspectArgs::target("builtin:sky"))?;
-    Ok(())
+    println!("\n== directions, direction tree and light tree (32,768 directions, builtin:sky)");
+    directions::run(&directions::DirectionsArgs {
+        n: 32_768,
+        seed: 0,
+        start: "fibonacci".into(),
+        cache_dir: "target/vcut-cache".into(),
+        no_cache: false,
+        env: Some("builtin:sky".into()),
+    })
 }
