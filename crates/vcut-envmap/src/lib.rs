@@ -97,7 +97,8 @@ impl EnvMap {
         Ok((map, LoadReport { clamped_texels: clamped }))
     }
 
-    /// A map of constant radiance `c` (an 1×... lat-long map of 2×1 texels).
+    /// A map of constant radiance `c` (a 2×1 lat-long map; negative or non-finite channels
+    /// become 0).
     pub fn constant(c: [f32; 3]) -> Self {
         let c = c.map(|x| if x.is_finite() { x.max(0.0) } else { 0.0 });
         Self {
