@@ -6,7 +6,10 @@ use criterion::{Criterion, criterion_group, criterion_main};
 use std::hint::black_box;
 use vcut_cut::Cut;
 use vcut_merge::baseline::{self, IndexCut, IndexGroup};
-use vcut_merge::testing::random_cut;
+#[path = "../tests/common/mod.rs"]
+mod common;
+
+use common::random_cut;
 use vcut_merge::{Group, MergedCut, merge};
 
 fn frame_cuts(split: f32, seed: u64) -> (Cut, Vec<Cut>, Vec<Cut>) {

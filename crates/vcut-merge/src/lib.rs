@@ -36,7 +36,6 @@
 //! ```
 
 pub mod baseline;
-pub mod testing;
 
 use vcut_cut::Cut;
 

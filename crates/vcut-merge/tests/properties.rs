@@ -6,7 +6,9 @@
 use proptest::prelude::*;
 use vcut_cut::Cut;
 use vcut_merge::baseline::{self, IndexCut, IndexGroup};
-use vcut_merge::testing::random_cut;
+mod common;
+
+use common::random_cut;
 use vcut_merge::{Group, MergedCut, merge, merge_product, merge_weighted_sum};
 
 /// Start leaves of every node of the coarsest common refinement, plus the end.

@@ -1,4 +1,5 @@
-//! Random valid cuts for property tests, fuzzing and benches (deterministic from a seed).
+//! Random valid cuts for this crate's property tests and benches (deterministic from a seed);
+//! kept out of the public API and included by both with `mod common`.
 
 use vcut_cut::Cut;
 
