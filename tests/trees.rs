@@ -132,14 +132,7 @@ fn every_asset_map_integrates_exactly() {
     let Some(assets) = vcut_tests::assets_or_skip("every_asset_map_integrates_exactly") else { return };
     let tree = tree_of(4096, &RepulsionParams::default());
     let mut builder = LightTreeBuilder::new(&tree);
-    for rel in [
-        "envmaps/quarry_01_1k.hdr",
-        "envmaps/royal_esplanade_1k.hdr",
-        "envmaps/spruit_sunrise_1k.hdr",
-        "envmaps/grace.hdr",
-        "envmaps/pisa.hdr",
-        "envmaps/pisa_cube",
-    ] {
+    for rel in vcut_tests::ENVIRONMENT_MAPS {
         let (map, _) = vcut_envmap::load(&assets.join(rel), InvalidTexels::Reject).unwrap();
         let lights = builder.build(&map);
         lights.validate().unwrap();

@@ -14,6 +14,16 @@ pub fn assets_or_skip(test: &str) -> Option<PathBuf> {
     }
 }
 
+/// The environment maps among the shared assets (lat-long files and the cube folder).
+pub const ENVIRONMENT_MAPS: [&str; 6] = [
+    "envmaps/quarry_01_1k.hdr",
+    "envmaps/royal_esplanade_1k.hdr",
+    "envmaps/spruit_sunrise_1k.hdr",
+    "envmaps/grace.hdr",
+    "envmaps/pisa.hdr",
+    "envmaps/pisa_cube",
+];
+
 /// A scratch folder, removed when dropped.
 pub struct Scratch(PathBuf);
 
