@@ -218,6 +218,9 @@ fn decode_exr(bytes: &[u8], name: &Path) -> Result<Rgb, EnvMapError> {
             .all_channels()
             .first_valid_layer()
             .all_attributes()
+            // Sequential: a panic in a rayon worker would abort the process past our catch_unwind
+            // (found by the fuzzer); environment maps decode fast enough on one thread.
+            .non_parallel()
             .from_buffered(Cursor::new(bytes))
     }));
     let image = match decoded {
