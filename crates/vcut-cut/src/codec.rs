@@ -161,6 +161,12 @@ fn read_count(bytes: &[u8], root_height: u32) -> Result<(usize, usize), DecodeEr
     Ok((n as usize, at))
 }
 
+/// The node count at the start of an encoded cut (either codec), without decoding the rest.
+pub fn decode_count(bytes: &[u8]) -> Result<usize, DecodeError> {
+    let (n, _) = get_varint(bytes)?;
+    usize::try_from(n).map_err(|_| DecodeError::Count)
+}
+
 /// Bits per height for a root height.
 pub fn height_bits(root_height: u32) -> u32 {
     if root_height <= 15 { 4 } else { 5 }

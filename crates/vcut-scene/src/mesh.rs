@@ -308,6 +308,18 @@ impl Mesh {
         self.triangles.extend(other.triangles.iter().map(|t| t.map(|i| i + off)));
     }
 
+    /// Rebuilds a mesh from the arrays of a mesh that was valid (as stored in a file), keeping
+    /// them bit for bit; refuses arrays that break an invariant.
+    pub fn from_valid_parts(
+        positions: Vec<Vec3>,
+        normals: Vec<Vec3>,
+        triangles: Vec<[u32; 3]>,
+    ) -> Result<Mesh, String> {
+        let mesh = Mesh { positions, normals, triangles };
+        mesh.validate()?;
+        Ok(mesh)
+    }
+
     /// Re-checks every invariant; for tests.
     pub fn validate(&self) -> Result<(), String> {
         if self.positions.len() != self.normals.len() {

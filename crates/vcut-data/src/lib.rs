@@ -1,0 +1,33 @@
+//! The precomputed data of visibility-cut rendering.
+//!
+//! - [`file`]: the `.vcuts` container — a versioned header, sections each with a CRC-32, an
+//!   offset table at the end so readers open it lazily (one section at a time, or memory-mapped:
+//!   payloads are 8-byte aligned). [`file::Writer`] writes under `<name>.partial`, renames when
+//!   done, and resumes a killed run from its last intact section, byte-identically.
+//! - [`sections`]: the payloads — arrays of height-coded cuts with an offset index (random access
+//!   to any vertex's or field sample's cut), directions, meshes, field layouts.
+//! - [`field`]: where a visibility cut field's samples are (S concentric spheres × 6·R² cube-map
+//!   points) and the trilinear lookup of the 8 samples around a point.
+//!
+//! # Invariants
+//! Readers never panic on damaged files: every problem is an error naming the file and the
+//! section. Nothing here casts rays or shades; the file layout is described in `file`'s docs.
+//!
+//! # Example
+//! ```
+//! use vcut_data::file::{Reader, SectionId, SectionKind, Writer};
+//! let path = std::env::temp_dir().join(format!("doc-{}.vcuts", std::process::id()));
+//! let mut w = Writer::open(&path).unwrap();
+//! w.put(SectionId::new(SectionKind::Params, 0, 0), b"preset = \"fast\"").unwrap();
+//! w.finish().unwrap();
+//! let mut r = Reader::open(&path).unwrap();
+//! assert_eq!(r.section(SectionId::new(SectionKind::Params, 0, 0)).unwrap(), b"preset = \"fast\"");
+//! # std::fs::remove_file(&path).unwrap();
+//! ```
+
+pub mod field;
+pub mod file;
+pub mod sections;
+
+pub use field::{FieldLayout, FieldSample};
+pub use file::{FileError, Reader, SectionId, SectionKind, Writer};

@@ -1,0 +1,377 @@
+//! Payloads of the `.vcuts` sections.
+//!
+//! **Cut array** (SVC chunks, field spheres): `count u32, root height u8, value format u8,
+//! flags u8 (bit 0: an "inside the object" bit per cut follows), 0u8`, then `count + 1` u32 byte
+//! offsets into the cut bytes, then the bit set (`⌈count/8⌉` bytes, padded to 4), then the cuts,
+//! each in the height codec of `vcut-cut`. Cut `i` is `cuts[offsets[i]..offsets[i+1]]`.
+//!
+//! **Directions**: `n u32`, then n × 3 f32 directions (generation order), then n f64 solid
+//! angles of their cells. **Mesh**: name, motion (0 static, 1 movable), material (TOML), vertex
+//! and triangle counts, positions, normals, triangles. **Field layout**: centre, radius,
+//! spheres, resolution, inner, outer. Strings are a u32 length and UTF-8 bytes; all
+//! little-endian. Every parser checks lengths and returns a reason instead of panicking.
+
+use crate::field::FieldLayout;
+use glam::Vec3;
+use vcut_cut::Cut;
+use vcut_cut::codec::{self, ValueFormat};
+use vcut_scene::{Material, Mesh, Motion};
+
+/// Value format code in the cut array header.
+pub fn format_code(f: ValueFormat) -> u8 {
+    match f {
+        ValueFormat::F32 => 0,
+        ValueFormat::F16 => 1,
+        ValueFormat::U16 => 2,
+        ValueFormat::U8 => 3,
+    }
+}
+
+fn format_of(code: u8) -> Option<ValueFormat> {
+    Some(match code {
+        0 => ValueFormat::F32,
+        1 => ValueFormat::F16,
+        2 => ValueFormat::U16,
+        3 => ValueFormat::U8,
+        _ => return None,
+    })
+}
+
+/// Builds a cut array payload from already encoded cuts.
+pub fn encode_cut_array(root_height: u32, format: ValueFormat, cuts: &[Vec<u8>], inside: Option<&[bool]>) -> Vec<u8> {
+    let n = cuts.len();
+    let bits = inside.map_or(0, |_| n.div_ceil(8).div_ceil(4) * 4);
+    let total: usize = cuts.iter().map(Vec::len).sum();
+    let mut out = Vec::with_capacity(8 + 4 * (n + 1) + bits + total);
+    out.extend_from_slice(&(n as u32).to_le_bytes());
+    out.extend_from_slice(&[root_height as u8, format_code(format), u8::from(inside.is_some()), 0]);
+    let mut at = 0u32;
+    out.extend_from_slice(&at.to_le_bytes());
+    for c in cuts {
+        at += c.len() as u32;
+        out.extend_from_slice(&at.to_le_bytes());
+    }
+    if let Some(inside) = inside {
+        let mut set = vec![0u8; bits];
+        for (i, _) in inside.iter().enumerate().filter(|(_, x)| **x) {
+            set[i / 8] |= 1 << (i % 8);
+        }
+        out.extend_from_slice(&set);
+    }
+    for c in cuts {
+        out.extend_from_slice(c);
+    }
+    out
+}
+
+/// A parsed cut array: cuts are decoded on demand.
+#[derive(Debug, Clone, Copy)]
+pub struct CutArray<'a> {
+    root_height: u32,
+    format: ValueFormat,
+    offsets: &'a [u8],
+    inside: Option<&'a [u8]>,
+    cuts: &'a [u8],
+    count: usize,
+}
+
+fn u32_at(b: &[u8], at: usize) -> u32 {
+    u32::from_le_bytes([b[at], b[at + 1], b[at + 2], b[at + 3]])
+}
+
+impl<'a> CutArray<'a> {
+    /// Parses the header and offsets (checked: monotone, within the payload).
+    pub fn parse(bytes: &'a [u8]) -> Result<CutArray<'a>, String> {
+        if bytes.len() < 8 {
+            return Err(format!("cut array of {} bytes, shorter than its 8-byte header", bytes.len()));
+        }
+        let count = u32_at(bytes, 0) as usize;
+        let root_height = u32::from(bytes[4]);
+        let format = format_of(bytes[5]).ok_or_else(|| format!("unknown value format code {}", bytes[5]))?;
+        if root_height > 20 || bytes[6] > 1 || bytes[7] != 0 {
+            return Err("malformed cut array header".into());
+        }
+        let offsets_end = 8 + 4 * (count + 1);
+        let bits = if bytes[6] == 1 { count.div_ceil(8).div_ceil(4) * 4 } else { 0 };
+        if bytes.len() < offsets_end + bits {
+            return Err(format!("cut array of {count} cuts truncated: {} bytes", bytes.len()));
+        }
+        let offsets = &bytes[8..offsets_end];
+        let cuts = &bytes[offsets_end + bits..];
+        let mut last = 0;
+        for i in 0..=count {
+            let o = u32_at(offsets, 4 * i) as usize;
+            if o < last || (i == 0 && o != 0) {
+                return Err(format!("cut offsets not increasing at cut {i}"));
+            }
+            last = o;
+        }
+        if last != cuts.len() {
+            return Err(format!("cut offsets end at {last}, the cut bytes are {} long", cuts.len()));
+        }
+        let inside = (bits > 0).then(|| &bytes[offsets_end..offsets_end + bits]);
+        Ok(CutArray { root_height, format, offsets, inside, cuts, count })
+    }
+
+    /// Number of cuts.
+    pub fn len(&self) -> usize {
+        self.count
+    }
+
+    /// Whether there are no cuts.
+    pub fn is_empty(&self) -> bool {
+        self.count == 0
+    }
+
+    /// Root height of every cut.
+    pub fn root_height(&self) -> u32 {
+        self.root_height
+    }
+
+    /// Value format of every cut.
+    pub fn format(&self) -> ValueFormat {
+        self.format
+    }
+
+    /// The encoded bytes of cut `i` (`i < len`).
+    pub fn cut_bytes(&self, i: usize) -> &'a [u8] {
+        let (a, b) = (u32_at(self.offsets, 4 * i) as usize, u32_at(self.offsets, 4 * i + 4) as usize);
+        &self.cuts[a..b]
+    }
+
+    /// Decodes cut `i` (`i < len`).
+    pub fn cut(&self, i: usize) -> Result<Cut, String> {
+        codec::decode_heights(self.cut_bytes(i), self.root_height, self.format).map_err(|e| format!("cut {i}: {e}"))
+    }
+
+    /// Node count of cut `i` without decoding it.
+    pub fn node_count(&self, i: usize) -> Result<usize, String> {
+        codec::decode_count(self.cut_bytes(i)).map_err(|e| format!("cut {i}: {e}"))
+    }
+
+    /// Whether sample `i` lies inside the object (field arrays; `false` elsewhere).
+    pub fn inside(&self, i: usize) -> bool {
+        self.inside.is_some_and(|b| b[i / 8] >> (i % 8) & 1 == 1)
+    }
+}
+
+/// Directions payload.
+pub fn encode_directions(dirs: &[Vec3], cell_areas: &[f64]) -> Vec<u8> {
+    let mut out = Vec::with_capacity(4 + dirs.len() * 20);
+    out.extend_from_slice(&(dirs.len() as u32).to_le_bytes());
+    for d in dirs {
+        for c in d.to_array() {
+            out.extend_from_slice(&c.to_le_bytes());
+        }
+    }
+    for a in cell_areas {
+        out.extend_from_slice(&a.to_le_bytes());
+    }
+    out
+}
+
+/// Parses a directions payload.
+pub fn decode_directions(bytes: &[u8]) -> Result<(Vec<Vec3>, Vec<f64>), String> {
+    let mut r = Cursor::new(bytes);
+    let n = r.u32()? as usize;
+    if bytes.len() != 4 + 20 * n {
+        return Err(format!("{n} directions need {} bytes, got {}", 4 + 20 * n, bytes.len()));
+    }
+    let dirs = (0..n).map(|_| r.vec3()).collect::<Result<Vec<_>, _>>()?;
+    let areas = (0..n).map(|_| r.f64()).collect::<Result<Vec<_>, _>>()?;
+    Ok((dirs, areas))
+}
+
+/// One object as stored.
+#[derive(Debug, Clone)]
+pub struct StoredObject {
+    /// Name.
+    pub name: String,
+    /// Static or movable.
+    pub motion: Motion,
+    /// Material at precompute time.
+    pub material: Material,
+    /// Mesh at rest.
+    pub mesh: Mesh,
+}
+
+/// Mesh payload.
+pub fn encode_mesh(name: &str, motion: Motion, material: &Material, mesh: &Mesh) -> Vec<u8> {
+    let mut out = Vec::new();
+    put_str(&mut out, name);
+    out.push(u8::from(motion == Motion::Movable));
+    put_str(&mut out, &toml::to_string(material).unwrap_or_default());
+    out.extend_from_slice(&(mesh.vertex_count() as u32).to_le_bytes());
+    out.extend_from_slice(&(mesh.triangle_count() as u32).to_le_bytes());
+    for v in mesh.positions().iter().chain(mesh.normals()) {
+        for c in v.to_array() {
+            out.extend_from_slice(&c.to_le_bytes());
+        }
+    }
+    for t in mesh.triangles() {
+        for i in t {
+            out.extend_from_slice(&i.to_le_bytes());
+        }
+    }
+    out
+}
+
+/// Parses a mesh payload (the mesh is validated again).
+pub fn decode_mesh(bytes: &[u8]) -> Result<StoredObject, String> {
+    let mut r = Cursor::new(bytes);
+    let name = r.str()?;
+    let motion = match r.u8()? {
+        0 => Motion::Static,
+        1 => Motion::Movable,
+        m => return Err(format!("unknown motion code {m}")),
+    };
+    let material: Material = toml::from_str(&r.str()?).map_err(|e| format!("material: {e}"))?;
+    let (nv, nt) = (r.u32()? as usize, r.u32()? as usize);
+    if r.rest() != nv * 24 + nt * 12 {
+        return Err(format!("{nv} vertices and {nt} triangles need {} bytes, got {}", nv * 24 + nt * 12, r.rest()));
+    }
+    let positions = (0..nv).map(|_| r.vec3()).collect::<Result<Vec<_>, _>>()?;
+    let normals = (0..nv).map(|_| r.vec3()).collect::<Result<Vec<_>, _>>()?;
+    let triangles = (0..nt).map(|_| Ok([r.u32()?, r.u32()?, r.u32()?])).collect::<Result<Vec<_>, String>>()?;
+    let mesh = Mesh::from_valid_parts(positions, normals, triangles).map_err(|e| format!("mesh: {e}"))?;
+    Ok(StoredObject { name, motion, material, mesh })
+}
+
+/// Field layout payload.
+pub fn encode_field_layout(l: &FieldLayout) -> Vec<u8> {
+    let mut out = Vec::with_capacity(36);
+    for c in l.center.to_array() {
+        out.extend_from_slice(&c.to_le_bytes());
+    }
+    out.extend_from_slice(&l.radius.to_le_bytes());
+    out.extend_from_slice(&l.spheres.to_le_bytes());
+    out.extend_from_slice(&l.resolution.to_le_bytes());
+    out.extend_from_slice(&l.inner.to_le_bytes());
+    out.extend_from_slice(&l.outer.to_le_bytes());
+    out
+}
+
+/// Parses a field layout payload.
+pub fn decode_field_layout(bytes: &[u8]) -> Result<FieldLayout, String> {
+    let mut r = Cursor::new(bytes);
+    let l = FieldLayout {
+        center: r.vec3()?,
+        radius: r.f32()?,
+        spheres: r.u32()?,
+        resolution: r.u32()?,
+        inner: r.f32()?,
+        outer: r.f32()?,
+    };
+    let ok = r.rest() == 0
+        && l.center.is_finite()
+        && l.radius > 0.0
+        && l.radius.is_finite()
+        && (1..=4096).contains(&l.spheres)
+        && (1..=4096).contains(&l.resolution)
+        && l.inner >= 0.0
+        && l.outer > l.inner
+        && l.outer.is_finite();
+    if ok { Ok(l) } else { Err(format!("malformed field layout {l:?}")) }
+}
+
+fn put_str(out: &mut Vec<u8>, s: &str) {
+    out.extend_from_slice(&(s.len() as u32).to_le_bytes());
+    out.extend_from_slice(s.as_bytes());
+}
+
+/// A bounds-checked little-endian reader.
+struct Cursor<'a> {
+    bytes: &'a [u8],
+    at: usize,
+}
+
+impl<'a> Cursor<'a> {
+    fn new(bytes: &'a [u8]) -> Self {
+        Cursor { bytes, at: 0 }
+    }
+
+    fn take(&mut self, n: usize) -> Result<&'a [u8], String> {
+        let end = self.at.checked_add(n).filter(|&e| e <= self.bytes.len());
+        let end = end.ok_or_else(|| format!("truncated at byte {} (needs {n} more)", self.at))?;
+        let s = &self.bytes[self.at..end];
+        self.at = end;
+        Ok(s)
+    }
+
+    fn rest(&self) -> usize {
+        self.bytes.len() - self.at
+    }
+
+    fn u8(&mut self) -> Result<u8, String> {
+        Ok(self.take(1)?[0])
+    }
+
+    fn u32(&mut self) -> Result<u32, String> {
+        Ok(u32_at(self.take(4)?, 0))
+    }
+
+    fn f32(&mut self) -> Result<f32, String> {
+        Ok(f32::from_bits(self.u32()?))
+    }
+
+    fn f64(&mut self) -> Result<f64, String> {
+        let b = self.take(8)?;
+        let mut x = [0u8; 8];
+        x.copy_from_slice(b);
+        Ok(f64::from_le_bytes(x))
+    }
+
+    fn vec3(&mut self) -> Result<Vec3, String> {
+        Ok(Vec3::new(self.f32()?, self.f32()?, self.f32()?))
+    }
+
+    fn str(&mut self) -> Result<String, String> {
+        let n = self.u32()? as usize;
+        String::from_utf8(self.take(n)?.to_vec()).map_err(|_| "string is not UTF-8".to_string())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn cut_arrays_round_trip_and_reject_damage() {
+        let cuts = [
+            Cut::new(3, vec![2, 1, 0, 0], vec![1.0, 0.5, 0.0, 0.25]).unwrap(),
+            Cut::new(3, vec![3], vec![0.0]).unwrap(),
+        ];
+        let enc: Vec<Vec<u8>> = cuts.iter().map(|c| codec::encode_heights(c, ValueFormat::F16).unwrap()).collect();
+        let payload = encode_cut_array(3, ValueFormat::F16, &enc, Some(&[false, true]));
+        let a = CutArray::parse(&payload).unwrap();
+        assert_eq!((a.len(), a.root_height(), a.format()), (2, 3, ValueFormat::F16));
+        assert_eq!(a.cut(0).unwrap(), cuts[0]);
+        assert_eq!(a.cut(1).unwrap(), cuts[1]);
+        assert_eq!((a.node_count(0).unwrap(), a.node_count(1).unwrap()), (4, 1));
+        assert!(!a.inside(0) && a.inside(1));
+        for cut in 0..payload.len() {
+            let _ = CutArray::parse(&payload[..cut]).map(|a| (0..a.len()).map(|i| a.cut(i)).count());
+        }
+        let mut bad = payload.clone();
+        bad[12] = 200;
+        assert!(CutArray::parse(&bad).is_err());
+    }
+
+    #[test]
+    fn meshes_directions_and_layouts_round_trip() {
+        let mesh = vcut_scene::shapes::sphere(1.0, 8, 6).unwrap();
+        let m = Material::default();
+        let bytes = encode_mesh("ball", Motion::Movable, &m, &mesh);
+        let got = decode_mesh(&bytes).unwrap();
+        assert_eq!((got.name.as_str(), got.motion, got.material, &got.mesh), ("ball", Motion::Movable, m, &mesh));
+        for cut in [0, 3, bytes.len() / 2, bytes.len() - 1] {
+            assert!(decode_mesh(&bytes[..cut]).is_err());
+        }
+        let dirs = vec![Vec3::X, Vec3::Y];
+        let (d, a) = decode_directions(&encode_directions(&dirs, &[1.5, 2.5])).unwrap();
+        assert_eq!((d, a), (dirs, vec![1.5, 2.5]));
+        let l = FieldLayout { center: Vec3::ONE, radius: 2.0, spheres: 4, resolution: 3, inner: 0.2, outer: 10.0 };
+        assert_eq!(decode_field_layout(&encode_field_layout(&l)).unwrap(), l);
+        assert!(decode_field_layout(&encode_field_layout(&FieldLayout { radius: -1.0, ..l })).is_err());
+    }
+}
