@@ -3,6 +3,7 @@
 
 mod directions;
 mod inspect;
+mod precompute;
 
 use anyhow::Result;
 use clap::{Parser, Subcommand};
@@ -24,6 +25,10 @@ enum Command {
     /// Generate (or load from the cache) N directions by point repulsion and print their
     /// uniformity as key=value lines; with --env, also build the direction tree and light tree.
     Directions(directions::DirectionsArgs),
+    /// Precompute a scene's self-visibility cuts and visibility cut fields into a .vcuts file
+    /// (resumes an interrupted run; prints time per stage, rays/s against the raw figure, and
+    /// data size in the height codec and the index baseline).
+    Precompute(precompute::PrecomputeArgs),
     /// Run the main job on the built-in teapot scene under the built-in sky (for now: inspect
     /// both, then build the 32,768 directions (cached), the direction tree and the sky's light
     /// tree; later stages add precompute, render and the report).
@@ -35,6 +40,7 @@ fn main() {
     let result: Result<()> = match cli.command {
         Command::Inspect(args) => inspect::run(&args),
         Command::Directions(args) => directions::run(&args),
+        Command::Precompute(args) => precompute::run(&args).map(|_| ()),
         Command::Demo => demo(),
     };
     if let Err(e) = result {

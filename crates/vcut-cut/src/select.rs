@@ -4,8 +4,15 @@
 //! the mean `v_k = Σ aṼ / Σ a`, the solid angle `|Ω_k| = Σ a`, and the error
 //! `E_k = (1/|Ω_k|) ∫_{Ω_k} (v_k − Ṽ)² dω = Σ aṼ²/Σ a − v_k²` (an area-weighted variance).
 //! From the root, every node whose error exceeds `max_error` or whose solid angle exceeds
-//! `max_solid_angle` is split; the nodes left form the cut. Fields use no solid-angle limit and
-//! `max_error < 0.25` (the paper): only regions of equal visibility merge.
+//! `max_solid_angle` is split; the nodes left form the cut. A node whose leaves are all zero is
+//! never split for its solid angle (it contributes nothing whatever the BRDF does across it).
+//!
+//! Fields: the paper asks for no solid-angle limit and an error threshold "below 0.25, so that
+//! only regions of equal V_n merge". Read literally (a threshold just under 0.25, the variance of
+//! an even 0/1 split), a node that is 90 % visible has variance 0.09 and would merge, erasing
+//! every shadow smaller than half a node; so [`SelectParams::field`] takes the stated intent:
+//! threshold 0, only leaves of equal visibility merge, the field cut is exact and its values
+//! are 0 or 1. Thresholds between 0 and 0.25 trade exactness for size and stay available.
 //!
 //! Sums are taken bottom-up in f64, so a node's statistics are exact for its leaves.
 
@@ -21,11 +28,10 @@ pub struct SelectParams {
 }
 
 impl SelectParams {
-    /// The paper's visibility-cut-field setting: error threshold just under 0.25 and no
-    /// solid-angle limit. Binary visibility has variance p(1 − p) ≤ 0.25, reached only at an even
-    /// split, so nodes that are mostly one value merge and evenly mixed ones split.
+    /// The visibility-cut-field setting: no solid-angle limit and error threshold 0, so only
+    /// leaves of equal visibility merge (see the module docs for why not 0.2499).
     pub fn field() -> Self {
-        Self { max_error: 0.2499, max_solid_angle: f64::INFINITY }
+        Self { max_error: 0.0, max_solid_angle: f64::INFINITY }
     }
 }
 
@@ -61,7 +67,7 @@ pub fn select(leaf_values: &[f32], leaf_solid_angles: &[f64], params: SelectPara
         let [s0, s1, s2] = sums[k];
         let mean = if s0 > 0.0 { s1 / s0 } else { 0.0 };
         let error = if s0 > 0.0 { (s2 / s0 - mean * mean).max(0.0) } else { 0.0 };
-        if h > 0 && (error > params.max_error || s0 > params.max_solid_angle) {
+        if h > 0 && (error > params.max_error || (s0 > params.max_solid_angle && s2 > 0.0)) {
             stack.push((2 * k + 2, h - 1));
             stack.push((2 * k + 1, h - 1));
         } else {
@@ -81,9 +87,17 @@ mod tests {
         let a = vec![0.5f64; 8];
         let c = select(&[1.0; 8], &a, SelectParams::field()).unwrap();
         assert_eq!((c.heights(), c.values()), (&[3u8][..], &[1.0f32][..]));
-        // Half visible: the root's variance is exactly 0.25, above 0.2499: one split.
+        // Half visible: one split, into the two constant halves.
         let c = select(&[1.0, 1.0, 1.0, 1.0, 0.0, 0.0, 0.0, 0.0], &a, SelectParams::field()).unwrap();
         assert_eq!((c.heights(), c.values()), (&[2u8, 2][..], &[1.0f32, 0.0][..]));
+        // One occluded leaf in eight: exact, the field keeps it (a threshold of 0.2499 would not).
+        let c = select(&[1.0, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0, 0.0], &a, SelectParams::field()).unwrap();
+        assert_eq!((c.heights(), c.values()), (&[2u8, 1, 0, 0][..], &[1.0f32, 1.0, 1.0, 0.0][..]));
+        let c = select(&[1.0, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0, 0.0], &a, SelectParams { max_error: 0.2499, ..SelectParams::field() }).unwrap();
+        assert_eq!(c.len(), 1);
+        // Zero regions are not split for their solid angle.
+        let c = select(&[0.0, 0.0, 0.0, 0.0, 1.0, 1.0, 1.0, 1.0], &a, SelectParams { max_error: 1.0, max_solid_angle: 1.0 }).unwrap();
+        assert_eq!(c.heights(), &[2, 1, 1]);
         // A solid-angle limit splits even constant regions.
         let c = select(&[1.0; 8], &a, SelectParams { max_error: 1.0, max_solid_angle: 1.0 }).unwrap();
         assert_eq!(c.heights(), &[1, 1, 1, 1]);

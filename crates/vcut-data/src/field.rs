@@ -142,6 +142,27 @@ impl FieldLayout {
         Some(out)
     }
 
+    /// Drops the samples that lie inside the object (`inside(sample)`) and rescales the others'
+    /// weights to sum to 1: a point outside the object must not blend in visibility seen from
+    /// inside it. Returns how many samples keep a weight; 0 when all are inside (the point
+    /// itself is then inside or at the surface: fully occluded).
+    pub fn drop_inside(samples: &mut [FieldSample; 8], inside: impl Fn(&FieldSample) -> bool) -> usize {
+        let mut total = 0.0;
+        for x in samples.iter_mut() {
+            if x.weight > 0.0 && inside(x) {
+                x.weight = 0.0;
+            }
+            total += x.weight;
+        }
+        if total <= 0.0 {
+            return 0;
+        }
+        for x in samples.iter_mut() {
+            x.weight /= total;
+        }
+        samples.iter().filter(|x| x.weight > 0.0).count()
+    }
+
     /// The same layout around a centre moved by `offset` (objects translate rigidly).
     pub fn translated(&self, offset: Vec3) -> FieldLayout {
         FieldLayout { center: self.center + offset, ..*self }
@@ -201,6 +222,18 @@ mod tests {
         for p in [l.center, l.center + Vec3::Y * 0.1] {
             assert!(l.lookup(p).unwrap().iter().all(|x| x.sphere == 0 || x.weight == 0.0));
         }
+    }
+
+    #[test]
+    fn inside_samples_are_dropped_and_the_rest_renormalised() {
+        let l = layout();
+        let mid = l.center + l.direction(77) * 0.5 * (l.sphere_radius(0) + l.sphere_radius(1));
+        let mut got = l.lookup(mid).unwrap();
+        let kept = FieldLayout::drop_inside(&mut got, |x| x.sphere == 0);
+        assert!(kept > 0 && kept <= 4);
+        let sum: f32 = got.iter().map(|x| x.weight).sum();
+        assert!((sum - 1.0).abs() < 1e-5 && got.iter().all(|x| x.sphere == 1 || x.weight == 0.0));
+        assert_eq!(FieldLayout::drop_inside(&mut got, |_| true), 0);
     }
 
     #[test]

@@ -210,7 +210,7 @@ pub struct Writer {
     entries: Vec<SectionEntry>,
     /// Intact sections found in the partial file and not yet re-supplied, in order.
     pending: std::collections::VecDeque<SectionEntry>,
-    /// End of the last section written or kept.
+    /// End of the last section written or kept (the file position once `pending` is empty).
     end: u64,
     resumed: usize,
 }
@@ -226,18 +226,18 @@ impl Writer {
         let mut file =
             OpenOptions::new().read(true).write(true).create(true).truncate(false).open(&partial).map_err(io)?;
         let found = scan_records(&mut file).map_err(io)?;
-        let end = found.last().map_or(HEADER_LEN, |e| e.offset + padded(e.len));
-        file.set_len(end).map_err(io)?;
+        let found_end = found.last().map_or(HEADER_LEN, |e| e.offset + padded(e.len));
+        file.set_len(found_end).map_err(io)?;
         file.seek(SeekFrom::Start(0)).map_err(io)?;
         file.write_all(&header_bytes(0, 0, 0, 0)).map_err(io)?;
-        file.seek(SeekFrom::Start(end)).map_err(io)?;
+        file.seek(SeekFrom::Start(found_end)).map_err(io)?;
         Ok(Writer {
             path: path.into(),
             partial,
             out: BufWriter::with_capacity(1 << 20, file),
             entries: Vec::new(),
             pending: found.into(),
-            end,
+            end: HEADER_LEN,
             resumed: 0,
         })
     }
@@ -245,6 +245,11 @@ impl Writer {
     /// Sections found intact in the partial file when the writer was opened and not yet used.
     pub fn pending(&self) -> usize {
         self.pending.len()
+    }
+
+    /// Sections in the file so far (written or kept).
+    pub fn written(&self) -> usize {
+        self.entries.len()
     }
 
     /// Sections kept from a previous run so far.
@@ -262,6 +267,7 @@ impl Writer {
     pub fn keep(&mut self, id: SectionId) -> Result<(), FileError> {
         match self.pending.pop_front() {
             Some(e) if e.id == id => {
+                self.end = e.offset + padded(e.len);
                 self.entries.push(e);
                 self.resumed += 1;
                 Ok(())
@@ -562,6 +568,9 @@ mod tests {
         other[1].1[0] ^= 1;
         std::fs::write(partial_path(&path), &partial).unwrap();
         write_all(&path, &other);
+        let resumed = std::fs::read(&path).unwrap();
+        write_all(&path, &other);
+        assert!(resumed == std::fs::read(&path).unwrap(), "a partial file of other inputs left traces");
         let mut r = Reader::open(&path).unwrap();
         assert_eq!(r.section(other[1].0).unwrap(), other[1].1);
         r.verify().unwrap();

@@ -6,6 +6,8 @@
 //!   done, and resumes a killed run from its last intact section, byte-identically.
 //! - [`sections`]: the payloads — arrays of height-coded cuts with an offset index (random access
 //!   to any vertex's or field sample's cut), directions, meshes, field layouts.
+//! - [`Precomputed`]: a finished file opened for rendering (meshes, directions, layouts at
+//!   open; cuts per object or per field sphere on demand, every section checked).
 //! - [`field`]: where a visibility cut field's samples are (S concentric spheres × 6·R² cube-map
 //!   points) and the trilinear lookup of the 8 samples around a point.
 //!
@@ -27,7 +29,9 @@
 
 pub mod field;
 pub mod file;
+pub mod precomputed;
 pub mod sections;
 
 pub use field::{FieldLayout, FieldSample};
 pub use file::{FileError, Reader, SectionId, SectionKind, Writer};
+pub use precomputed::Precomputed;

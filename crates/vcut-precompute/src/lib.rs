@@ -29,21 +29,91 @@
 //! assert_eq!(stats.rays_occluded, 0); // nothing of a plane occludes it
 //! ```
 
+pub mod field;
+pub mod params;
+pub mod run;
 pub mod svc;
+
+pub use params::PrecomputeParams;
+pub use run::{Job, NoProgress, PrecomputeError, Progress, Summary, precompute};
 
 use glam::Vec3;
 use obvhs::BvhBuildParams;
 use obvhs::cwbvh::{CwBvh, builder::build_cwbvh_from_tris};
-use obvhs::ray::Ray;
+use obvhs::ray::{Ray, RayHit};
 use obvhs::triangle::Triangle;
 use rayon::prelude::*;
 use std::time::{Duration, Instant};
+use vcut_dirtree::{Cone, DirectionTree};
 use vcut_scene::Mesh;
 
 /// Occlusion queries against a set of triangles.
 pub struct Occluder {
     bvh: CwBvh,
     tris: Vec<Triangle>,
+    /// Per triangle, the sum of its vertex normals: the side the mesh calls outside.
+    outward: Vec<Vec3>,
+}
+
+/// Rays cast by a stage, and what was resolved without them.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct RayStats {
+    /// Rays cast.
+    pub rays_cast: u64,
+    /// Of those, rays that hit something.
+    pub rays_occluded: u64,
+    /// Leaf directions resolved without a ray (below the horizon, outside the object's bounding
+    /// cone, or inside the object), alone or as whole subtrees.
+    pub resolved_without_ray: u64,
+}
+
+impl RayStats {
+    /// The sum of two.
+    pub fn add(self, o: RayStats) -> RayStats {
+        RayStats {
+            rays_cast: self.rays_cast + o.rays_cast,
+            rays_occluded: self.rays_occluded + o.rays_occluded,
+            resolved_without_ray: self.resolved_without_ray + o.resolved_without_ray,
+        }
+    }
+}
+
+/// Whether every direction of `cone` is at least `angle` away from unit direction `dir`.
+pub fn cone_outside(cone: &Cone, dir: Vec3, angle: f32) -> bool {
+    if cone.cos_half_angle <= -1.0 {
+        return false;
+    }
+    let half = cone.cos_half_angle.clamp(-1.0, 1.0).acos();
+    dir.dot(cone.axis).clamp(-1.0, 1.0).acos() - half >= angle
+}
+
+/// Fills `out` (leaf order) depth-first over `tree`: a subtree whose bounding cone `cull`
+/// resolves (`Some(value)`) gets that value without visiting its leaves; every other leaf gets
+/// `leaf(direction)`. Returns how many leaves `cull` resolved.
+pub fn visit_leaves(
+    tree: &DirectionTree,
+    cull: impl Fn(&Cone) -> Option<f32>,
+    mut leaf: impl FnMut(Vec3) -> f32,
+    out: &mut [f32],
+) -> u64 {
+    let mut culled = 0u64;
+    let mut stack = Vec::with_capacity(2 * tree.height() as usize + 2);
+    stack.push(0u32);
+    while let Some(k) = stack.pop() {
+        let range = tree.leaf_range(k);
+        if let Some(v) = cull(&tree.cone(k)) {
+            out[range.clone()].fill(v);
+            culled += range.len() as u64;
+            continue;
+        }
+        if range.len() == 1 {
+            out[range.start] = leaf(tree.leaf_directions()[range.start]);
+            continue;
+        }
+        stack.push(2 * k + 2);
+        stack.push(2 * k + 1);
+    }
+    culled
 }
 
 impl Occluder {
@@ -58,8 +128,12 @@ impl Occluder {
                 })
             })
             .collect();
+        let outward = meshes
+            .iter()
+            .flat_map(|m| m.triangles().iter().map(|t| t.map(|i| m.normals()[i as usize]).iter().sum()))
+            .collect();
         let bvh = build_cwbvh_from_tris(&tris, BvhBuildParams::medium_build(), &mut Duration::default());
-        Occluder { bvh, tris }
+        Occluder { bvh, tris, outward }
     }
 
     /// Whether anything lies on the segment `origin + t·dir`, `0 < t < tmax` (`dir` unit).
@@ -67,6 +141,32 @@ impl Occluder {
     pub fn occluded(&self, origin: Vec3, dir: Vec3, tmax: f32) -> bool {
         let ray = Ray::new(origin.into(), dir.into(), 0.0, tmax);
         !self.bvh.ray_traverse_miss(ray, |r, id| self.tris[self.bvh.primitive_indices[id] as usize].intersect(r))
+    }
+
+    /// Whether `p` lies inside a closed surface of the occluder: of 15 rays in fixed directions
+    /// (a spherical Fibonacci set, so none runs along the axis-aligned symmetry planes where
+    /// tessellations put their edges), at least 12 first hit a triangle from behind (against its
+    /// vertex normals). Open surfaces and points outside fail the vote; the margin tolerates a
+    /// ray slipping through a crack.
+    pub fn inside(&self, p: Vec3) -> bool {
+        let golden = std::f32::consts::PI * (3.0 - 5.0f32.sqrt());
+        let dirs = (0..15).map(|i| {
+            let z = 1.0 - (2 * i + 1) as f32 / 15.0;
+            let (s, c) = (golden * i as f32 + 0.3).sin_cos();
+            let r = (1.0 - z * z).sqrt();
+            Vec3::new(r * c, z, r * s)
+        });
+        let mut behind = 0;
+        for d in dirs {
+            let mut hit = RayHit::none();
+            let ray = Ray::new(p.into(), d.into(), 0.0, f32::INFINITY);
+            if self.bvh.ray_traverse(ray, &mut hit, |r, id| self.tris[self.bvh.primitive_indices[id] as usize].intersect(r))
+            {
+                let tri = self.bvh.primitive_indices[hit.primitive_id as usize] as usize;
+                behind += usize::from(self.outward[tri].dot(d) > 0.0);
+            }
+        }
+        behind >= 12
     }
 
     /// Occlusion rays per second on all cores for the given rays (origin, unit direction).

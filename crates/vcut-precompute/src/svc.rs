@@ -1,7 +1,7 @@
 //! Self-visibility cuts (SVC): per vertex, Ṽ(ω) = V(x, ω)·max(0, n·ω) at every leaf direction of
 //! the direction tree, against the object's own geometry, then the cut by the paper's thresholds.
 
-use crate::Occluder;
+use crate::{Occluder, RayStats};
 use glam::Vec3;
 use rayon::prelude::*;
 use vcut_cut::Cut;
@@ -29,54 +29,18 @@ impl Default for SvcParams {
     }
 }
 
-/// What the stage did.
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
-pub struct SvcStats {
-    /// Rays cast.
-    pub rays_cast: u64,
-    /// Of those, rays that hit the object.
-    pub rays_occluded: u64,
-    /// Leaf directions resolved without a ray (below the horizon, alone or as whole subtrees).
-    pub resolved_without_ray: u64,
-}
-
-impl SvcStats {
-    fn add(self, o: SvcStats) -> SvcStats {
-        SvcStats {
-            rays_cast: self.rays_cast + o.rays_cast,
-            rays_occluded: self.rays_occluded + o.rays_occluded,
-            resolved_without_ray: self.resolved_without_ray + o.resolved_without_ray,
-        }
-    }
-}
-
 /// Ṽ at every leaf (leaf order) for one vertex: subtrees whose bounding cone lies entirely below
 /// the horizon (`n·ω ≤ 0` for every leaf) are zero without rays; other leaves above the horizon
 /// cast one occlusion ray from `origin`.
-pub fn leaf_visibility(occ: &Occluder, tree: &DirectionTree, origin: Vec3, normal: Vec3, out: &mut [f32]) -> SvcStats {
-    let mut stats = SvcStats::default();
-    let mut stack = vec![0u32];
-    while let Some(k) = stack.pop() {
-        let cone = tree.cone(k);
-        let range = tree.leaf_range(k);
-        // Largest n·ω over the cone: cos(max(0, angle(n, axis) − half-angle)).
-        let cos_axis = normal.dot(cone.axis).clamp(-1.0, 1.0);
-        let below = if cone.cos_half_angle <= -1.0 {
-            false
-        } else {
-            let half = cone.cos_half_angle.clamp(-1.0, 1.0).acos();
-            cos_axis.acos() - half >= std::f32::consts::FRAC_PI_2
-        };
-        if below {
-            out[range.clone()].fill(0.0);
-            stats.resolved_without_ray += range.len() as u64;
-            continue;
-        }
-        if range.len() == 1 {
-            let leaf = range.start;
-            let d = tree.leaf_directions()[leaf];
+pub fn leaf_visibility(occ: &Occluder, tree: &DirectionTree, origin: Vec3, normal: Vec3, out: &mut [f32]) -> RayStats {
+    let mut stats = RayStats::default();
+    let culled = crate::visit_leaves(
+        tree,
+        // Largest n·ω over the cone is cos(max(0, angle(n, axis) − half-angle)).
+        |cone| crate::cone_outside(cone, normal, std::f32::consts::FRAC_PI_2).then_some(0.0),
+        |d| {
             let c = normal.dot(d);
-            out[leaf] = if c <= 0.0 {
+            if c <= 0.0 {
                 stats.resolved_without_ray += 1;
                 0.0
             } else {
@@ -87,21 +51,20 @@ pub fn leaf_visibility(occ: &Occluder, tree: &DirectionTree, origin: Vec3, norma
                 } else {
                     c
                 }
-            };
-            continue;
-        }
-        stack.push(2 * k + 2);
-        stack.push(2 * k + 1);
-    }
+            }
+        },
+        out,
+    );
+    stats.resolved_without_ray += culled;
     stats
 }
 
 /// The SVC of every vertex of `mesh` (its own geometry only), in parallel over vertices.
-pub fn self_visibility_cuts(mesh: &Mesh, tree: &DirectionTree, params: &SvcParams) -> (Vec<Cut>, SvcStats) {
+pub fn self_visibility_cuts(mesh: &Mesh, tree: &DirectionTree, params: &SvcParams) -> (Vec<Cut>, RayStats) {
     let occ = Occluder::new(&[mesh]);
     let leaf_areas: Vec<f64> = (0..tree.leaf_count()).map(|l| tree.solid_angle(tree.index(0, l as u32))).collect();
     let offset = params.origin_offset * mesh.bounds().radius.max(f32::MIN_POSITIVE);
-    let results: Vec<(Cut, SvcStats)> = mesh
+    let results: Vec<(Cut, RayStats)> = mesh
         .positions()
         .par_iter()
         .zip(mesh.normals().par_iter())
@@ -115,6 +78,6 @@ pub fn self_visibility_cuts(mesh: &Mesh, tree: &DirectionTree, params: &SvcParam
             },
         )
         .collect();
-    let stats = results.iter().fold(SvcStats::default(), |a, r| a.add(r.1));
+    let stats = results.iter().fold(RayStats::default(), |a, r| a.add(r.1));
     (results.into_iter().map(|r| r.0).collect(), stats)
 }

@@ -17,6 +17,10 @@
 //! moves = true                      # whether the object may translate at run time
 //! material = { model = "blinn-phong", kd = [0.7, 0.5, 0.3], ks = [0.3, 0.3, 0.3], exponent = 15.0 }
 //!
+//! [precompute]                      # optional: vcut-precompute parameters over a preset
+//! preset = "balanced"
+//! field_spheres = 24
+//!
 //! [[camera]]
 //! name = "main"
 //! position = [0.0, 4.0, 10.0]
@@ -50,6 +54,10 @@ pub struct SceneDesc {
     /// Cameras; the first is the default view.
     #[serde(default, rename = "camera")]
     pub cameras: Vec<CameraDesc>,
+    /// Precompute parameters (`preset = "paper"`, `directions = 16384`, ...), read by
+    /// `vcut-precompute`; kept as a table here so this crate does not depend on it.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub precompute: Option<toml::Table>,
 }
 
 /// The `[environment]` table.

@@ -52,6 +52,7 @@ pub fn builtin(name: &str) -> Option<SceneDesc> {
                 ground(14.0, TEAPOT_GROUND_CELLS),
             ],
             cameras: vec![CameraDesc { position: [5.0, 6.0, 10.0], target: [0.0, 1.2, 0.0], ..CameraDesc::default() }],
+            precompute: None,
         }),
         "bunny" => Some(SceneDesc {
             environment: EnvironmentDesc {
@@ -71,6 +72,7 @@ pub fn builtin(name: &str) -> Option<SceneDesc> {
                 ground(5.0, 64),
             ],
             cameras: vec![CameraDesc { position: [1.5, 1.6, 3.2], target: [0.0, 0.45, 0.0], ..CameraDesc::default() }],
+            precompute: None,
         }),
         "spheres" => Some(SceneDesc {
             environment: EnvironmentDesc { resolution: 256, ..EnvironmentDesc::default() },
@@ -94,6 +96,7 @@ pub fn builtin(name: &str) -> Option<SceneDesc> {
                 ground(8.0, 16),
             ],
             cameras: vec![CameraDesc { position: [0.0, 3.0, 8.0], target: [0.0, 0.8, 0.0], ..CameraDesc::default() }],
+            precompute: None,
         }),
         _ => None,
     }

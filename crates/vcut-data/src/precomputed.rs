@@ -1,0 +1,112 @@
+//! A finished `.vcuts` file opened for rendering: the small sections (parameters, directions,
+//! meshes, field layouts) read and checked at open, the cut sections on demand.
+
+use crate::field::FieldLayout;
+use crate::file::{FileError, Reader, SectionId, SectionKind};
+use crate::sections::{self, CutArray, StoredObject};
+use glam::Vec3;
+use vcut_cut::Cut;
+use vcut_dirtree::DirectionTree;
+
+/// An opened `.vcuts` file.
+pub struct Precomputed {
+    reader: Reader,
+    /// The `params` section (TOML text: parameters, scene source, environment).
+    pub params_text: String,
+    /// Directions in generation order.
+    pub directions: Vec<Vec3>,
+    /// Their cells' solid angles.
+    pub cell_areas: Vec<f64>,
+    /// The objects at rest.
+    pub objects: Vec<StoredObject>,
+    /// Per object, its field layout if it has a field.
+    pub layouts: Vec<Option<FieldLayout>>,
+}
+
+impl Precomputed {
+    /// Opens `path` and reads its small sections.
+    pub fn open(path: &std::path::Path) -> Result<Precomputed, FileError> {
+        let mut reader = Reader::open(path)?;
+        let id = SectionId::new(SectionKind::Params, 0, 0);
+        let params_text = String::from_utf8(reader.section(id)?).map_err(|_| reader.section_error(id, "not UTF-8"))?;
+        let id = SectionId::new(SectionKind::Directions, 0, 0);
+        let (directions, cell_areas) = sections::decode_directions(&reader.section(id)?).map_err(|e| reader.section_error(id, e))?;
+        if !directions.len().is_power_of_two() || directions.len() < 2 {
+            return Err(reader.section_error(id, format!("{} directions, not a power of two", directions.len())));
+        }
+        let mut objects = Vec::new();
+        let mut layouts = Vec::new();
+        for i in 0.. {
+            let id = SectionId::new(SectionKind::Mesh, i, 0);
+            if !reader.has(id) {
+                break;
+            }
+            objects.push(sections::decode_mesh(&reader.section(id)?).map_err(|e| reader.section_error(id, e))?);
+            let lid = SectionId::new(SectionKind::FieldLayout, i, 0);
+            layouts.push(if reader.has(lid) {
+                Some(sections::decode_field_layout(&reader.section(lid)?).map_err(|e| reader.section_error(lid, e))?)
+            } else {
+                None
+            });
+        }
+        Ok(Precomputed { reader, params_text, directions, cell_areas, objects, layouts })
+    }
+
+    /// The direction tree (rebuilt from the stored directions; the build is deterministic).
+    pub fn tree(&self) -> Result<DirectionTree, FileError> {
+        DirectionTree::build(&self.directions, &self.cell_areas)
+            .map_err(|e| self.reader.section_error(SectionId::new(SectionKind::Directions, 0, 0), e.to_string()))
+    }
+
+    /// The root height of every cut.
+    pub fn root_height(&self) -> u32 {
+        self.directions.len().trailing_zeros()
+    }
+
+    /// The underlying reader.
+    pub fn reader(&mut self) -> &mut Reader {
+        &mut self.reader
+    }
+
+    fn cut_array(&mut self, id: SectionId, expect: Option<usize>) -> Result<(Vec<Cut>, Vec<bool>), FileError> {
+        let bytes = self.reader.section(id)?;
+        let a = CutArray::parse(&bytes).map_err(|e| self.reader.section_error(id, e))?;
+        if a.root_height() != self.root_height() {
+            let reason = format!("cuts of root height {}, the file has {} directions", a.root_height(), self.directions.len());
+            return Err(self.reader.section_error(id, reason));
+        }
+        if let Some(n) = expect.filter(|&n| n != a.len()) {
+            return Err(self.reader.section_error(id, format!("{} cuts, expected {n}", a.len())));
+        }
+        let cuts = (0..a.len()).map(|i| a.cut(i)).collect::<Result<Vec<_>, _>>().map_err(|e| self.reader.section_error(id, e))?;
+        Ok((cuts, (0..a.len()).map(|i| a.inside(i)).collect()))
+    }
+
+    /// Every SVC of object `object`, in vertex order (all its chunks).
+    pub fn svc_cuts(&mut self, object: usize) -> Result<Vec<Cut>, FileError> {
+        let mut out = Vec::new();
+        for chunk in 0.. {
+            let id = SectionId::new(SectionKind::Svc, object as u32, chunk);
+            if !self.reader.has(id) {
+                break;
+            }
+            out.extend(self.cut_array(id, None)?.0);
+        }
+        let want = self.objects.get(object).map_or(0, |o| o.mesh.vertex_count());
+        if out.len() != want {
+            let id = SectionId::new(SectionKind::Svc, object as u32, 0);
+            return Err(self.reader.section_error(id, format!("{} SVCs for {want} vertices", out.len())));
+        }
+        Ok(out)
+    }
+
+    /// The field cuts of sphere `sphere` of object `object` and the points' inside marks.
+    pub fn field_sphere(&mut self, object: usize, sphere: u32) -> Result<(Vec<Cut>, Vec<bool>), FileError> {
+        let n = self.layouts.get(object).copied().flatten().map(|l| l.points_per_sphere());
+        let id = SectionId::new(SectionKind::Field, object as u32, sphere);
+        if n.is_none() {
+            return Err(FileError::Missing { path: self.reader.path().into(), section: id.to_string() });
+        }
+        self.cut_array(id, n)
+    }
+}

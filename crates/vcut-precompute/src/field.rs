@@ -1,0 +1,179 @@
+//! Visibility cut fields (VCF): per object, the binary visibility V(p, ω) of that object alone at
+//! every sample point p of its [`FieldLayout`], cut with the field thresholds (error < 0.25, no
+//! solid-angle limit, so only regions of equal visibility merge).
+//!
+//! Only what can be occluded is traced: from a point outside the object's bounding sphere, a
+//! subtree whose bounding cone misses the sphere's cone (half-angle asin(r/d)) is visible as a
+//! whole, without rays; points inside the object (a closed surface, by [`Occluder::inside`]) are
+//! marked and fully occluded, without rays.
+
+use crate::{Occluder, RayStats, cone_outside, visit_leaves};
+use glam::Vec3;
+use rayon::prelude::*;
+use vcut_cut::Cut;
+use vcut_cut::select::{SelectParams, select};
+use vcut_data::FieldLayout;
+use vcut_dirtree::DirectionTree;
+use vcut_scene::Mesh;
+
+/// V at every leaf (leaf order) from `p` against `occ`, an object inside the sphere
+/// (`center`, `radius`): 1 visible, 0 occluded.
+pub fn point_visibility(
+    occ: &Occluder,
+    tree: &DirectionTree,
+    p: Vec3,
+    center: Vec3,
+    radius: f32,
+    out: &mut [f32],
+) -> RayStats {
+    let to_c = center - p;
+    let d = to_c.length();
+    let mut stats = RayStats::default();
+    // Directions within `beta` of the centre can meet the bounding sphere; from inside it, all can.
+    let (axis, beta) = if d > radius * (1.0 + 1e-5) { (to_c / d, (radius / d).asin()) } else { (Vec3::Z, std::f32::consts::PI) };
+    let cos_beta = beta.cos();
+    let culled = visit_leaves(
+        tree,
+        |cone| (beta < std::f32::consts::PI && cone_outside(cone, axis, beta)).then_some(1.0),
+        |dir| {
+            if beta < std::f32::consts::PI && dir.dot(axis) < cos_beta {
+                stats.resolved_without_ray += 1;
+                return 1.0;
+            }
+            stats.rays_cast += 1;
+            if occ.occluded(p, dir, f32::INFINITY) {
+                stats.rays_occluded += 1;
+                0.0
+            } else {
+                1.0
+            }
+        },
+        out,
+    );
+    stats.resolved_without_ray += culled;
+    stats
+}
+
+/// The cuts of one sphere of a field.
+#[derive(Debug, Clone, Default)]
+pub struct SphereCuts {
+    /// One cut per point, in point order.
+    pub cuts: Vec<Cut>,
+    /// Whether each point lies inside the object (its cut is a single zero node).
+    pub inside: Vec<bool>,
+    /// Rays cast for this sphere.
+    pub stats: RayStats,
+}
+
+/// The field cuts of sphere `s` of `layout` against `occ` (the object alone), in parallel over
+/// points. `leaf_areas` are the tree's leaf solid angles in leaf order.
+pub fn sphere_cuts(
+    occ: &Occluder,
+    tree: &DirectionTree,
+    leaf_areas: &[f64],
+    layout: &FieldLayout,
+    s: u32,
+    params: SelectParams,
+) -> SphereCuts {
+    let results: Vec<(Cut, bool, RayStats)> = (0..layout.points_per_sphere() as u32)
+        .into_par_iter()
+        .map_init(
+            || vec![0.0f32; tree.leaf_count()],
+            |values, i| {
+                let p = layout.point(s, i);
+                let (inside, stats) = if occ.inside(p) {
+                    values.fill(0.0);
+                    let n = tree.leaf_count() as u64;
+                    (true, RayStats { resolved_without_ray: n, ..RayStats::default() })
+                } else {
+                    (false, point_visibility(occ, tree, p, layout.center, layout.radius, values))
+                };
+                let cut = select(values, leaf_areas, params)
+                    .unwrap_or_else(|_| unreachable!("a tree's leaf count is a power of two"));
+                (cut, inside, stats)
+            },
+        )
+        .collect();
+    let mut out = SphereCuts::default();
+    for (cut, inside, stats) in results {
+        out.cuts.push(cut);
+        out.inside.push(inside);
+        out.stats = out.stats.add(stats);
+    }
+    out
+}
+
+/// The whole field of `mesh` (every sphere), for tests and small layouts; the precompute writes
+/// sphere by sphere instead.
+pub fn visibility_cut_field(mesh: &Mesh, tree: &DirectionTree, layout: &FieldLayout, params: SelectParams) -> Vec<SphereCuts> {
+    let occ = Occluder::new(&[mesh]);
+    let areas = leaf_solid_angles(tree);
+    (0..layout.spheres).map(|s| sphere_cuts(&occ, tree, &areas, layout, s, params)).collect()
+}
+
+/// The tree's leaf solid angles in leaf order.
+pub fn leaf_solid_angles(tree: &DirectionTree) -> Vec<f64> {
+    (0..tree.leaf_count()).map(|l| tree.solid_angle(tree.index(0, l as u32))).collect()
+}
+
+/// The field layout of the paper around `mesh`'s bounding sphere.
+pub fn layout_around(mesh: &Mesh, spheres: u32, resolution: u32, inner: f32, outer: f32) -> FieldLayout {
+    let b = mesh.bounds();
+    FieldLayout { center: b.center, radius: b.radius.max(f32::MIN_POSITIVE), spheres, resolution, inner, outer }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use vcut_sphere::{DirectionSet, RepulsionParams};
+
+    fn tree(n: usize) -> DirectionTree {
+        let set = DirectionSet::generate(n, &RepulsionParams::default(), |_, _| {}).unwrap();
+        DirectionTree::build(set.directions(), &set.cell_areas()).unwrap()
+    }
+
+    #[test]
+    fn a_sphere_shadows_exactly_its_cone_and_hides_its_inside() {
+        let t = tree(4096);
+        let ball = vcut_scene::shapes::sphere(1.0, 48, 24).unwrap();
+        let occ = Occluder::new(&[&ball]);
+        let mut v = vec![0.0f32; 4096];
+        let areas = leaf_solid_angles(&t);
+        for d in [1.5f32, 3.0, 8.0] {
+            let p = Vec3::new(0.0, 0.0, d);
+            let stats = point_visibility(&occ, &t, p, Vec3::ZERO, 1.0, &mut v);
+            let occluded: f64 = v.iter().zip(&areas).map(|(x, a)| f64::from(1.0 - x) * a).sum();
+            // A unit sphere at distance d subtends 2π(1 − cos asin(1/d)) steradians.
+            let exact = 2.0 * std::f64::consts::PI * (1.0 - (1.0 - 1.0 / f64::from(d * d)).sqrt());
+            assert!((occluded - exact).abs() < 0.15 * exact + 0.01, "d {d}: {occluded} vs {exact}");
+            // Only directions in the bounding cone are traced.
+            assert!(stats.rays_cast < (4096.0 * (exact / (4.0 * std::f64::consts::PI)) * 2.0 + 64.0) as u64, "{stats:?}");
+            assert_eq!(stats.rays_cast + stats.resolved_without_ray, 4096);
+        }
+        assert!(occ.inside(Vec3::new(0.1, 0.2, -0.3)));
+        assert!(!occ.inside(Vec3::new(0.0, 1.2, 0.0)));
+        let plane = vcut_scene::shapes::plane(2.0, 4).unwrap();
+        assert!(!Occluder::new(&[&plane]).inside(Vec3::new(0.0, -0.5, 0.0)), "an open surface has no inside");
+    }
+
+    #[test]
+    fn field_cuts_are_coarse_and_inside_points_are_marked() {
+        let t = tree(1024);
+        let ball = vcut_scene::shapes::sphere(1.0, 32, 16).unwrap();
+        let layout = layout_around(&ball, 4, 4, 0.2, 10.0);
+        let field = visibility_cut_field(&ball, &t, &layout, SelectParams::field());
+        assert_eq!(field.len(), 4);
+        // The innermost sphere (0.2r) is inside the ball; the others are outside it.
+        assert!(field[0].inside.iter().all(|&x| x) && field[0].cuts.iter().all(|c| c.len() == 1 && c.values()[0] == 0.0));
+        assert!(field[1..].iter().all(|s| s.inside.iter().all(|&x| !x)));
+        // Farther spheres see a smaller disc: fewer nodes and fewer rays.
+        let nodes = |s: &SphereCuts| s.cuts.iter().map(Cut::len).sum::<usize>();
+        assert!(nodes(&field[3]) < nodes(&field[1]) && field[3].stats.rays_cast < field[1].stats.rays_cast);
+        for s in &field {
+            for c in &s.cuts {
+                c.validate().unwrap();
+                assert!(c.len() < 1024 / 4, "{} nodes", c.len());
+            }
+        }
+    }
+}

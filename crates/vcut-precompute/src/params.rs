@@ -1,0 +1,323 @@
+//! Precompute parameters and their presets `fast`, `balanced`, `paper`.
+//!
+//! Every parameter has a name (the key in a scene file's `[precompute]` table and in
+//! `cargo xtask precompute --set KEY=VALUE`), is recorded in the output's `params` section
+//! ([`PrecomputeParams::to_toml`]), and is checked when set.
+
+use std::f64::consts::PI;
+use vcut_cut::codec::ValueFormat;
+use vcut_cut::select::SelectParams;
+
+/// Everything that decides the precomputed data.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PrecomputeParams {
+    /// Preset the values started from.
+    pub preset: String,
+    /// Number of directions N (a power of two, 2^6..2^16).
+    pub directions: u32,
+    /// Seed of the direction set (spherical-Fibonacci start, so the seed only names the cache).
+    pub direction_seed: u64,
+    /// SVC cut selection: split nodes whose error E_k is above this.
+    pub svc_max_error: f64,
+    /// SVC cut selection: split non-zero nodes whose solid angle is above 4π / this.
+    pub svc_solid_angle_divisor: f64,
+    /// SVC ray origin offset along the normal, as a fraction of the object's bounding radius.
+    pub svc_origin_offset: f32,
+    /// Vertices per SVC section (the unit of resume).
+    pub svc_chunk: u32,
+    /// How SVC values are stored.
+    pub svc_values: ValueFormat,
+    /// Field spheres S.
+    pub field_spheres: u32,
+    /// Field cube-map resolution R (6·R² points per sphere).
+    pub field_resolution: u32,
+    /// Innermost field sphere radius / bounding radius.
+    pub field_inner: f32,
+    /// Outermost field sphere radius / bounding radius.
+    pub field_outer: f32,
+    /// Field cut selection error threshold (0 = exact; must stay below 0.25).
+    pub field_max_error: f64,
+    /// How field values are stored.
+    pub field_values: ValueFormat,
+}
+
+/// A parameter could not be set.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum ParamError {
+    /// No such parameter or preset.
+    #[error("unknown {what} '{name}' (known: {known})")]
+    Unknown {
+        /// "parameter" or "preset".
+        what: &'static str,
+        /// The name given.
+        name: String,
+        /// The known names.
+        known: String,
+    },
+    /// A value that does not parse or is out of range.
+    #[error("parameter {key} = {value}: {reason}")]
+    Value {
+        /// The parameter.
+        key: String,
+        /// The value given.
+        value: String,
+        /// What is wrong.
+        reason: String,
+    },
+}
+
+/// Parameter names, in the order they are recorded.
+pub const KEYS: [&str; 14] = [
+    "preset",
+    "directions",
+    "direction_seed",
+    "svc_max_error",
+    "svc_solid_angle_divisor",
+    "svc_origin_offset",
+    "svc_chunk",
+    "svc_values",
+    "field_spheres",
+    "field_resolution",
+    "field_inner",
+    "field_outer",
+    "field_max_error",
+    "field_values",
+];
+
+/// Preset names.
+pub const PRESETS: [&str; 3] = ["fast", "balanced", "paper"];
+
+fn format_named(s: &str) -> Option<ValueFormat> {
+    ValueFormat::ALL.into_iter().find(|f| f.name() == s)
+}
+
+impl PrecomputeParams {
+    /// The paper's setting: 32,768 directions, 32 spheres from 0.2r to 10r of 6×32×32 points,
+    /// exact field cuts.
+    pub fn paper() -> Self {
+        Self {
+            preset: "paper".into(),
+            directions: 32_768,
+            direction_seed: 0,
+            svc_max_error: 0.005,
+            svc_solid_angle_divisor: 256.0,
+            svc_origin_offset: 1e-4,
+            svc_chunk: 2048,
+            svc_values: ValueFormat::U16,
+            field_spheres: 32,
+            field_resolution: 32,
+            field_inner: 0.2,
+            field_outer: 10.0,
+            field_max_error: 0.0,
+            field_values: ValueFormat::U8,
+        }
+    }
+
+    /// Half the paper's resolution everywhere: 16,384 directions, 16 spheres of 6×16×16.
+    pub fn balanced() -> Self {
+        Self {
+            preset: "balanced".into(),
+            directions: 16_384,
+            svc_solid_angle_divisor: 128.0,
+            field_spheres: 16,
+            field_resolution: 16,
+            ..Self::paper()
+        }
+    }
+
+    /// A first look in seconds: 4,096 directions, 8 spheres of 6×8×8, looser SVC cuts.
+    pub fn fast() -> Self {
+        Self {
+            preset: "fast".into(),
+            directions: 4096,
+            svc_max_error: 0.01,
+            svc_solid_angle_divisor: 64.0,
+            field_spheres: 8,
+            field_resolution: 8,
+            ..Self::paper()
+        }
+    }
+
+    /// The preset called `name`.
+    pub fn preset(name: &str) -> Result<Self, ParamError> {
+        match name {
+            "fast" => Ok(Self::fast()),
+            "balanced" => Ok(Self::balanced()),
+            "paper" => Ok(Self::paper()),
+            _ => Err(ParamError::Unknown { what: "preset", name: name.into(), known: PRESETS.join(", ") }),
+        }
+    }
+
+    /// Sets parameter `key` from its text form, checking its range.
+    pub fn set(&mut self, key: &str, value: &str) -> Result<(), ParamError> {
+        let bad = |reason: &str| ParamError::Value { key: key.into(), value: value.into(), reason: reason.into() };
+        fn num<T: std::str::FromStr>(v: &str, bad: impl Fn(&str) -> ParamError) -> Result<T, ParamError> {
+            v.trim().parse().map_err(|_| bad("not a number of the right kind"))
+        }
+        match key {
+            "preset" => {
+                let p = Self::preset(value)?;
+                *self = p;
+            }
+            "directions" => {
+                let n: u32 = num(value, bad)?;
+                if !n.is_power_of_two() || !(64..=65_536).contains(&n) {
+                    return Err(bad("must be a power of two from 64 to 65,536"));
+                }
+                self.directions = n;
+            }
+            "direction_seed" => self.direction_seed = num(value, bad)?,
+            "svc_max_error" => {
+                let e: f64 = num(value, bad)?;
+                if !(0.0..=1.0).contains(&e) {
+                    return Err(bad("must be in [0, 1]"));
+                }
+                self.svc_max_error = e;
+            }
+            "svc_solid_angle_divisor" => {
+                let d: f64 = num(value, bad)?;
+                if !(d >= 1.0 && d.is_finite()) {
+                    return Err(bad("must be at least 1 (4π/1 = no limit)"));
+                }
+                self.svc_solid_angle_divisor = d;
+            }
+            "svc_origin_offset" => {
+                let o: f32 = num(value, bad)?;
+                if !(0.0..0.1).contains(&o) {
+                    return Err(bad("must be in [0, 0.1)"));
+                }
+                self.svc_origin_offset = o;
+            }
+            "svc_chunk" => {
+                let c: u32 = num(value, bad)?;
+                if c == 0 {
+                    return Err(bad("must be at least 1"));
+                }
+                self.svc_chunk = c;
+            }
+            "svc_values" | "field_values" => {
+                let f = format_named(value.trim()).ok_or_else(|| bad("must be f32, f16, u16 or u8"))?;
+                if key == "svc_values" { self.svc_values = f } else { self.field_values = f }
+            }
+            "field_spheres" | "field_resolution" => {
+                let n: u32 = num(value, bad)?;
+                if !(1..=256).contains(&n) {
+                    return Err(bad("must be from 1 to 256"));
+                }
+                if key == "field_spheres" { self.field_spheres = n } else { self.field_resolution = n }
+            }
+            "field_inner" | "field_outer" => {
+                let x: f32 = num(value, bad)?;
+                if !(x > 0.0 && x.is_finite()) {
+                    return Err(bad("must be positive"));
+                }
+                if key == "field_inner" { self.field_inner = x } else { self.field_outer = x }
+            }
+            "field_max_error" => {
+                let e: f64 = num(value, bad)?;
+                if !(0.0..0.25).contains(&e) {
+                    return Err(bad("must be in [0, 0.25): binary visibility never has more variance"));
+                }
+                self.field_max_error = e;
+            }
+            _ => return Err(ParamError::Unknown { what: "parameter", name: key.into(), known: KEYS.join(", ") }),
+        }
+        Ok(())
+    }
+
+    /// Checks what single parameters cannot: `field_inner < field_outer`.
+    pub fn check(&self) -> Result<(), ParamError> {
+        if self.field_inner >= self.field_outer {
+            return Err(ParamError::Value {
+                key: "field_inner".into(),
+                value: self.field_inner.to_string(),
+                reason: format!("must be below field_outer = {}", self.field_outer),
+            });
+        }
+        Ok(())
+    }
+
+    /// The value of `key` in its text form (as [`PrecomputeParams::set`] reads it).
+    pub fn get(&self, key: &str) -> Option<String> {
+        Some(match key {
+            "preset" => format!("\"{}\"", self.preset),
+            "directions" => self.directions.to_string(),
+            "direction_seed" => self.direction_seed.to_string(),
+            "svc_max_error" => format!("{:?}", self.svc_max_error),
+            "svc_solid_angle_divisor" => format!("{:?}", self.svc_solid_angle_divisor),
+            "svc_origin_offset" => format!("{:?}", self.svc_origin_offset),
+            "svc_chunk" => self.svc_chunk.to_string(),
+            "svc_values" => format!("\"{}\"", self.svc_values.name()),
+            "field_spheres" => self.field_spheres.to_string(),
+            "field_resolution" => self.field_resolution.to_string(),
+            "field_inner" => format!("{:?}", self.field_inner),
+            "field_outer" => format!("{:?}", self.field_outer),
+            "field_max_error" => format!("{:?}", self.field_max_error),
+            "field_values" => format!("\"{}\"", self.field_values.name()),
+            _ => return None,
+        })
+    }
+
+    /// All parameters as TOML `key = value` lines, in [`KEYS`] order.
+    pub fn to_toml(&self) -> String {
+        KEYS.iter().map(|k| format!("{k} = {}\n", self.get(k).unwrap_or_default())).collect()
+    }
+
+    /// Parses what [`PrecomputeParams::to_toml`] wrote (or any subset of keys over a preset:
+    /// `preset` first, then the rest).
+    pub fn from_toml(text: &str) -> Result<Self, ParamError> {
+        let mut p = Self::paper();
+        for line in text.lines().map(str::trim).filter(|l| !l.is_empty() && !l.starts_with('#')) {
+            let (k, v) = line.split_once('=').ok_or_else(|| ParamError::Value {
+                key: line.into(),
+                value: String::new(),
+                reason: "expected key = value".into(),
+            })?;
+            p.set(k.trim(), v.trim().trim_matches('"'))?;
+        }
+        p.check()?;
+        Ok(p)
+    }
+
+    /// SVC cut selection thresholds.
+    pub fn svc_select(&self) -> SelectParams {
+        SelectParams { max_error: self.svc_max_error, max_solid_angle: 4.0 * PI / self.svc_solid_angle_divisor }
+    }
+
+    /// Field cut selection thresholds (no solid-angle limit).
+    pub fn field_select(&self) -> SelectParams {
+        SelectParams { max_error: self.field_max_error, max_solid_angle: f64::INFINITY }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn presets_round_trip_through_their_record() {
+        for name in PRESETS {
+            let p = PrecomputeParams::preset(name).unwrap();
+            assert_eq!(PrecomputeParams::from_toml(&p.to_toml()).unwrap(), p, "{name}");
+        }
+        let p = PrecomputeParams::paper();
+        assert_eq!((p.directions, p.field_spheres, p.field_resolution), (32_768, 32, 32));
+        let mut q = PrecomputeParams::fast();
+        q.set("field_values", "f16").unwrap();
+        q.set("svc_max_error", "0.02").unwrap();
+        assert_eq!(PrecomputeParams::from_toml(&q.to_toml()).unwrap(), q);
+    }
+
+    #[test]
+    fn bad_values_are_named() {
+        let mut p = PrecomputeParams::fast();
+        let e = p.set("directions", "1000").unwrap_err().to_string();
+        assert!(e.contains("directions = 1000") && e.contains("power of two"), "{e}");
+        assert!(p.set("field_max_error", "0.25").is_err());
+        assert!(p.set("svc_values", "u4").unwrap_err().to_string().contains("u8"));
+        assert!(p.set("colour", "red").unwrap_err().to_string().contains("unknown parameter 'colour'"));
+        assert!(PrecomputeParams::preset("slow").unwrap_err().to_string().contains("fast, balanced, paper"));
+        p.set("field_inner", "20").unwrap();
+        assert!(p.check().unwrap_err().to_string().contains("below field_outer"));
+    }
+}

@@ -1,0 +1,460 @@
+//! The whole precompute: directions and tree, SVCs of every object, fields of the objects that
+//! need one, streamed section by section into a `.vcuts` file that a later run resumes.
+//!
+//! **What is computed.** An object's SVC holds what never moves relative to its vertices: its
+//! own geometry if it is movable; if it is static, its own geometry *and every other static
+//! object* (static–static shadows are baked, so frames never merge fields for them). Object X
+//! gets a field when some other object Y exists with X or Y movable: only then does anything
+//! move relative to X. A scene with one object, or with nothing movable, builds no field.
+//!
+//! **Order.** `params`, `directions`, one `mesh` per object, one `field-layout` per field, the
+//! `svc` chunks (`svc_chunk` vertices each), then one `field` section per sphere. Each section is
+//! deterministic (parallel work is collected in order), so a resumed file is byte-identical.
+
+use crate::field::{leaf_solid_angles, sphere_cuts};
+use crate::params::PrecomputeParams;
+use crate::svc::leaf_visibility;
+use crate::{Occluder, RayStats, cone_outside, visit_leaves};
+use glam::Vec3;
+use rayon::prelude::*;
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::Instant;
+use vcut_cut::codec::{self, ValueFormat};
+use vcut_cut::select::select;
+use vcut_data::file::{FileError, Reader, SectionId, SectionKind, Writer};
+use vcut_data::{FieldLayout, sections};
+use vcut_dirtree::DirectionTree;
+use vcut_scene::{Motion, Scene};
+use vcut_sphere::{DirectionSet, RepulsionParams};
+
+/// What to precompute.
+pub struct Job<'a> {
+    /// The scene (objects at rest).
+    pub scene: &'a Scene,
+    /// Where the scene came from (`builtin:teapot`, a file), recorded in the output.
+    pub scene_source: String,
+    /// The environment the user named, recorded for the renderer (the precompute does not
+    /// depend on lighting).
+    pub environment: String,
+    /// Parameters.
+    pub params: PrecomputeParams,
+    /// Direction-set cache folder (`None`: generate every time).
+    pub cache_dir: Option<PathBuf>,
+    /// The output file.
+    pub output: PathBuf,
+}
+
+/// Receives progress; every method has a default that ignores it. Called from worker threads.
+pub trait Progress: Sync {
+    /// A stage starts with `total` units of work (vertices or sample points).
+    fn stage(&self, _name: &str, _total: u64) {}
+    /// `n` more units are done.
+    fn advance(&self, _n: u64) {}
+    /// A section was written (`resumed`: kept from a previous run).
+    fn section(&self, _id: SectionId, _resumed: bool) {}
+    /// The current stage is over.
+    fn end_stage(&self) {}
+}
+
+/// Ignores progress.
+pub struct NoProgress;
+impl Progress for NoProgress {}
+
+/// Why the precompute stopped.
+#[derive(Debug, thiserror::Error)]
+pub enum PrecomputeError {
+    /// Reading or writing the output failed.
+    #[error(transparent)]
+    File(#[from] FileError),
+    /// The direction set could not be made.
+    #[error("directions: {0}")]
+    Directions(String),
+    /// Bad parameters.
+    #[error(transparent)]
+    Params(#[from] crate::params::ParamError),
+    /// A cut did not encode (a value outside the chosen format's range).
+    #[error("{section}: {reason}")]
+    Encode {
+        /// Section.
+        section: String,
+        /// What failed.
+        reason: String,
+    },
+    /// The scene cannot be precomputed.
+    #[error("scene {scene}: {reason}")]
+    Scene {
+        /// The scene's source.
+        scene: String,
+        /// What is wrong.
+        reason: String,
+    },
+    /// `interrupt` was set: the finished sections are in `<output>.partial` and the next run
+    /// resumes from them.
+    #[error("interrupted; {sections} sections kept in {} for the next run to resume", partial.display())]
+    Interrupted {
+        /// The partial file.
+        partial: PathBuf,
+        /// Sections it holds.
+        sections: usize,
+    },
+}
+
+/// One stage's figures.
+#[derive(Debug, Clone, PartialEq)]
+pub struct StageSummary {
+    /// `directions`, `svc` or `fields`.
+    pub name: &'static str,
+    /// Wall time in seconds (this run).
+    pub seconds: f64,
+    /// Rays cast and directions resolved without rays (this run; resumed sections count none).
+    pub rays: RayStats,
+    /// Seconds spent in sections computed this run (ray casting, cut selection, encoding).
+    pub compute_seconds: f64,
+    /// Raw occlusion rays/s on a sample of this stage's own rays, same occluders, same run.
+    pub raw_rays_per_second: f64,
+    /// Sections computed this run.
+    pub computed: usize,
+    /// Sections kept from a previous run.
+    pub resumed: usize,
+}
+
+impl StageSummary {
+    /// Rays cast per second of compute (0 when nothing was cast).
+    pub fn rays_per_second(&self) -> f64 {
+        if self.compute_seconds > 0.0 { self.rays.rays_cast as f64 / self.compute_seconds } else { 0.0 }
+    }
+}
+
+/// Sizes of one kind of cut section, in the file's height codec and in the index baseline.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct CutSizes {
+    /// `svc` or `field`.
+    pub kind: &'static str,
+    /// Sections.
+    pub sections: usize,
+    /// Cuts.
+    pub cuts: u64,
+    /// Nodes over all cuts.
+    pub nodes: u64,
+    /// Largest cut.
+    pub max_nodes: u64,
+    /// Payload bytes in the file (height codec, offsets included).
+    pub bytes: u64,
+    /// The same cuts as node index (u16/u32) + f32 value, with the same offsets.
+    pub index_baseline_bytes: u64,
+}
+
+/// What a run did and wrote.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Summary {
+    /// Per stage.
+    pub stages: Vec<StageSummary>,
+    /// SVC and field sizes.
+    pub sizes: Vec<CutSizes>,
+    /// Final file size.
+    pub file_bytes: u64,
+    /// Objects with a field, by name.
+    pub fields: Vec<String>,
+    /// Sample points found inside their object (no rays cast for them).
+    pub inside_points: u64,
+}
+
+/// Which objects get a field (see the module docs).
+pub fn objects_needing_fields(scene: &Scene) -> Vec<bool> {
+    let movable: Vec<bool> = scene.objects.iter().map(|o| o.motion == Motion::Movable).collect();
+    (0..movable.len()).map(|x| (0..movable.len()).any(|y| y != x && (movable[x] || movable[y]))).collect()
+}
+
+/// The direction set of `params` (from `cache_dir` when given) and its tree.
+pub fn directions(params: &PrecomputeParams, cache_dir: Option<&Path>) -> Result<(DirectionSet, Vec<f64>, DirectionTree), PrecomputeError> {
+    let rp = RepulsionParams { seed: params.direction_seed, ..RepulsionParams::default() };
+    let n = params.directions as usize;
+    let set = match cache_dir {
+        Some(dir) => DirectionSet::load_or_generate(dir, n, &rp, |_, _| {}).map(|r| r.0),
+        None => DirectionSet::generate(n, &rp, |_, _| {}),
+    }
+    .map_err(|e| PrecomputeError::Directions(e.to_string()))?;
+    let areas = set.cell_areas();
+    let tree = DirectionTree::build(set.directions(), &areas).map_err(|e| PrecomputeError::Directions(e.to_string()))?;
+    Ok((set, areas, tree))
+}
+
+fn encode_all(cuts: &[vcut_cut::Cut], format: ValueFormat, id: SectionId) -> Result<Vec<Vec<u8>>, PrecomputeError> {
+    cuts.iter()
+        .map(|c| codec::encode_heights(c, format))
+        .collect::<Result<_, _>>()
+        .map_err(|e| PrecomputeError::Encode { section: id.to_string(), reason: e.to_string() })
+}
+
+/// Raw occlusion rays/s on the rays `sample` would cast (collected first, then cast alone).
+fn raw_rate(occ_rays: &[(&Occluder, Vec<(Vec3, Vec3)>)]) -> f64 {
+    let total: usize = occ_rays.iter().map(|(_, r)| r.len()).sum();
+    if total == 0 {
+        return 0.0;
+    }
+    // Cast the whole sample once to warm caches, then time the better of two passes.
+    let pass = || {
+        let start = Instant::now();
+        let hits: usize = occ_rays
+            .par_iter()
+            .map(|(occ, rays)| rays.iter().map(|&(o, d)| usize::from(occ.occluded(o, d, f32::INFINITY))).sum::<usize>())
+            .sum();
+        std::hint::black_box(hits);
+        start.elapsed().as_secs_f64().max(1e-9)
+    };
+    pass();
+    total as f64 / pass().min(pass())
+}
+
+/// Runs the precompute (resuming `<output>.partial` if present). Setting `interrupt` stops it
+/// after the section being computed; the finished sections stay for the next run.
+pub fn precompute(job: &Job<'_>, progress: &dyn Progress, interrupt: &AtomicBool) -> Result<Summary, PrecomputeError> {
+    let p = &job.params;
+    p.check()?;
+    let scene = job.scene;
+    if scene.objects.is_empty() {
+        return Err(PrecomputeError::Scene { scene: job.scene_source.clone(), reason: "has no objects".into() });
+    }
+    let mut writer = Writer::open(&job.output)?;
+    let mut stages = Vec::new();
+    let check_interrupt = |w: &Writer| -> Result<(), PrecomputeError> {
+        if interrupt.load(Ordering::Relaxed) {
+            return Err(PrecomputeError::Interrupted {
+                partial: vcut_data::file::partial_path(&job.output),
+                sections: w.written(),
+            });
+        }
+        Ok(())
+    };
+
+    // Stage 1: parameters, directions and tree, meshes, field layouts.
+    let t0 = Instant::now();
+    progress.stage("directions", 1);
+    let params_text = format!(
+        "# vcut-precompute {}\nscene = {:?}\nenvironment = {:?}\n{}",
+        env!("CARGO_PKG_VERSION"),
+        job.scene_source,
+        job.environment,
+        p.to_toml()
+    );
+    writer.put(SectionId::new(SectionKind::Params, 0, 0), params_text.as_bytes())?;
+    let (set, areas, tree) = directions(p, job.cache_dir.as_deref())?;
+    writer.put(SectionId::new(SectionKind::Directions, 0, 0), &sections::encode_directions(set.directions(), &areas))?;
+    for (i, o) in scene.objects.iter().enumerate() {
+        writer.put(SectionId::new(SectionKind::Mesh, i as u32, 0), &sections::encode_mesh(&o.name, o.motion, &o.material, &o.mesh))?;
+    }
+    let needs = objects_needing_fields(scene);
+    let layouts: Vec<Option<FieldLayout>> = scene
+        .objects
+        .iter()
+        .zip(&needs)
+        .map(|(o, &n)| n.then(|| crate::field::layout_around(&o.mesh, p.field_spheres, p.field_resolution, p.field_inner, p.field_outer)))
+        .collect();
+    for (i, l) in layouts.iter().enumerate() {
+        if let Some(l) = l {
+            writer.put(SectionId::new(SectionKind::FieldLayout, i as u32, 0), &sections::encode_field_layout(l))?;
+        }
+    }
+    progress.advance(1);
+    progress.end_stage();
+    stages.push(StageSummary {
+        name: "directions",
+        seconds: t0.elapsed().as_secs_f64(),
+        rays: RayStats::default(),
+        compute_seconds: 0.0,
+        raw_rays_per_second: 0.0,
+        computed: 0,
+        resumed: 0,
+    });
+    let leaf_areas = leaf_solid_angles(&tree);
+    let root = tree.height();
+
+    // Stage 2: SVCs.
+    let t0 = Instant::now();
+    let statics: Vec<&vcut_scene::Mesh> =
+        scene.objects.iter().filter(|o| o.motion == Motion::Static).map(|o| &o.mesh).collect();
+    let static_occ = (!statics.is_empty()).then(|| Occluder::new(&statics));
+    let own_occ: Vec<Option<Occluder>> =
+        scene.objects.iter().map(|o| (o.motion == Motion::Movable).then(|| Occluder::new(&[&o.mesh]))).collect();
+    let occ_of = |i: usize| own_occ[i].as_ref().or(static_occ.as_ref()).unwrap_or_else(|| unreachable!("static objects share one occluder"));
+    let offset_of = |i: usize| p.svc_origin_offset * scene.objects[i].mesh.bounds().radius.max(f32::MIN_POSITIVE);
+    // Raw rate: the rays of up to 512 vertices spread over the scene (at most ~400k rays),
+    // each vertex's rays in leaf order as the stage casts them, cast on their own.
+    let total_vertices: usize = scene.objects.iter().map(|o| o.mesh.vertex_count()).sum();
+    let mut sample = Vec::new();
+    let picks = 512usize.min(total_vertices).min(400_000 / (tree.leaf_count() / 2).max(1)).max(1);
+    for k in 0..picks {
+        let mut g = k * total_vertices / picks;
+        let i = scene.objects.iter().position(|o| {
+            let hit = g < o.mesh.vertex_count();
+            if !hit {
+                g -= o.mesh.vertex_count();
+            }
+            hit
+        });
+        let Some(i) = i else { break };
+        let m = &scene.objects[i].mesh;
+        let (n, o) = (m.normals()[g], m.positions()[g] + m.normals()[g] * offset_of(i));
+        let mut rays = Vec::new();
+        let mut out = vec![0.0f32; tree.leaf_count()];
+        visit_leaves(
+            &tree,
+            |cone| cone_outside(cone, n, std::f32::consts::FRAC_PI_2).then_some(0.0),
+            |d| {
+                if n.dot(d) > 0.0 {
+                    rays.push((o, d));
+                }
+                0.0
+            },
+            &mut out,
+        );
+        sample.push((occ_of(i), rays));
+    }
+    let raw_svc = raw_rate(&sample);
+    drop(sample);
+    progress.stage("svc", total_vertices as u64);
+    let mut svc = StageSummary { name: "svc", seconds: 0.0, rays: RayStats::default(), compute_seconds: 0.0, raw_rays_per_second: raw_svc, computed: 0, resumed: 0 };
+    for (i, o) in scene.objects.iter().enumerate() {
+        let occ = occ_of(i);
+        let offset = offset_of(i);
+        let n = o.mesh.vertex_count();
+        for (chunk, start) in (0..n).step_by(p.svc_chunk as usize).enumerate() {
+            let end = (start + p.svc_chunk as usize).min(n);
+            let id = SectionId::new(SectionKind::Svc, i as u32, chunk as u32);
+            check_interrupt(&writer)?;
+            if writer.can_keep(id) {
+                writer.keep(id)?;
+                svc.resumed += 1;
+                progress.advance((end - start) as u64);
+                progress.section(id, true);
+                continue;
+            }
+            let c0 = Instant::now();
+            let results: Vec<(vcut_cut::Cut, RayStats)> = (start..end)
+                .into_par_iter()
+                .map_init(
+                    || vec![0.0f32; tree.leaf_count()],
+                    |values, v| {
+                        let (pos, nrm) = (o.mesh.positions()[v], o.mesh.normals()[v]);
+                        let stats = leaf_visibility(occ, &tree, pos + nrm * offset, nrm, values);
+                        let cut = select(values, &leaf_areas, p.svc_select())
+                            .unwrap_or_else(|_| unreachable!("a tree's leaf count is a power of two"));
+                        progress.advance(1);
+                        (cut, stats)
+                    },
+                )
+                .collect();
+            let (cuts, stats): (Vec<vcut_cut::Cut>, Vec<RayStats>) = results.into_iter().unzip();
+            svc.rays = stats.into_iter().fold(svc.rays, RayStats::add);
+            let encoded = encode_all(&cuts, p.svc_values, id)?;
+            writer.put(id, &sections::encode_cut_array(root, p.svc_values, &encoded, None))?;
+            svc.compute_seconds += c0.elapsed().as_secs_f64();
+            svc.computed += 1;
+            progress.section(id, false);
+        }
+    }
+    progress.end_stage();
+    svc.seconds = t0.elapsed().as_secs_f64();
+    stages.push(svc);
+
+    // Stage 3: fields.
+    let t0 = Instant::now();
+    let field_objects: Vec<usize> = (0..scene.objects.len()).filter(|&i| layouts[i].is_some()).collect();
+    let field_occ: Vec<Option<Occluder>> =
+        scene.objects.iter().zip(&layouts).map(|(o, l)| l.map(|_| Occluder::new(&[&o.mesh]))).collect();
+    // Raw rate: for 64 points of each field's middle sphere, the rays inside the bounding cone.
+    let mut sample = Vec::new();
+    for &i in &field_objects {
+        let (l, occ) = (layouts[i].unwrap_or_else(|| unreachable!()), field_occ[i].as_ref().unwrap_or_else(|| unreachable!()));
+        let per = l.points_per_sphere() as u32;
+        for k in 0..64u32.min(per) {
+            let pt = l.point(l.spheres / 2, k * per / 64.min(per));
+            let mut rays = Vec::new();
+            let mut out = vec![0.0f32; tree.leaf_count()];
+            let to_c = l.center - pt;
+            let d = to_c.length();
+            let (axis, cosb) = if d > l.radius { (to_c / d, (1.0 - (l.radius / d).powi(2)).sqrt()) } else { (Vec3::Z, -1.0) };
+            visit_leaves(&tree, |_| None, |dir| {
+                if dir.dot(axis) >= cosb {
+                    rays.push((pt, dir));
+                }
+                0.0
+            }, &mut out);
+            sample.push((occ, rays));
+        }
+    }
+    let raw_field = raw_rate(&sample);
+    drop(sample);
+    let field_points: u64 = field_objects.iter().map(|&i| layouts[i].map_or(0, |l| l.point_count() as u64)).sum();
+    progress.stage("fields", field_points);
+    let mut fields = StageSummary { name: "fields", seconds: 0.0, rays: RayStats::default(), compute_seconds: 0.0, raw_rays_per_second: raw_field, computed: 0, resumed: 0 };
+    let mut inside_points = 0u64;
+    for &i in &field_objects {
+        let (l, occ) = (layouts[i].unwrap_or_else(|| unreachable!()), field_occ[i].as_ref().unwrap_or_else(|| unreachable!()));
+        for s in 0..l.spheres {
+            let id = SectionId::new(SectionKind::Field, i as u32, s);
+            check_interrupt(&writer)?;
+            if writer.can_keep(id) {
+                writer.keep(id)?;
+                fields.resumed += 1;
+                progress.advance(l.points_per_sphere() as u64);
+                progress.section(id, true);
+                continue;
+            }
+            let c0 = Instant::now();
+            let sc = sphere_cuts(occ, &tree, &leaf_areas, &l, s, p.field_select());
+            progress.advance(l.points_per_sphere() as u64);
+            inside_points += sc.inside.iter().filter(|&&x| x).count() as u64;
+            fields.rays = fields.rays.add(sc.stats);
+            let encoded = encode_all(&sc.cuts, p.field_values, id)?;
+            writer.put(id, &sections::encode_cut_array(root, p.field_values, &encoded, Some(&sc.inside)))?;
+            fields.compute_seconds += c0.elapsed().as_secs_f64();
+            fields.computed += 1;
+            progress.section(id, false);
+        }
+    }
+    progress.end_stage();
+    fields.seconds = t0.elapsed().as_secs_f64();
+    stages.push(fields);
+
+    let file_bytes = writer.finish()?;
+    let sizes = cut_sizes(&job.output)?;
+    Ok(Summary {
+        stages,
+        sizes,
+        file_bytes,
+        fields: field_objects.iter().map(|&i| scene.objects[i].name.clone()).collect(),
+        inside_points,
+    })
+}
+
+/// Reads every cut section of a `.vcuts` file and totals its sizes per kind, in the height
+/// codec as stored and in the node-index baseline.
+pub fn cut_sizes(path: &Path) -> Result<Vec<CutSizes>, FileError> {
+    let mut r = Reader::open(path)?;
+    let mut out = vec![CutSizes { kind: "svc", ..CutSizes::default() }, CutSizes { kind: "field", ..CutSizes::default() }];
+    let ids: Vec<SectionId> = r.entries().iter().map(|e| e.id).collect();
+    for id in ids {
+        let k = match id.kind {
+            SectionKind::Svc => 0,
+            SectionKind::Field => 1,
+            _ => continue,
+        };
+        let bytes = r.section(id)?;
+        let a = sections::CutArray::parse(&bytes).map_err(|e| r.section_error(id, e))?;
+        let s = &mut out[k];
+        s.sections += 1;
+        s.bytes += bytes.len() as u64;
+        // Same header and offsets, then index + f32 per node.
+        s.index_baseline_bytes += (bytes.len() - (bytes.len() - 8 - 4 * (a.len() + 1))) as u64;
+        for c in 0..a.len() {
+            let n = a.node_count(c).map_err(|e| r.section_error(id, e))? as u64;
+            s.cuts += 1;
+            s.nodes += n;
+            s.max_nodes = s.max_nodes.max(n);
+            s.index_baseline_bytes += codec::index_coded_size(n as usize, a.root_height()) as u64;
+        }
+    }
+    Ok(out)
+}

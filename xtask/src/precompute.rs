@@ -1,0 +1,258 @@
+//! `cargo xtask precompute`: a scene's SVCs and fields into a `.vcuts` file, with a progress bar
+//! and ETA per stage and a closing summary (key=value lines, then a size table).
+
+use anyhow::{Context, Result, bail};
+use indicatif::{MultiProgress, ProgressBar, ProgressStyle};
+use std::path::{Path, PathBuf};
+use std::sync::Mutex;
+use std::sync::atomic::AtomicBool;
+use std::time::Instant;
+use vcut_data::file::SectionId;
+use vcut_precompute::run::{Job, Progress, Summary, precompute};
+use vcut_precompute::PrecomputeParams;
+use vcut_scene::{Scene, SceneDesc};
+
+/// Arguments of `precompute`.
+#[derive(clap::Args, Clone)]
+pub struct PrecomputeArgs {
+    /// The scene: builtin:teapot | builtin:bunny | builtin:spheres, a .toml scene file, or a mesh.
+    #[arg(long, default_value = "builtin:teapot")]
+    pub scene: String,
+    /// Environment to record for rendering (default: the scene's own); checked to load.
+    #[arg(long)]
+    pub env: Option<String>,
+    /// Preset: fast, balanced or paper (the scene file's [precompute] table and the options
+    /// below override it).
+    #[arg(long)]
+    pub preset: Option<String>,
+    /// Output file (default: target/vcuts/<scene>-<preset>.vcuts).
+    #[arg(short, long)]
+    pub output: Option<PathBuf>,
+    /// Worker threads (default: all cores).
+    #[arg(long)]
+    pub threads: Option<usize>,
+    /// Number of directions (power of two, 64..65,536).
+    #[arg(long)]
+    pub directions: Option<u32>,
+    /// SVC error threshold.
+    #[arg(long)]
+    pub svc_max_error: Option<f64>,
+    /// Field spheres.
+    #[arg(long)]
+    pub field_spheres: Option<u32>,
+    /// Field cube-map resolution per face.
+    #[arg(long)]
+    pub field_resolution: Option<u32>,
+    /// Field error threshold (0 = exact, below 0.25).
+    #[arg(long)]
+    pub field_max_error: Option<f64>,
+    /// Any parameter as KEY=VALUE (repeatable); `--set help` lists them.
+    #[arg(long = "set", value_name = "KEY=VALUE")]
+    pub set: Vec<String>,
+    /// Direction-set cache folder.
+    #[arg(long, default_value = "target/vcut-cache")]
+    pub cache_dir: PathBuf,
+    /// Discard a partial file from an earlier run instead of resuming it.
+    #[arg(long)]
+    pub fresh: bool,
+}
+
+impl PrecomputeArgs {
+    /// Defaults for `scene` with `preset`.
+    pub fn new(scene: &str, preset: &str) -> Self {
+        PrecomputeArgs {
+            scene: scene.into(),
+            env: None,
+            preset: Some(preset.into()),
+            output: None,
+            threads: None,
+            directions: None,
+            svc_max_error: None,
+            field_spheres: None,
+            field_resolution: None,
+            field_max_error: None,
+            set: Vec::new(),
+            cache_dir: "target/vcut-cache".into(),
+            fresh: false,
+        }
+    }
+}
+
+/// Parameters from the preset, the scene file's `[precompute]` table, then the options.
+fn resolve_params(args: &PrecomputeArgs, desc: Option<&SceneDesc>) -> Result<PrecomputeParams> {
+    if args.set.iter().any(|s| s == "help") {
+        let p = PrecomputeParams::paper();
+        println!("parameters (paper preset values):");
+        print!("{}", p.to_toml());
+        std::process::exit(0);
+    }
+    let table = desc.and_then(|d| d.precompute.clone()).unwrap_or_default();
+    let text = |v: &toml::Value| match v {
+        toml::Value::String(s) => s.clone(),
+        other => other.to_string(),
+    };
+    let preset = match (&args.preset, table.get("preset")) {
+        (Some(p), _) => p.clone(),
+        (None, Some(v)) => text(v),
+        (None, None) => "balanced".into(),
+    };
+    let mut p = PrecomputeParams::preset(&preset)?;
+    for (k, v) in table.iter().filter(|(k, _)| *k != "preset") {
+        p.set(k, &text(v)).with_context(|| format!("{}: [precompute]", args.scene))?;
+    }
+    let mut set = |k: &str, v: Option<String>| -> Result<()> {
+        if let Some(v) = v {
+            p.set(k, &v)?;
+        }
+        Ok(())
+    };
+    set("directions", args.directions.map(|x| x.to_string()))?;
+    set("svc_max_error", args.svc_max_error.map(|x| x.to_string()))?;
+    set("field_spheres", args.field_spheres.map(|x| x.to_string()))?;
+    set("field_resolution", args.field_resolution.map(|x| x.to_string()))?;
+    set("field_max_error", args.field_max_error.map(|x| x.to_string()))?;
+    for kv in &args.set {
+        let Some((k, v)) = kv.split_once('=') else { bail!("--set {kv}: expected KEY=VALUE (--set help lists keys)") };
+        p.set(k.trim(), v.trim())?;
+    }
+    p.check()?;
+    Ok(p)
+}
+
+/// indicatif bars, one per stage.
+struct Bars {
+    multi: MultiProgress,
+    current: Mutex<Option<ProgressBar>>,
+}
+
+impl Progress for Bars {
+    fn stage(&self, name: &str, total: u64) {
+        let bar = self.multi.add(ProgressBar::new(total));
+        let style = ProgressStyle::with_template(&format!(
+            "{name:>10} [{{bar:40}}] {{pos}}/{{len}} {{per_sec}} elapsed {{elapsed}} ETA {{eta}} {{msg}}"
+        ))
+        .unwrap_or_else(|_| ProgressStyle::default_bar())
+        .progress_chars("=> ");
+        bar.set_style(style);
+        *self.current.lock().unwrap_or_else(|e| e.into_inner()) = Some(bar);
+    }
+    fn advance(&self, n: u64) {
+        if let Some(b) = &*self.current.lock().unwrap_or_else(|e| e.into_inner()) {
+            b.inc(n);
+        }
+    }
+    fn section(&self, id: SectionId, resumed: bool) {
+        if let Some(b) = &*self.current.lock().unwrap_or_else(|e| e.into_inner()) {
+            b.set_message(format!("{}{id}", if resumed { "resumed " } else { "" }));
+        }
+    }
+    fn end_stage(&self) {
+        if let Some(b) = self.current.lock().unwrap_or_else(|e| e.into_inner()).take() {
+            b.finish_with_message("done");
+        }
+    }
+}
+
+/// Runs `precompute`; returns the output path and the summary.
+pub fn run(args: &PrecomputeArgs) -> Result<(PathBuf, Summary)> {
+    if let Some(t) = args.threads {
+        rayon::ThreadPoolBuilder::new().num_threads(t).build_global().context("--threads")?;
+    }
+    let desc = if args.scene.ends_with(".toml") { Some(SceneDesc::read(Path::new(&args.scene))?) } else { None };
+    let params = resolve_params(args, desc.as_ref())?;
+    let t = Instant::now();
+    let scene = Scene::open(&args.scene)?;
+    let load_s = t.elapsed().as_secs_f64();
+    let environment = match &args.env {
+        Some(e) => {
+            crate::inspect::load_envmap(e).with_context(|| format!("--env {e}"))?;
+            e.clone()
+        }
+        None => "scene".into(),
+    };
+    let stem: String =
+        args.scene.rsplit(['/', ':']).next().unwrap_or("scene").trim_end_matches(".toml").chars().filter(|c| c.is_alphanumeric() || *c == '-' || *c == '_').collect();
+    let output = args.output.clone().unwrap_or_else(|| PathBuf::from(format!("target/vcuts/{stem}-{}.vcuts", params.preset)));
+    let partial = vcut_data::file::partial_path(&output);
+    if args.fresh && partial.exists() {
+        std::fs::remove_file(&partial).with_context(|| format!("removing {}", partial.display()))?;
+    } else if partial.exists() {
+        println!("resuming from {}", partial.display());
+    }
+    println!(
+        "scene {} ({} objects, {} vertices, {} triangles, loaded in {load_s:.2} s), preset {}, {} directions, {} threads",
+        args.scene,
+        scene.objects.len(),
+        scene.vertex_count(),
+        scene.triangle_count(),
+        params.preset,
+        params.directions,
+        rayon::current_num_threads()
+    );
+    let job = Job {
+        scene: &scene,
+        scene_source: args.scene.clone(),
+        environment,
+        params: params.clone(),
+        cache_dir: Some(args.cache_dir.clone()),
+        output: output.clone(),
+    };
+    let bars = Bars { multi: MultiProgress::new(), current: Mutex::new(None) };
+    let t = Instant::now();
+    let summary = precompute(&job, &bars, &AtomicBool::new(false))?;
+    print_summary(&output, &summary, t.elapsed().as_secs_f64(), &params);
+    Ok((output, summary))
+}
+
+fn mb(b: u64) -> f64 {
+    b as f64 / 1e6
+}
+
+/// Prints the summary as key=value lines and a size table.
+pub fn print_summary(output: &Path, s: &Summary, total_s: f64, p: &PrecomputeParams) {
+    println!("output={}", output.display());
+    println!("preset={}", p.preset);
+    println!("total_s={total_s:.2}");
+    for st in &s.stages {
+        println!("{}_s={:.2}", st.name, st.seconds);
+        if st.name == "directions" {
+            continue;
+        }
+        println!("{}_rays_cast={}", st.name, st.rays.rays_cast);
+        println!("{}_rays_occluded={}", st.name, st.rays.rays_occluded);
+        println!("{}_resolved_without_ray={}", st.name, st.rays.resolved_without_ray);
+        println!("{}_rays_per_s={:.0}", st.name, st.rays_per_second());
+        println!("{}_raw_rays_per_s={:.0}", st.name, st.raw_rays_per_second);
+        if st.raw_rays_per_second > 0.0 && st.rays.rays_cast > 0 {
+            println!("{}_rays_per_s_vs_raw={:.3}", st.name, st.rays_per_second() / st.raw_rays_per_second);
+        }
+        println!("{}_sections_computed={}", st.name, st.computed);
+        println!("{}_sections_resumed={}", st.name, st.resumed);
+    }
+    println!("fields={}", if s.fields.is_empty() { "none".into() } else { s.fields.join(",") });
+    println!("field_inside_points={}", s.inside_points);
+    for z in &s.sizes {
+        let mean = if z.cuts > 0 { z.nodes as f64 / z.cuts as f64 } else { 0.0 };
+        println!("{}_cuts={}", z.kind, z.cuts);
+        println!("{}_nodes_mean={mean:.1}", z.kind);
+        println!("{}_nodes_max={}", z.kind, z.max_nodes);
+        println!("{}_mb={:.3}", z.kind, mb(z.bytes));
+        println!("{}_index_baseline_mb={:.3}", z.kind, mb(z.index_baseline_bytes));
+    }
+    let cut_bytes: u64 = s.sizes.iter().map(|z| z.bytes).sum();
+    let base_bytes: u64 = s.sizes.iter().map(|z| z.index_baseline_bytes).sum();
+    println!("file_mb={:.3}", mb(s.file_bytes));
+    println!("cuts_mb={:.3}", mb(cut_bytes));
+    println!("cuts_index_baseline_mb={:.3}", mb(base_bytes));
+    if base_bytes > 0 {
+        println!("cuts_size_vs_baseline={:.3}", cut_bytes as f64 / base_bytes as f64);
+    }
+    println!();
+    println!("| section | cuts | mean nodes | height codec ({} / {}) MB | index + f32 baseline MB |", p.svc_values.name(), p.field_values.name());
+    println!("|---|---:|---:|---:|---:|");
+    for z in &s.sizes {
+        let mean = if z.cuts > 0 { z.nodes as f64 / z.cuts as f64 } else { 0.0 };
+        println!("| {} | {} | {mean:.1} | {:.2} | {:.2} |", z.kind, z.cuts, mb(z.bytes), mb(z.index_baseline_bytes));
+    }
+    println!("| whole file | | | {:.2} | |", mb(s.file_bytes));
+}
