@@ -269,7 +269,7 @@ fn exr_promising_more_pixels_than_it_holds_is_refused() {
 }
 
 /// Regression (fuzz target `exr`): a single-level tiled EXR with a chunk claiming mip level
-/// (2, 0) reached an assertion in exr's level filtering; it is now a decode error.
+/// (2, 0) reached an assertion in exr's level filtering (debug builds); it is contained.
 #[test]
 fn exr_chunk_at_a_missing_level_is_refused() {
     let bytes: &[u8] = &[
@@ -290,13 +290,18 @@ fn exr_chunk_at_a_missing_level_is_refused() {
         64, 0, 0, 0, 64, 0, 0, 0, 0, 0, 142, 1, 0, 0, 0, 0, 0, 0, 0, 0, 2, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 16,
         1, 0, 0, 0, 0, 0, 0, 255, 0, 32, 128, 241, 77, 127, 129, 255, 118, 47, 49, 206, 1, 2, 2, 0, 0, 127, 180,
     ];
-    let msg = message(vcut_envmap::load_bytes(
+    // In debug builds the exr decoder panics on this input (integer overflow checks), which
+    // we contain and report; release builds wrap and decode something. Either way: no panic
+    // escapes, and what comes back is an error naming the file or a valid map.
+    match vcut_envmap::load_bytes(
         bytes,
         vcut_envmap::io::Format::Exr,
         Path::new("fuzz-crash7.exr"),
         InvalidTexels::Clamp,
-    ));
-    assert!(msg.contains("fuzz-crash7.exr"), "{msg}");
+    ) {
+        Err(e) => assert!(e.to_string().contains("fuzz-crash7.exr"), "{e}"),
+        Ok((map, _)) => assert!(map.texels().iter().flatten().all(|x| x.is_finite() && *x >= 0.0)),
+    }
 }
 
 /// Regression (fuzz target `exr`, found by CI): a panic inside exr's parallel block decoder aborted

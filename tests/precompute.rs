@@ -69,11 +69,14 @@ fn integral(cut: &Cut, tree: &DirectionTree) -> f64 {
     cut.level_order_indices().zip(cut.values()).map(|(k, &v)| f64::from(v) * tree.solid_angle(k)).sum()
 }
 
+/// One field sphere's cuts and inside marks.
+type SphereData = (Vec<Cut>, Vec<bool>);
+
 /// The field of `object` interpolated at `p` (8 samples, trilinear, samples inside the object
 /// dropped), expanded to leaves.
 fn interpolated(data: &mut Precomputed, object: usize, layout: &FieldLayout, p: Vec3) -> Vec<f32> {
     let mut samples = layout.lookup(p).expect("inside the field");
-    let spheres: Vec<(u32, (Vec<Cut>, Vec<bool>))> = {
+    let spheres: Vec<(u32, SphereData)> = {
         let mut s: Vec<u32> = samples.iter().map(|x| x.sphere).collect();
         s.dedup();
         s.into_iter().map(|s| (s, data.field_sphere(object, s).unwrap())).collect()
@@ -115,7 +118,9 @@ fn ground_svcs_see_their_whole_hemisphere_and_the_ball_field_holds_its_shadow() 
     let leaves = interpolated(&mut data, 1, &layout, below);
     let nearest = |d: Vec3| {
         let d = d.normalize();
-        (0..tree.leaf_count()).max_by(|&a, &b| tree.leaf_directions()[a].dot(d).total_cmp(&tree.leaf_directions()[b].dot(d))).unwrap()
+        (0..tree.leaf_count())
+            .max_by(|&a, &b| tree.leaf_directions()[a].dot(d).total_cmp(&tree.leaf_directions()[b].dot(d)))
+            .unwrap()
     };
     assert!(leaves[nearest(Vec3::Y)] < 0.05, "up: {}", leaves[nearest(Vec3::Y)]);
     for d in [Vec3::X, Vec3::new(1.0, 0.3, 1.0), Vec3::NEG_Y, Vec3::new(-1.0, 0.2, 0.0)] {
@@ -176,7 +181,13 @@ fn a_field_interpolated_at_a_point_agrees_with_rays_cast_from_it() {
         let d = 1.05 + 7.95 * t * t;
         let dir = Vec3::new((k as f32 * 2.39).cos(), (k as f32 * 1.31).sin(), (k as f32 * 0.77).sin()).normalize();
         let e = field_error_at(&mut data, 1, &occ, &tree, layout.center + dir * d * layout.radius);
-        let band = if d >= 2.5 { 0 } else if d >= 1.5 { 1 } else { 2 };
+        let band = if d >= 2.5 {
+            0
+        } else if d >= 1.5 {
+            1
+        } else {
+            2
+        };
         worst[band] = worst[band].max(e);
     }
     assert!(worst[0] < 0.01 && worst[1] < 0.05 && worst[2] < 0.25, "worst disagreement by band {worst:?}");

@@ -30,8 +30,9 @@ enum Command {
     /// data size in the height codec and the index baseline).
     Precompute(precompute::PrecomputeArgs),
     /// Run the main job on the built-in teapot scene under the built-in sky (for now: inspect
-    /// both, then build the 32,768 directions (cached), the direction tree and the sky's light
-    /// tree; later stages add precompute, render and the report).
+    /// both, build the 32,768 directions (cached), the direction tree and the sky's light tree,
+    /// then precompute the scene at the `fast` preset into target/vcuts/teapot-fast.vcuts;
+    /// later stages add render and the report).
     Demo,
 }
 
@@ -62,5 +63,7 @@ fn demo() -> Result<()> {
         cache_dir: "target/vcut-cache".into(),
         no_cache: false,
         env: Some("builtin:sky".into()),
-    })
+    })?;
+    println!("\n== precompute builtin:teapot, preset fast (SVCs and fields into a .vcuts file)");
+    precompute::run(&precompute::PrecomputeArgs::new("builtin:teapot", "fast")).map(|_| ())
 }

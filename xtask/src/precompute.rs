@@ -8,8 +8,8 @@ use std::sync::Mutex;
 use std::sync::atomic::AtomicBool;
 use std::time::Instant;
 use vcut_data::file::SectionId;
-use vcut_precompute::run::{Job, Progress, Summary, precompute};
 use vcut_precompute::PrecomputeParams;
+use vcut_precompute::run::{Job, Progress, Summary, precompute};
 use vcut_scene::{Scene, SceneDesc};
 
 /// Arguments of `precompute`.
@@ -86,37 +86,25 @@ fn resolve_params(args: &PrecomputeArgs, desc: Option<&SceneDesc>) -> Result<Pre
         print!("{}", p.to_toml());
         std::process::exit(0);
     }
-    let table = desc.and_then(|d| d.precompute.clone()).unwrap_or_default();
-    let text = |v: &toml::Value| match v {
-        toml::Value::String(s) => s.clone(),
-        other => other.to_string(),
-    };
-    let preset = match (&args.preset, table.get("preset")) {
-        (Some(p), _) => p.clone(),
-        (None, Some(v)) => text(v),
-        (None, None) => "balanced".into(),
-    };
-    let mut p = PrecomputeParams::preset(&preset)?;
-    for (k, v) in table.iter().filter(|(k, _)| *k != "preset") {
-        p.set(k, &text(v)).with_context(|| format!("{}: [precompute]", args.scene))?;
-    }
-    let mut set = |k: &str, v: Option<String>| -> Result<()> {
+    let mut overrides: Vec<(String, String)> = Vec::new();
+    let mut flag = |k: &str, v: Option<String>| {
         if let Some(v) = v {
-            p.set(k, &v)?;
+            overrides.push((k.into(), v));
         }
-        Ok(())
     };
-    set("directions", args.directions.map(|x| x.to_string()))?;
-    set("svc_max_error", args.svc_max_error.map(|x| x.to_string()))?;
-    set("field_spheres", args.field_spheres.map(|x| x.to_string()))?;
-    set("field_resolution", args.field_resolution.map(|x| x.to_string()))?;
-    set("field_max_error", args.field_max_error.map(|x| x.to_string()))?;
+    flag("directions", args.directions.map(|x| x.to_string()));
+    flag("svc_max_error", args.svc_max_error.map(|x| x.to_string()));
+    flag("field_spheres", args.field_spheres.map(|x| x.to_string()));
+    flag("field_resolution", args.field_resolution.map(|x| x.to_string()));
+    flag("field_max_error", args.field_max_error.map(|x| x.to_string()));
     for kv in &args.set {
         let Some((k, v)) = kv.split_once('=') else { bail!("--set {kv}: expected KEY=VALUE (--set help lists keys)") };
-        p.set(k.trim(), v.trim())?;
+        overrides.push((k.trim().into(), v.trim().into()));
     }
-    p.check()?;
-    Ok(p)
+    let pairs: Vec<(&str, &str)> = overrides.iter().map(|(k, v)| (k.as_str(), v.as_str())).collect();
+    let table = desc.and_then(|d| d.precompute.as_ref());
+    PrecomputeParams::resolve(args.preset.as_deref(), table, &pairs)
+        .with_context(|| format!("precompute parameters for {}", args.scene))
 }
 
 /// indicatif bars, one per stage.
@@ -170,9 +158,17 @@ pub fn run(args: &PrecomputeArgs) -> Result<(PathBuf, Summary)> {
         }
         None => "scene".into(),
     };
-    let stem: String =
-        args.scene.rsplit(['/', ':']).next().unwrap_or("scene").trim_end_matches(".toml").chars().filter(|c| c.is_alphanumeric() || *c == '-' || *c == '_').collect();
-    let output = args.output.clone().unwrap_or_else(|| PathBuf::from(format!("target/vcuts/{stem}-{}.vcuts", params.preset)));
+    let stem: String = args
+        .scene
+        .rsplit(['/', ':'])
+        .next()
+        .unwrap_or("scene")
+        .trim_end_matches(".toml")
+        .chars()
+        .filter(|c| c.is_alphanumeric() || *c == '-' || *c == '_')
+        .collect();
+    let output =
+        args.output.clone().unwrap_or_else(|| PathBuf::from(format!("target/vcuts/{stem}-{}.vcuts", params.preset)));
     let partial = vcut_data::file::partial_path(&output);
     if args.fresh && partial.exists() {
         std::fs::remove_file(&partial).with_context(|| format!("removing {}", partial.display()))?;
@@ -237,22 +233,37 @@ pub fn print_summary(output: &Path, s: &Summary, total_s: f64, p: &PrecomputePar
         println!("{}_nodes_mean={mean:.1}", z.kind);
         println!("{}_nodes_max={}", z.kind, z.max_nodes);
         println!("{}_mb={:.3}", z.kind, mb(z.bytes));
+        println!("{}_heights_codec_mb={:.3}", z.kind, mb(z.heights_codec_bytes));
         println!("{}_index_baseline_mb={:.3}", z.kind, mb(z.index_baseline_bytes));
     }
     let cut_bytes: u64 = s.sizes.iter().map(|z| z.bytes).sum();
+    let heights_bytes: u64 = s.sizes.iter().map(|z| z.heights_codec_bytes).sum();
     let base_bytes: u64 = s.sizes.iter().map(|z| z.index_baseline_bytes).sum();
     println!("file_mb={:.3}", mb(s.file_bytes));
     println!("cuts_mb={:.3}", mb(cut_bytes));
+    println!("cuts_heights_codec_mb={:.3}", mb(heights_bytes));
     println!("cuts_index_baseline_mb={:.3}", mb(base_bytes));
     if base_bytes > 0 {
         println!("cuts_size_vs_baseline={:.3}", cut_bytes as f64 / base_bytes as f64);
     }
     println!();
-    println!("| section | cuts | mean nodes | height codec ({} / {}) MB | index + f32 baseline MB |", p.svc_values.name(), p.field_values.name());
-    println!("|---|---:|---:|---:|---:|");
+    println!(
+        "| section | cuts | mean nodes | stored MB ({}, values {} / {}) | height codec MB | index + f32 baseline MB |",
+        p.shape_coding.name(),
+        p.svc_values.name(),
+        p.field_values.name()
+    );
+    println!("|---|---:|---:|---:|---:|---:|");
     for z in &s.sizes {
         let mean = if z.cuts > 0 { z.nodes as f64 / z.cuts as f64 } else { 0.0 };
-        println!("| {} | {} | {mean:.1} | {:.2} | {:.2} |", z.kind, z.cuts, mb(z.bytes), mb(z.index_baseline_bytes));
+        println!(
+            "| {} | {} | {mean:.1} | {:.2} | {:.2} | {:.2} |",
+            z.kind,
+            z.cuts,
+            mb(z.bytes),
+            mb(z.heights_codec_bytes),
+            mb(z.index_baseline_bytes)
+        );
     }
-    println!("| whole file | | | {:.2} | |", mb(s.file_bytes));
+    println!("| whole file | | | {:.2} | | |", mb(s.file_bytes));
 }

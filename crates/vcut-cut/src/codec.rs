@@ -5,6 +5,15 @@
 //! needs heights up to 16), padded to a byte; then the values in the chosen [`ValueFormat`],
 //! little-endian.
 //!
+//! **Split-flag shape coding** (`encode_split_flags`, a lossless entropy stage over the same
+//! heights): LEB128 node count; then the cut's shape as the top-down selection produced it —
+//! walking from the root depth first, one bit per visited node of height > 0: 1 = split into
+//! its two children, 0 = a node of the cut (leaves need no bit); padded to a byte; then the
+//! values. A cut of n nodes takes at most 2n − 1 shape bits instead of 4n or 5n, whatever H.
+//!
+//! **Values**: f32, f16, u16, u8 (any value in [0, 1] for the quantised ones), and `u1` — one
+//! bit per node for exact binary cuts (fields with error threshold 0 hold only 0 and 1).
+//!
 //! **Index baseline** (`encode_indices`, the representation of Akerlund 2007 and
 //! Cheslack-Postava 2008): LEB128 node count; each node's level-order index as u16 when
 //! `2^(H+1) − 1` fits (H ≤ 15), u32 otherwise; then f32 values.
@@ -26,19 +35,32 @@ pub enum ValueFormat {
     U16,
     /// `round(v · 255)` for v in [0, 1]: error at most 0.5/255 ≈ 2.0e-3.
     U8,
+    /// One bit per value, for cuts whose values are exactly 0 or 1 (exact visibility fields);
+    /// other values do not encode.
+    U1,
 }
 
 impl ValueFormat {
-    /// All formats, finest first.
+    /// The formats that store any value in [0, 1], finest first.
     pub const ALL: [ValueFormat; 4] = [ValueFormat::F32, ValueFormat::F16, ValueFormat::U16, ValueFormat::U8];
 
-    /// Bytes per value.
-    pub fn bytes(self) -> usize {
+    /// Every format, [`ValueFormat::U1`] last.
+    pub const WITH_BINARY: [ValueFormat; 5] =
+        [ValueFormat::F32, ValueFormat::F16, ValueFormat::U16, ValueFormat::U8, ValueFormat::U1];
+
+    /// Bytes `n` values take (bit-packed values round up to a byte).
+    pub fn value_bytes(self, n: usize) -> usize {
         match self {
-            ValueFormat::F32 => 4,
-            ValueFormat::F16 | ValueFormat::U16 => 2,
-            ValueFormat::U8 => 1,
+            ValueFormat::F32 => 4 * n,
+            ValueFormat::F16 | ValueFormat::U16 => 2 * n,
+            ValueFormat::U8 => n,
+            ValueFormat::U1 => n.div_ceil(8),
         }
+    }
+
+    /// The format called `name` (`f32`, `f16`, `u16`, `u8`, `u1`).
+    pub fn named(name: &str) -> Option<ValueFormat> {
+        Self::WITH_BINARY.into_iter().find(|f| f.name() == name)
     }
 
     /// Largest absolute error for values in [0, 1]: the quantisation step's half plus f32
@@ -49,6 +71,7 @@ impl ValueFormat {
             ValueFormat::F16 => 1.0 / 4096.0 + 1e-6,
             ValueFormat::U16 => 0.5 / 65535.0 + 1e-6,
             ValueFormat::U8 => 0.5 / 255.0 + 1e-6,
+            ValueFormat::U1 => 0.0,
         }
     }
 
@@ -59,6 +82,47 @@ impl ValueFormat {
             ValueFormat::F16 => "f16",
             ValueFormat::U16 => "u16",
             ValueFormat::U8 => "u8",
+            ValueFormat::U1 => "u1",
+        }
+    }
+}
+
+/// How a cut's shape is stored (both carry exactly the heights).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum ShapeCoding {
+    /// The paper's 4-bit (5-bit for H = 16) heights.
+    Heights,
+    /// The top-down walk's split flags: at most 2n − 1 bits.
+    SplitFlags,
+}
+
+impl ShapeCoding {
+    /// `heights` or `split-flags`.
+    pub fn name(self) -> &'static str {
+        match self {
+            ShapeCoding::Heights => "heights",
+            ShapeCoding::SplitFlags => "split-flags",
+        }
+    }
+
+    /// The coding called `name`.
+    pub fn named(name: &str) -> Option<ShapeCoding> {
+        [ShapeCoding::Heights, ShapeCoding::SplitFlags].into_iter().find(|c| c.name() == name)
+    }
+
+    /// Encodes `cut` in this coding.
+    pub fn encode(self, cut: &Cut, format: ValueFormat) -> Result<Vec<u8>, EncodeError> {
+        match self {
+            ShapeCoding::Heights => encode_heights(cut, format),
+            ShapeCoding::SplitFlags => encode_split_flags(cut, format),
+        }
+    }
+
+    /// Decodes a cut in this coding that fills `bytes` exactly.
+    pub fn decode(self, bytes: &[u8], root_height: u32, format: ValueFormat) -> Result<Cut, DecodeError> {
+        match self {
+            ShapeCoding::Heights => decode_heights(bytes, root_height, format),
+            ShapeCoding::SplitFlags => decode_split_flags(bytes, root_height, format),
         }
     }
 }
@@ -110,9 +174,17 @@ pub enum DecodeError {
         /// Root height.
         root: u32,
     },
-    /// Non-zero padding bits after the last height.
-    #[error("non-zero padding after the heights")]
+    /// Non-zero padding bits after the last height, shape flag or bit value.
+    #[error("non-zero padding bits")]
     Padding,
+    /// Split flags that describe a different number of nodes than the count.
+    #[error("the split flags describe {described} nodes, the count says {count}")]
+    Shape {
+        /// Nodes the flags describe (as far as they were read).
+        described: usize,
+        /// The stored count.
+        count: usize,
+    },
     /// Bytes left after the cut (with the exact-length decoders).
     #[error("{0} trailing bytes")]
     Trailing(usize),
@@ -177,7 +249,67 @@ pub fn index_bytes(root_height: u32) -> usize {
     if root_height <= 15 { 2 } else { 4 }
 }
 
+/// Packs bits least-significant first.
+#[derive(Default)]
+struct BitWriter {
+    out: Vec<u8>,
+    acc: u32,
+    filled: u32,
+}
+
+impl BitWriter {
+    fn push(&mut self, value: u32, bits: u32) {
+        self.acc |= value << self.filled;
+        self.filled += bits;
+        while self.filled >= 8 {
+            self.out.push(self.acc as u8);
+            self.acc >>= 8;
+            self.filled -= 8;
+        }
+    }
+
+    fn finish(mut self) -> Vec<u8> {
+        if self.filled > 0 {
+            self.out.push(self.acc as u8);
+        }
+        self.out
+    }
+}
+
+/// Reads bits least-significant first from a byte slice.
+struct BitReader<'a> {
+    bytes: &'a [u8],
+    bit: usize,
+}
+
+impl BitReader<'_> {
+    fn next(&mut self) -> Option<u32> {
+        let b = self.bytes.get(self.bit / 8)?;
+        let v = u32::from(b >> (self.bit % 8) & 1);
+        self.bit += 1;
+        Some(v)
+    }
+
+    /// Bytes touched so far, and whether the unread bits of the last one are zero.
+    fn finish(&self) -> (usize, bool) {
+        let used = self.bit.div_ceil(8);
+        let clean = self.bit % 8 == 0 || self.bytes[used - 1] >> (self.bit % 8) == 0;
+        (used, clean)
+    }
+}
+
 fn put_values(out: &mut Vec<u8>, values: &[f32], format: ValueFormat) -> Result<(), EncodeError> {
+    if format == ValueFormat::U1 {
+        let mut w = BitWriter::default();
+        for (node, &v) in values.iter().enumerate() {
+            if v != 0.0 && v != 1.0 {
+                return Err(EncodeError::OutOfRange { node, value: v, format: format.name() });
+            }
+            w.push(u32::from(v == 1.0), 1);
+        }
+        out.extend_from_slice(&w.finish());
+        return Ok(());
+    }
     for (node, &v) in values.iter().enumerate() {
         let range = |ok: bool| {
             if ok { Ok(()) } else { Err(EncodeError::OutOfRange { node, value: v, format: format.name() }) }
@@ -196,6 +328,7 @@ fn put_values(out: &mut Vec<u8>, values: &[f32], format: ValueFormat) -> Result<
                 range((0.0..=1.0).contains(&v))?;
                 out.push((v * 255.0).round() as u8);
             }
+            ValueFormat::U1 => unreachable!("packed above"),
         }
     }
     Ok(())
@@ -213,14 +346,20 @@ fn get_values(bytes: &[u8], n: usize, format: ValueFormat) -> Vec<f32> {
             bytes.chunks_exact(2).take(n).map(|c| f32::from(u16::from_le_bytes([c[0], c[1]])) / 65535.0).collect()
         }
         ValueFormat::U8 => bytes.iter().take(n).map(|&b| f32::from(b) / 255.0).collect(),
+        ValueFormat::U1 => (0..n).map(|i| f32::from(bytes[i / 8] >> (i % 8) & 1)).collect(),
     }
+}
+
+/// Whether the padding bits after `n` bit-packed values are zero.
+fn values_canonical(bytes: &[u8], n: usize, format: ValueFormat) -> bool {
+    format != ValueFormat::U1 || n % 8 == 0 || bytes[n / 8] >> (n % 8) == 0
 }
 
 /// Size in bytes of a cut of `nodes` nodes in the height codec.
 pub fn height_coded_size(nodes: usize, root_height: u32, format: ValueFormat) -> usize {
     let mut v = Vec::new();
     put_varint(&mut v, nodes as u64);
-    v.len() + (nodes * height_bits(root_height) as usize).div_ceil(8) + nodes * format.bytes()
+    v.len() + (nodes * height_bits(root_height) as usize).div_ceil(8) + format.value_bytes(nodes)
 }
 
 /// Size in bytes of a cut of `nodes` nodes in the index baseline.
@@ -259,7 +398,7 @@ pub fn decode_heights_prefix(bytes: &[u8], root_height: u32, format: ValueFormat
     let (n, mut at) = read_count(bytes, root_height)?;
     let bits = height_bits(root_height);
     let height_bytes = (n * bits as usize).div_ceil(8);
-    let needed = at + height_bytes + n * format.bytes();
+    let needed = at + height_bytes + format.value_bytes(n);
     if bytes.len() < needed {
         return Err(DecodeError::Truncated { needed, got: bytes.len() });
     }
@@ -283,13 +422,111 @@ pub fn decode_heights_prefix(bytes: &[u8], root_height: u32, format: ValueFormat
     }
     at += height_bytes;
     let values = get_values(&bytes[at..], n, format);
-    at += n * format.bytes();
+    if !values_canonical(&bytes[at..], n, format) {
+        return Err(DecodeError::Padding);
+    }
+    at += format.value_bytes(n);
     Ok((Cut::new(root_height, heights, values)?, at))
 }
 
 /// Decodes a height-coded cut that fills `bytes` exactly.
 pub fn decode_heights(bytes: &[u8], root_height: u32, format: ValueFormat) -> Result<Cut, DecodeError> {
     let (cut, used) = decode_heights_prefix(bytes, root_height, format)?;
+    if used != bytes.len() {
+        return Err(DecodeError::Trailing(bytes.len() - used));
+    }
+    Ok(cut)
+}
+
+/// Shape bits of a cut in the split-flag coding.
+pub fn split_flag_bits(cut: &Cut) -> usize {
+    // One bit per node of the cut above height 0, one per inner node above it (n − 1 of them).
+    cut.heights().iter().filter(|&&h| h > 0).count() + cut.len() - 1
+}
+
+/// Size in bytes of a cut in the split-flag coding.
+pub fn split_flags_size(cut: &Cut, format: ValueFormat) -> usize {
+    let mut v = Vec::new();
+    put_varint(&mut v, cut.len() as u64);
+    v.len() + split_flag_bits(cut).div_ceil(8) + format.value_bytes(cut.len())
+}
+
+/// Encodes with the split-flag shape coding (see the module docs).
+pub fn encode_split_flags(cut: &Cut, format: ValueFormat) -> Result<Vec<u8>, EncodeError> {
+    let mut out = Vec::with_capacity(split_flags_size(cut, format));
+    put_varint(&mut out, cut.len() as u64);
+    let mut w = BitWriter::default();
+    let heights = cut.heights();
+    let mut next = 0usize;
+    let mut stack = Vec::with_capacity(cut.root_height() as usize + 2);
+    stack.push(cut.root_height() as u8);
+    while let Some(h) = stack.pop() {
+        // A valid cut's next node starts here and is no higher than this node.
+        if heights[next] == h {
+            if h > 0 {
+                w.push(0, 1);
+            }
+            next += 1;
+        } else {
+            w.push(1, 1);
+            stack.push(h - 1);
+            stack.push(h - 1);
+        }
+    }
+    out.extend_from_slice(&w.finish());
+    put_values(&mut out, cut.values(), format)?;
+    Ok(out)
+}
+
+/// Decodes a split-flag-coded cut from the start of `bytes`; returns it and the bytes used.
+pub fn decode_split_flags_prefix(
+    bytes: &[u8],
+    root_height: u32,
+    format: ValueFormat,
+) -> Result<(Cut, usize), DecodeError> {
+    let (n, at) = read_count(bytes, root_height)?;
+    let mut r = BitReader { bytes: &bytes[at..], bit: 0 };
+    let mut heights = Vec::with_capacity(n);
+    let mut stack = Vec::with_capacity(root_height as usize + 2);
+    stack.push(root_height as u8);
+    while let Some(h) = stack.pop() {
+        let split = if h > 0 {
+            r.next().ok_or(DecodeError::Truncated { needed: at + r.bit / 8 + 1, got: bytes.len() })? == 1
+        } else {
+            false
+        };
+        if split {
+            stack.push(h - 1);
+            stack.push(h - 1);
+        } else {
+            heights.push(h);
+            if heights.len() > n {
+                return Err(DecodeError::Shape { described: heights.len(), count: n });
+            }
+        }
+    }
+    if heights.len() != n {
+        return Err(DecodeError::Shape { described: heights.len(), count: n });
+    }
+    let (flag_bytes, clean) = if r.bit == 0 { (0, true) } else { r.finish() };
+    if !clean {
+        return Err(DecodeError::Padding);
+    }
+    let at = at + flag_bytes;
+    let needed = at + format.value_bytes(n);
+    if bytes.len() < needed {
+        return Err(DecodeError::Truncated { needed, got: bytes.len() });
+    }
+    let values = get_values(&bytes[at..], n, format);
+    if !values_canonical(&bytes[at..], n, format) {
+        return Err(DecodeError::Padding);
+    }
+    Ok((Cut::new(root_height, heights, values)?, needed))
+}
+
+/// Decodes a split-flag-coded cut that fills `bytes` exactly.
+pub fn decode_split_flags(bytes: &[u8], root_height: u32, format: ValueFormat) -> Result<Cut, DecodeError> {
+    let (cut, used) = decode_split_flags_prefix(bytes, root_height, format)?;
     if used != bytes.len() {
         return Err(DecodeError::Trailing(bytes.len() - used));
     }
@@ -398,6 +635,38 @@ mod tests {
             decode_heights_prefix(&[0x81, 0x00, 0x00, 0, 0, 0, 0], 0, ValueFormat::F32),
             Err(DecodeError::Count)
         );
+    }
+
+    #[test]
+    fn split_flags_are_the_selection_walk_and_binary_values_take_a_bit() {
+        // Root split, left child a node of height 2, right split into 1 and (split into 0, 0).
+        let cut = Cut::new(3, vec![2, 1, 0, 0], vec![1.0, 0.0, 1.0, 0.0]).unwrap();
+        assert_eq!(split_flag_bits(&cut), 3 + 2);
+        let bytes = encode_split_flags(&cut, ValueFormat::U1).unwrap();
+        // Count; flags 1 (root) 0 (h2) 1 (h2 right) 0 (h1) 1 (h1 right) → 0b10101; values 0b0101.
+        assert_eq!(bytes, vec![4, 0b1_0101, 0b0101]);
+        assert_eq!(decode_split_flags(&bytes, 3, ValueFormat::U1).unwrap(), cut);
+        assert_eq!(bytes.len(), split_flags_size(&cut, ValueFormat::U1));
+        // Height 16 needs no wider field.
+        let deep = Cut::new(16, vec![15, 14, 13, 13], vec![1.0, 0.25, 0.0, 0.5]).unwrap();
+        let b = encode_split_flags(&deep, ValueFormat::F32).unwrap();
+        assert_eq!(decode_split_flags(&b, 16, ValueFormat::F32).unwrap(), deep);
+        // A single leaf-height root has no flags at all.
+        let leaf = Cut::root(0, 1.0).unwrap();
+        assert_eq!(encode_split_flags(&leaf, ValueFormat::U1).unwrap(), vec![1, 1]);
+        assert_eq!(decode_split_flags(&[1, 1], 0, ValueFormat::U1).unwrap(), leaf);
+        // Errors: fractional values in u1, a count the flags disagree with, dirty padding.
+        assert!(matches!(
+            encode_split_flags(&Cut::new(1, vec![0, 0], vec![0.5, 1.0]).unwrap(), ValueFormat::U1),
+            Err(EncodeError::OutOfRange { node: 0, .. })
+        ));
+        assert_eq!(
+            decode_split_flags(&[3, 0b1_0101, 0], 3, ValueFormat::U1),
+            Err(DecodeError::Shape { described: 4, count: 3 })
+        );
+        assert_eq!(decode_split_flags(&[4, 0b101_0101, 0], 3, ValueFormat::U1), Err(DecodeError::Padding));
+        assert_eq!(decode_split_flags(&[4, 0b1_0101, 0b1_0101], 3, ValueFormat::U1), Err(DecodeError::Padding));
+        assert_eq!(decode_heights(&[2, 0, 0b100], 1, ValueFormat::U1), Err(DecodeError::Padding));
     }
 
     #[test]

@@ -65,6 +65,30 @@ proptest! {
     }
 
     #[test]
+    fn split_flags_round_trip_and_never_exceed_the_height_codec(cut in cut_strategy()) {
+        for format in ValueFormat::ALL {
+            let bytes = codec::encode_split_flags(&cut, format).unwrap();
+            prop_assert_eq!(bytes.len(), codec::split_flags_size(&cut, format));
+            prop_assert!(bytes.len() <= codec::height_coded_size(cut.len(), cut.root_height(), format));
+            let back = codec::decode_split_flags(&bytes, cut.root_height(), format).unwrap();
+            prop_assert_eq!(back.heights(), cut.heights());
+            if format == ValueFormat::F32 {
+                prop_assert_eq!(&back, &cut);
+            }
+        }
+        // Binary values (an exact field): one bit each, exact, in both shape codings.
+        let mut binary = cut.clone();
+        for v in binary.values_mut() {
+            *v = if *v > 0.5 { 1.0 } else { 0.0 };
+        }
+        let bytes = codec::encode_split_flags(&binary, ValueFormat::U1).unwrap();
+        prop_assert_eq!(codec::decode_split_flags(&bytes, cut.root_height(), ValueFormat::U1).unwrap(), binary.clone());
+        let bytes = codec::encode_heights(&binary, ValueFormat::U1).unwrap();
+        prop_assert_eq!(bytes.len(), codec::height_coded_size(cut.len(), cut.root_height(), ValueFormat::U1));
+        prop_assert_eq!(codec::decode_heights(&bytes, cut.root_height(), ValueFormat::U1).unwrap(), binary);
+    }
+
+    #[test]
     fn index_baseline_round_trips(cut in cut_strategy()) {
         let bytes = codec::encode_indices(&cut);
         prop_assert_eq!(bytes.len(), codec::index_coded_size(cut.len(), cut.root_height()));
@@ -73,9 +97,16 @@ proptest! {
 
     #[test]
     fn decoding_arbitrary_bytes_never_panics(bytes in proptest::collection::vec(any::<u8>(), 0..64), root in 0u32..=17) {
-        for format in ValueFormat::ALL {
+        for format in ValueFormat::WITH_BINARY {
             if let Ok(c) = codec::decode_heights(&bytes, root, format) {
                 prop_assert!(c.validate().is_ok());
+            }
+            if let Ok(c) = codec::decode_split_flags(&bytes, root, format) {
+                prop_assert!(c.validate().is_ok());
+                // Canonical: what decodes re-encodes to the same bytes (f32 and u1 are exact).
+                if matches!(format, ValueFormat::F32 | ValueFormat::U1) {
+                    prop_assert_eq!(codec::encode_split_flags(&c, format).unwrap(), bytes.clone());
+                }
             }
         }
         if let Ok(c) = codec::decode_indices(&bytes, root) {

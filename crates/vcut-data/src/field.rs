@@ -101,7 +101,7 @@ impl FieldLayout {
     pub fn lookup(&self, p: Vec3) -> Option<[FieldSample; 8]> {
         let d = p - self.center;
         let dist = d.length();
-        if !(dist <= self.outer * self.radius) {
+        if dist.is_nan() || dist > self.outer * self.radius {
             return None;
         }
         // Radial coordinate in sphere units.

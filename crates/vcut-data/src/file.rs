@@ -377,20 +377,29 @@ fn scan_records(file: &mut File) -> std::io::Result<Vec<SectionEntry>> {
 }
 
 /// Reads a finished `.vcuts` file lazily: the header and table at open, sections on demand.
-pub struct Reader {
+/// Generic over the byte source (a `File` by default, or e.g. `std::io::Cursor` in memory).
+pub struct Reader<R = File> {
     path: PathBuf,
-    file: File,
+    file: R,
     entries: Vec<SectionEntry>,
     size: u64,
 }
 
-impl Reader {
+impl Reader<File> {
     /// Opens the file and checks its header and offset table.
-    pub fn open(path: &Path) -> Result<Reader, FileError> {
+    pub fn open(path: &Path) -> Result<Reader<File>, FileError> {
+        let file = File::open(path).map_err(|source| FileError::Io { path: path.into(), source })?;
+        Reader::from_source(file, path)
+    }
+}
+
+impl<R: Read + Seek> Reader<R> {
+    /// Reads the header and offset table from `source`; errors name `path`.
+    pub fn from_source(mut file: R, path: &Path) -> Result<Reader<R>, FileError> {
         let io = |source| FileError::Io { path: path.into(), source };
         let bad = |reason: String| FileError::Header { path: path.into(), reason };
-        let mut file = File::open(path).map_err(io)?;
-        let size = file.metadata().map_err(io)?.len();
+        let size = file.seek(SeekFrom::End(0)).map_err(io)?;
+        file.seek(SeekFrom::Start(0)).map_err(io)?;
         let mut h = [0u8; HEADER_LEN as usize];
         if size < HEADER_LEN {
             return Err(bad(format!("{size} bytes, shorter than the {HEADER_LEN}-byte header")));
@@ -467,8 +476,12 @@ impl Reader {
             .iter()
             .find(|e| e.id == id)
             .ok_or_else(|| FileError::Missing { path: self.path.clone(), section: id.to_string() })?;
-        let mut payload = vec![0u8; entry.len as usize];
         let io = |source| FileError::Io { path: self.path.clone(), source };
+        let mut payload = Vec::new();
+        payload
+            .try_reserve_exact(entry.len as usize)
+            .map_err(|_| io(std::io::Error::new(std::io::ErrorKind::OutOfMemory, "section larger than memory")))?;
+        payload.resize(entry.len as usize, 0);
         self.file.seek(SeekFrom::Start(entry.offset)).map_err(io)?;
         self.file.read_exact(&mut payload).map_err(io)?;
         if crc32fast::hash(&payload) != entry.crc {

@@ -17,6 +17,8 @@ pub struct Precomputed {
     pub directions: Vec<Vec3>,
     /// Their cells' solid angles.
     pub cell_areas: Vec<f64>,
+    /// The direction tree's leaf order at precompute time.
+    pub leaf_order: Vec<u32>,
     /// The objects at rest.
     pub objects: Vec<StoredObject>,
     /// Per object, its field layout if it has a field.
@@ -30,7 +32,8 @@ impl Precomputed {
         let id = SectionId::new(SectionKind::Params, 0, 0);
         let params_text = String::from_utf8(reader.section(id)?).map_err(|_| reader.section_error(id, "not UTF-8"))?;
         let id = SectionId::new(SectionKind::Directions, 0, 0);
-        let (directions, cell_areas) = sections::decode_directions(&reader.section(id)?).map_err(|e| reader.section_error(id, e))?;
+        let (directions, cell_areas, leaf_order) =
+            sections::decode_directions(&reader.section(id)?).map_err(|e| reader.section_error(id, e))?;
         if !directions.len().is_power_of_two() || directions.len() < 2 {
             return Err(reader.section_error(id, format!("{} directions, not a power of two", directions.len())));
         }
@@ -49,13 +52,19 @@ impl Precomputed {
                 None
             });
         }
-        Ok(Precomputed { reader, params_text, directions, cell_areas, objects, layouts })
+        Ok(Precomputed { reader, params_text, directions, cell_areas, leaf_order, objects, layouts })
     }
 
-    /// The direction tree (rebuilt from the stored directions; the build is deterministic).
+    /// The direction tree, rebuilt from the stored directions and checked against the stored
+    /// leaf order (a different tree would give the cuts' nodes other meanings).
     pub fn tree(&self) -> Result<DirectionTree, FileError> {
-        DirectionTree::build(&self.directions, &self.cell_areas)
-            .map_err(|e| self.reader.section_error(SectionId::new(SectionKind::Directions, 0, 0), e.to_string()))
+        let id = SectionId::new(SectionKind::Directions, 0, 0);
+        let tree = DirectionTree::build(&self.directions, &self.cell_areas)
+            .map_err(|e| self.reader.section_error(id, e.to_string()))?;
+        if tree.leaf_to_input() != self.leaf_order.as_slice() {
+            return Err(self.reader.section_error(id, "this build's direction tree orders the leaves differently"));
+        }
+        Ok(tree)
     }
 
     /// The root height of every cut.
@@ -72,13 +81,17 @@ impl Precomputed {
         let bytes = self.reader.section(id)?;
         let a = CutArray::parse(&bytes).map_err(|e| self.reader.section_error(id, e))?;
         if a.root_height() != self.root_height() {
-            let reason = format!("cuts of root height {}, the file has {} directions", a.root_height(), self.directions.len());
+            let reason =
+                format!("cuts of root height {}, the file has {} directions", a.root_height(), self.directions.len());
             return Err(self.reader.section_error(id, reason));
         }
         if let Some(n) = expect.filter(|&n| n != a.len()) {
             return Err(self.reader.section_error(id, format!("{} cuts, expected {n}", a.len())));
         }
-        let cuts = (0..a.len()).map(|i| a.cut(i)).collect::<Result<Vec<_>, _>>().map_err(|e| self.reader.section_error(id, e))?;
+        let cuts = (0..a.len())
+            .map(|i| a.cut(i))
+            .collect::<Result<Vec<_>, _>>()
+            .map_err(|e| self.reader.section_error(id, e))?;
         Ok((cuts, (0..a.len()).map(|i| a.inside(i)).collect()))
     }
 

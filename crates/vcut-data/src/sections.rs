@@ -1,12 +1,14 @@
 //! Payloads of the `.vcuts` sections.
 //!
-//! **Cut array** (SVC chunks, field spheres): `count u32, root height u8, value format u8,
-//! flags u8 (bit 0: an "inside the object" bit per cut follows), 0u8`, then `count + 1` u32 byte
-//! offsets into the cut bytes, then the bit set (`⌈count/8⌉` bytes, padded to 4), then the cuts,
-//! each in the height codec of `vcut-cut`. Cut `i` is `cuts[offsets[i]..offsets[i+1]]`.
+//! **Cut array** (SVC chunks, field spheres): `count u32, root height u8, value format u8
+//! (0 f32, 1 f16, 2 u16, 3 u8, 4 u1), flags u8 (bit 0: an "inside the object" bit per cut
+//! follows), shape coding u8 (0 heights, 1 split flags)`, then `count + 1` u32 byte offsets into
+//! the cut bytes, then the bit set (`⌈count/8⌉` bytes, padded to 4), then the cuts, each in the
+//! codec of `vcut-cut`. Cut `i` is `cuts[offsets[i]..offsets[i+1]]`.
 //!
 //! **Directions**: `n u32`, then n × 3 f32 directions (generation order), then n f64 solid
-//! angles of their cells. **Mesh**: name, motion (0 static, 1 movable), material (TOML), vertex
+//! angles of their cells, then the direction tree's leaf order (n u32: the direction at each
+//! leaf), so a reader can check that the tree it rebuilds is the one the cuts refer to. **Mesh**: name, motion (0 static, 1 movable), material (TOML), vertex
 //! and triangle counts, positions, normals, triangles. **Field layout**: centre, radius,
 //! spheres, resolution, inner, outer. Strings are a u32 length and UTF-8 bytes; all
 //! little-endian. Every parser checks lengths and returns a reason instead of panicking.
@@ -14,7 +16,7 @@
 use crate::field::FieldLayout;
 use glam::Vec3;
 use vcut_cut::Cut;
-use vcut_cut::codec::{self, ValueFormat};
+use vcut_cut::codec::{self, ShapeCoding, ValueFormat};
 use vcut_scene::{Material, Mesh, Motion};
 
 /// Value format code in the cut array header.
@@ -24,6 +26,7 @@ pub fn format_code(f: ValueFormat) -> u8 {
         ValueFormat::F16 => 1,
         ValueFormat::U16 => 2,
         ValueFormat::U8 => 3,
+        ValueFormat::U1 => 4,
     }
 }
 
@@ -33,18 +36,26 @@ fn format_of(code: u8) -> Option<ValueFormat> {
         1 => ValueFormat::F16,
         2 => ValueFormat::U16,
         3 => ValueFormat::U8,
+        4 => ValueFormat::U1,
         _ => return None,
     })
 }
 
 /// Builds a cut array payload from already encoded cuts.
-pub fn encode_cut_array(root_height: u32, format: ValueFormat, cuts: &[Vec<u8>], inside: Option<&[bool]>) -> Vec<u8> {
+pub fn encode_cut_array(
+    root_height: u32,
+    format: ValueFormat,
+    coding: ShapeCoding,
+    cuts: &[Vec<u8>],
+    inside: Option<&[bool]>,
+) -> Vec<u8> {
     let n = cuts.len();
     let bits = inside.map_or(0, |_| n.div_ceil(8).div_ceil(4) * 4);
     let total: usize = cuts.iter().map(Vec::len).sum();
     let mut out = Vec::with_capacity(8 + 4 * (n + 1) + bits + total);
     out.extend_from_slice(&(n as u32).to_le_bytes());
-    out.extend_from_slice(&[root_height as u8, format_code(format), u8::from(inside.is_some()), 0]);
+    let coding_code = u8::from(coding == ShapeCoding::SplitFlags);
+    out.extend_from_slice(&[root_height as u8, format_code(format), u8::from(inside.is_some()), coding_code]);
     let mut at = 0u32;
     out.extend_from_slice(&at.to_le_bytes());
     for c in cuts {
@@ -69,6 +80,7 @@ pub fn encode_cut_array(root_height: u32, format: ValueFormat, cuts: &[Vec<u8>],
 pub struct CutArray<'a> {
     root_height: u32,
     format: ValueFormat,
+    coding: ShapeCoding,
     offsets: &'a [u8],
     inside: Option<&'a [u8]>,
     cuts: &'a [u8],
@@ -88,7 +100,12 @@ impl<'a> CutArray<'a> {
         let count = u32_at(bytes, 0) as usize;
         let root_height = u32::from(bytes[4]);
         let format = format_of(bytes[5]).ok_or_else(|| format!("unknown value format code {}", bytes[5]))?;
-        if root_height > 20 || bytes[6] > 1 || bytes[7] != 0 {
+        let coding = match bytes[7] {
+            0 => ShapeCoding::Heights,
+            1 => ShapeCoding::SplitFlags,
+            c => return Err(format!("unknown shape coding {c}")),
+        };
+        if root_height > 20 || bytes[6] > 1 {
             return Err("malformed cut array header".into());
         }
         let offsets_end = 8 + 4 * (count + 1);
@@ -110,7 +127,7 @@ impl<'a> CutArray<'a> {
             return Err(format!("cut offsets end at {last}, the cut bytes are {} long", cuts.len()));
         }
         let inside = (bits > 0).then(|| &bytes[offsets_end..offsets_end + bits]);
-        Ok(CutArray { root_height, format, offsets, inside, cuts, count })
+        Ok(CutArray { root_height, format, coding, offsets, inside, cuts, count })
     }
 
     /// Number of cuts.
@@ -133,6 +150,11 @@ impl<'a> CutArray<'a> {
         self.format
     }
 
+    /// Shape coding of every cut.
+    pub fn coding(&self) -> ShapeCoding {
+        self.coding
+    }
+
     /// The encoded bytes of cut `i` (`i < len`).
     pub fn cut_bytes(&self, i: usize) -> &'a [u8] {
         let (a, b) = (u32_at(self.offsets, 4 * i) as usize, u32_at(self.offsets, 4 * i + 4) as usize);
@@ -141,7 +163,7 @@ impl<'a> CutArray<'a> {
 
     /// Decodes cut `i` (`i < len`).
     pub fn cut(&self, i: usize) -> Result<Cut, String> {
-        codec::decode_heights(self.cut_bytes(i), self.root_height, self.format).map_err(|e| format!("cut {i}: {e}"))
+        self.coding.decode(self.cut_bytes(i), self.root_height, self.format).map_err(|e| format!("cut {i}: {e}"))
     }
 
     /// Node count of cut `i` without decoding it.
@@ -156,8 +178,8 @@ impl<'a> CutArray<'a> {
 }
 
 /// Directions payload.
-pub fn encode_directions(dirs: &[Vec3], cell_areas: &[f64]) -> Vec<u8> {
-    let mut out = Vec::with_capacity(4 + dirs.len() * 20);
+pub fn encode_directions(dirs: &[Vec3], cell_areas: &[f64], leaf_order: &[u32]) -> Vec<u8> {
+    let mut out = Vec::with_capacity(4 + dirs.len() * 24);
     out.extend_from_slice(&(dirs.len() as u32).to_le_bytes());
     for d in dirs {
         for c in d.to_array() {
@@ -167,19 +189,26 @@ pub fn encode_directions(dirs: &[Vec3], cell_areas: &[f64]) -> Vec<u8> {
     for a in cell_areas {
         out.extend_from_slice(&a.to_le_bytes());
     }
+    for i in leaf_order {
+        out.extend_from_slice(&i.to_le_bytes());
+    }
     out
 }
 
+/// Directions, their cell solid angles and the tree's leaf order, as stored.
+pub type StoredDirections = (Vec<Vec3>, Vec<f64>, Vec<u32>);
+
 /// Parses a directions payload.
-pub fn decode_directions(bytes: &[u8]) -> Result<(Vec<Vec3>, Vec<f64>), String> {
+pub fn decode_directions(bytes: &[u8]) -> Result<StoredDirections, String> {
     let mut r = Cursor::new(bytes);
     let n = r.u32()? as usize;
-    if bytes.len() != 4 + 20 * n {
-        return Err(format!("{n} directions need {} bytes, got {}", 4 + 20 * n, bytes.len()));
+    if (bytes.len() as u64) != 4 + 24 * n as u64 {
+        return Err(format!("{n} directions need {} bytes, got {}", 4 + 24 * n as u64, bytes.len()));
     }
     let dirs = (0..n).map(|_| r.vec3()).collect::<Result<Vec<_>, _>>()?;
     let areas = (0..n).map(|_| r.f64()).collect::<Result<Vec<_>, _>>()?;
-    Ok((dirs, areas))
+    let order = (0..n).map(|_| r.u32()).collect::<Result<Vec<_>, _>>()?;
+    Ok((dirs, areas, order))
 }
 
 /// One object as stored.
@@ -338,11 +367,11 @@ mod tests {
     #[test]
     fn cut_arrays_round_trip_and_reject_damage() {
         let cuts = [
-            Cut::new(3, vec![2, 1, 0, 0], vec![1.0, 0.5, 0.0, 0.25]).unwrap(),
+            Cut::new(3, vec![2, 1, 0, 0], vec![1.0, 0.0, 0.0, 1.0]).unwrap(),
             Cut::new(3, vec![3], vec![0.0]).unwrap(),
         ];
         let enc: Vec<Vec<u8>> = cuts.iter().map(|c| codec::encode_heights(c, ValueFormat::F16).unwrap()).collect();
-        let payload = encode_cut_array(3, ValueFormat::F16, &enc, Some(&[false, true]));
+        let payload = encode_cut_array(3, ValueFormat::F16, ShapeCoding::Heights, &enc, Some(&[false, true]));
         let a = CutArray::parse(&payload).unwrap();
         assert_eq!((a.len(), a.root_height(), a.format()), (2, 3, ValueFormat::F16));
         assert_eq!(a.cut(0).unwrap(), cuts[0]);
@@ -350,11 +379,23 @@ mod tests {
         assert_eq!((a.node_count(0).unwrap(), a.node_count(1).unwrap()), (4, 1));
         assert!(!a.inside(0) && a.inside(1));
         for cut in 0..payload.len() {
-            let _ = CutArray::parse(&payload[..cut]).map(|a| (0..a.len()).map(|i| a.cut(i)).count());
+            if let Ok(a) = CutArray::parse(&payload[..cut]) {
+                for i in 0..a.len() {
+                    let _ = a.cut(i);
+                }
+            }
         }
         let mut bad = payload.clone();
         bad[12] = 200;
         assert!(CutArray::parse(&bad).is_err());
+        // Split flags and one-bit values.
+        let enc: Vec<Vec<u8>> = cuts.iter().map(|c| codec::encode_split_flags(c, ValueFormat::U1).unwrap()).collect();
+        let payload = encode_cut_array(3, ValueFormat::U1, ShapeCoding::SplitFlags, &enc, None);
+        let a = CutArray::parse(&payload).unwrap();
+        assert_eq!(
+            (a.coding(), a.cut(0).unwrap(), a.cut(1).unwrap()),
+            (ShapeCoding::SplitFlags, cuts[0].clone(), cuts[1].clone())
+        );
     }
 
     #[test]
@@ -368,8 +409,8 @@ mod tests {
             assert!(decode_mesh(&bytes[..cut]).is_err());
         }
         let dirs = vec![Vec3::X, Vec3::Y];
-        let (d, a) = decode_directions(&encode_directions(&dirs, &[1.5, 2.5])).unwrap();
-        assert_eq!((d, a), (dirs, vec![1.5, 2.5]));
+        let (d, a, o) = decode_directions(&encode_directions(&dirs, &[1.5, 2.5], &[1, 0])).unwrap();
+        assert_eq!((d, a, o), (dirs, vec![1.5, 2.5], vec![1, 0]));
         let l = FieldLayout { center: Vec3::ONE, radius: 2.0, spheres: 4, resolution: 3, inner: 0.2, outer: 10.0 };
         assert_eq!(decode_field_layout(&encode_field_layout(&l)).unwrap(), l);
         assert!(decode_field_layout(&encode_field_layout(&FieldLayout { radius: -1.0, ..l })).is_err());

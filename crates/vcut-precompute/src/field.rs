@@ -7,11 +7,11 @@
 //! whole, without rays; points inside the object (a closed surface, by [`Occluder::inside`]) are
 //! marked and fully occluded, without rays.
 
-use crate::{Occluder, RayStats, cone_outside, visit_leaves};
+use crate::{Angle, Occluder, RayStats, cone_outside, visit_leaves};
 use glam::Vec3;
 use rayon::prelude::*;
 use vcut_cut::Cut;
-use vcut_cut::select::{SelectParams, select};
+use vcut_cut::select::{SelectParams, Selector};
 use vcut_data::FieldLayout;
 use vcut_dirtree::DirectionTree;
 use vcut_scene::Mesh;
@@ -30,11 +30,13 @@ pub fn point_visibility(
     let d = to_c.length();
     let mut stats = RayStats::default();
     // Directions within `beta` of the centre can meet the bounding sphere; from inside it, all can.
-    let (axis, beta) = if d > radius * (1.0 + 1e-5) { (to_c / d, (radius / d).asin()) } else { (Vec3::Z, std::f32::consts::PI) };
+    let (axis, beta) =
+        if d > radius * (1.0 + 1e-5) { (to_c / d, (radius / d).asin()) } else { (Vec3::Z, std::f32::consts::PI) };
     let cos_beta = beta.cos();
+    let angle = Angle::new(beta);
     let culled = visit_leaves(
         tree,
-        |cone| (beta < std::f32::consts::PI && cone_outside(cone, axis, beta)).then_some(1.0),
+        |cone| (beta < std::f32::consts::PI && cone_outside(cone, axis, angle)).then_some(1.0),
         |dir| {
             if beta < std::f32::consts::PI && dir.dot(axis) < cos_beta {
                 stats.resolved_without_ray += 1;
@@ -78,8 +80,8 @@ pub fn sphere_cuts(
     let results: Vec<(Cut, bool, RayStats)> = (0..layout.points_per_sphere() as u32)
         .into_par_iter()
         .map_init(
-            || vec![0.0f32; tree.leaf_count()],
-            |values, i| {
+            || (vec![0.0f32; tree.leaf_count()], Selector::default()),
+            |(values, selector), i| {
                 let p = layout.point(s, i);
                 let (inside, stats) = if occ.inside(p) {
                     values.fill(0.0);
@@ -88,7 +90,8 @@ pub fn sphere_cuts(
                 } else {
                     (false, point_visibility(occ, tree, p, layout.center, layout.radius, values))
                 };
-                let cut = select(values, leaf_areas, params)
+                let cut = selector
+                    .select(values, leaf_areas, params)
                     .unwrap_or_else(|_| unreachable!("a tree's leaf count is a power of two"));
                 (cut, inside, stats)
             },
@@ -98,14 +101,19 @@ pub fn sphere_cuts(
     for (cut, inside, stats) in results {
         out.cuts.push(cut);
         out.inside.push(inside);
-        out.stats = out.stats.add(stats);
+        out.stats += stats;
     }
     out
 }
 
 /// The whole field of `mesh` (every sphere), for tests and small layouts; the precompute writes
 /// sphere by sphere instead.
-pub fn visibility_cut_field(mesh: &Mesh, tree: &DirectionTree, layout: &FieldLayout, params: SelectParams) -> Vec<SphereCuts> {
+pub fn visibility_cut_field(
+    mesh: &Mesh,
+    tree: &DirectionTree,
+    layout: &FieldLayout,
+    params: SelectParams,
+) -> Vec<SphereCuts> {
     let occ = Occluder::new(&[mesh]);
     let areas = leaf_solid_angles(tree);
     (0..layout.spheres).map(|s| sphere_cuts(&occ, tree, &areas, layout, s, params)).collect()
@@ -147,7 +155,10 @@ mod tests {
             let exact = 2.0 * std::f64::consts::PI * (1.0 - (1.0 - 1.0 / f64::from(d * d)).sqrt());
             assert!((occluded - exact).abs() < 0.15 * exact + 0.01, "d {d}: {occluded} vs {exact}");
             // Only directions in the bounding cone are traced.
-            assert!(stats.rays_cast < (4096.0 * (exact / (4.0 * std::f64::consts::PI)) * 2.0 + 64.0) as u64, "{stats:?}");
+            assert!(
+                stats.rays_cast < (4096.0 * (exact / (4.0 * std::f64::consts::PI)) * 2.0 + 64.0) as u64,
+                "{stats:?}"
+            );
             assert_eq!(stats.rays_cast + stats.resolved_without_ray, 4096);
         }
         assert!(occ.inside(Vec3::new(0.1, 0.2, -0.3)));
@@ -164,7 +175,9 @@ mod tests {
         let field = visibility_cut_field(&ball, &t, &layout, SelectParams::field());
         assert_eq!(field.len(), 4);
         // The innermost sphere (0.2r) is inside the ball; the others are outside it.
-        assert!(field[0].inside.iter().all(|&x| x) && field[0].cuts.iter().all(|c| c.len() == 1 && c.values()[0] == 0.0));
+        assert!(
+            field[0].inside.iter().all(|&x| x) && field[0].cuts.iter().all(|c| c.len() == 1 && c.values()[0] == 0.0)
+        );
         assert!(field[1..].iter().all(|s| s.inside.iter().all(|&x| !x)));
         // Farther spheres see a smaller disc: fewer nodes and fewer rays.
         let nodes = |s: &SphereCuts| s.cuts.iter().map(Cut::len).sum::<usize>();

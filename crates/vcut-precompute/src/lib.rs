@@ -1,19 +1,24 @@
 //! Precomputation of visibility cuts.
 //!
 //! - [`Occluder`]: an obvhs CWBVH over triangles; `occluded` is `!ray_traverse_miss` (the first
-//!   hit ends traversal), and [`Occluder::raw_throughput`] measures plain occlusion rays/s on the
-//!   given rays, the figure the precompute's own rays/s is compared with.
+//!   hit ends traversal); `inside` votes whether a point is enclosed; and
+//!   [`Occluder::raw_throughput`] measures plain occlusion rays/s, the figure the precompute's
+//!   own rays/s is compared with.
+//! - [`visit_leaves`] walks the direction tree top-down and resolves whole subtrees through their
+//!   bounding cones ([`cone_outside`]) without rays.
 //! - [`svc`]: per-vertex **self-visibility cuts**: Ṽ(ω) = V(x, ω)·max(0, n·ω) at every leaf
-//!   direction, against the object's own geometry; whole subtrees of the direction tree whose
-//!   bounding cone lies below the horizon are resolved without a ray; the cut is selected by the
-//!   paper's error and solid-angle thresholds (`vcut_cut::select`).
-//!
-//! Status: the SVC stage. Visibility cut fields, presets, the `.vcuts` file and
-//! `cargo xtask precompute` follow (issue 5).
+//!   direction, subtrees below the horizon without rays; cuts by the paper's error and
+//!   solid-angle thresholds (`vcut_cut::select`).
+//! - [`field`]: per-object **visibility cut fields**: binary visibility of the object alone from
+//!   every sample point of a `vcut_data::FieldLayout`, rays only inside its bounding cone, points
+//!   inside it marked and not traced.
+//! - [`params`]: [`PrecomputeParams`] and the presets `fast`, `balanced`, `paper`.
+//! - [`run`]: the whole job into a resumable `.vcuts` file, with progress and a summary.
 //!
 //! # Invariants
 //! Rays start at the vertex offset along its normal by `origin_offset` × the object's bounding
 //! radius, so a closed convex object never shadows itself and a vertex never sees its own faces.
+//! Output is a deterministic function of scene and parameters, whatever the thread count.
 //! This crate knows nothing about images or shading.
 //!
 //! # Example
@@ -35,6 +40,7 @@ pub mod run;
 pub mod svc;
 
 pub use params::PrecomputeParams;
+
 pub use run::{Job, NoProgress, PrecomputeError, Progress, Summary, precompute};
 
 use glam::Vec3;
@@ -67,9 +73,16 @@ pub struct RayStats {
     pub resolved_without_ray: u64,
 }
 
-impl RayStats {
-    /// The sum of two.
-    pub fn add(self, o: RayStats) -> RayStats {
+impl std::ops::AddAssign for RayStats {
+    fn add_assign(&mut self, o: RayStats) {
+        *self = *self + o;
+    }
+}
+
+impl std::ops::Add for RayStats {
+    type Output = RayStats;
+
+    fn add(self, o: RayStats) -> RayStats {
         RayStats {
             rays_cast: self.rays_cast + o.rays_cast,
             rays_occluded: self.rays_occluded + o.rays_occluded,
@@ -78,13 +91,33 @@ impl RayStats {
     }
 }
 
-/// Whether every direction of `cone` is at least `angle` away from unit direction `dir`.
-pub fn cone_outside(cone: &Cone, dir: Vec3, angle: f32) -> bool {
-    if cone.cos_half_angle <= -1.0 {
-        return false;
+/// An angle by its cosine and sine, for [`cone_outside`] (no trigonometry per node).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Angle {
+    cos: f32,
+    sin: f32,
+}
+
+impl Angle {
+    /// The angle `a` radians (0 ≤ a ≤ π).
+    pub fn new(a: f32) -> Angle {
+        let (sin, cos) = a.sin_cos();
+        Angle { cos, sin: sin.max(0.0) }
     }
-    let half = cone.cos_half_angle.clamp(-1.0, 1.0).acos();
-    dir.dot(cone.axis).clamp(-1.0, 1.0).acos() - half >= angle
+
+    /// A right angle (the horizon of a normal).
+    pub const RIGHT: Angle = Angle { cos: 0.0, sin: 1.0 };
+}
+
+/// Whether every direction of `cone` is at least `angle` away from unit direction `dir`:
+/// `dir·axis ≤ cos(angle + half-angle)` while `angle + half-angle < π` (beyond it the cone
+/// reaches around to `dir`'s far side and can never be entirely outside).
+#[inline]
+pub fn cone_outside(cone: &Cone, dir: Vec3, angle: Angle) -> bool {
+    let c = cone.cos_half_angle.clamp(-1.0, 1.0);
+    let s = (1.0 - c * c).max(0.0).sqrt();
+    let sin_sum = angle.sin * c + angle.cos * s;
+    sin_sum > 0.0 && dir.dot(cone.axis) <= angle.cos * c - angle.sin * s
 }
 
 /// Fills `out` (leaf order) depth-first over `tree`: a subtree whose bounding cone `cull`
@@ -160,7 +193,9 @@ impl Occluder {
         for d in dirs {
             let mut hit = RayHit::none();
             let ray = Ray::new(p.into(), d.into(), 0.0, f32::INFINITY);
-            if self.bvh.ray_traverse(ray, &mut hit, |r, id| self.tris[self.bvh.primitive_indices[id] as usize].intersect(r))
+            if self
+                .bvh
+                .ray_traverse(ray, &mut hit, |r, id| self.tris[self.bvh.primitive_indices[id] as usize].intersect(r))
             {
                 let tri = self.bvh.primitive_indices[hit.primitive_id as usize] as usize;
                 behind += usize::from(self.outward[tri].dot(d) > 0.0);

@@ -5,7 +5,7 @@
 //! ([`PrecomputeParams::to_toml`]), and is checked when set.
 
 use std::f64::consts::PI;
-use vcut_cut::codec::ValueFormat;
+use vcut_cut::codec::{ShapeCoding, ValueFormat};
 use vcut_cut::select::SelectParams;
 
 /// Everything that decides the precomputed data.
@@ -27,6 +27,8 @@ pub struct PrecomputeParams {
     pub svc_chunk: u32,
     /// How SVC values are stored.
     pub svc_values: ValueFormat,
+    /// How cut shapes are stored (both SVCs and fields).
+    pub shape_coding: ShapeCoding,
     /// Field spheres S.
     pub field_spheres: u32,
     /// Field cube-map resolution R (6·R² points per sphere).
@@ -35,9 +37,10 @@ pub struct PrecomputeParams {
     pub field_inner: f32,
     /// Outermost field sphere radius / bounding radius.
     pub field_outer: f32,
-    /// Field cut selection error threshold (0 = exact; must stay below 0.25).
+    /// Field cut selection error threshold (0 = exact; must stay below 0.25). Setting it above
+    /// 0 switches one-bit field values to u8.
     pub field_max_error: f64,
-    /// How field values are stored.
+    /// How field values are stored (`u1` for exact fields).
     pub field_values: ValueFormat,
 }
 
@@ -67,7 +70,7 @@ pub enum ParamError {
 }
 
 /// Parameter names, in the order they are recorded.
-pub const KEYS: [&str; 14] = [
+pub const KEYS: [&str; 15] = [
     "preset",
     "directions",
     "direction_seed",
@@ -76,6 +79,7 @@ pub const KEYS: [&str; 14] = [
     "svc_origin_offset",
     "svc_chunk",
     "svc_values",
+    "shape_coding",
     "field_spheres",
     "field_resolution",
     "field_inner",
@@ -86,10 +90,6 @@ pub const KEYS: [&str; 14] = [
 
 /// Preset names.
 pub const PRESETS: [&str; 3] = ["fast", "balanced", "paper"];
-
-fn format_named(s: &str) -> Option<ValueFormat> {
-    ValueFormat::ALL.into_iter().find(|f| f.name() == s)
-}
 
 impl PrecomputeParams {
     /// The paper's setting: 32,768 directions, 32 spheres from 0.2r to 10r of 6×32×32 points,
@@ -104,12 +104,13 @@ impl PrecomputeParams {
             svc_origin_offset: 1e-4,
             svc_chunk: 2048,
             svc_values: ValueFormat::U16,
+            shape_coding: ShapeCoding::SplitFlags,
             field_spheres: 32,
             field_resolution: 32,
             field_inner: 0.2,
             field_outer: 10.0,
             field_max_error: 0.0,
-            field_values: ValueFormat::U8,
+            field_values: ValueFormat::U1,
         }
     }
 
@@ -195,8 +196,12 @@ impl PrecomputeParams {
                 }
                 self.svc_chunk = c;
             }
+            "shape_coding" => {
+                self.shape_coding =
+                    ShapeCoding::named(value.trim()).ok_or_else(|| bad("must be heights or split-flags"))?;
+            }
             "svc_values" | "field_values" => {
-                let f = format_named(value.trim()).ok_or_else(|| bad("must be f32, f16, u16 or u8"))?;
+                let f = ValueFormat::named(value.trim()).ok_or_else(|| bad("must be f32, f16, u16, u8 or u1"))?;
                 if key == "svc_values" { self.svc_values = f } else { self.field_values = f }
             }
             "field_spheres" | "field_resolution" => {
@@ -219,14 +224,67 @@ impl PrecomputeParams {
                     return Err(bad("must be in [0, 0.25): binary visibility never has more variance"));
                 }
                 self.field_max_error = e;
+                // Inexact fields hold fractions: one-bit values cannot store them.
+                if e > 0.0 && self.field_values == ValueFormat::U1 {
+                    self.field_values = ValueFormat::U8;
+                }
             }
             _ => return Err(ParamError::Unknown { what: "parameter", name: key.into(), known: KEYS.join(", ") }),
         }
         Ok(())
     }
 
-    /// Checks what single parameters cannot: `field_inner < field_outer`.
+    /// Sets every key of a scene file's `[precompute]` table (except `preset`, which chooses the
+    /// starting point: see [`PrecomputeParams::resolve`]).
+    pub fn apply_table(&mut self, table: &toml::Table) -> Result<(), ParamError> {
+        for (k, v) in table.iter().filter(|(k, _)| *k != "preset") {
+            let text = match v {
+                toml::Value::String(s) => s.clone(),
+                other => other.to_string(),
+            };
+            self.set(k, &text)?;
+        }
+        Ok(())
+    }
+
+    /// The parameters of a run: the preset named on the command line, else the scene file's
+    /// `preset`, else `balanced`; then the scene file's other keys; then `overrides` (from the
+    /// command line) in order; then [`PrecomputeParams::check`].
+    pub fn resolve(
+        preset: Option<&str>,
+        table: Option<&toml::Table>,
+        overrides: &[(&str, &str)],
+    ) -> Result<Self, ParamError> {
+        let from_table = table.and_then(|t| t.get("preset")).and_then(|v| v.as_str());
+        let mut p = Self::preset(preset.or(from_table).unwrap_or("balanced"))?;
+        if let Some(t) = table {
+            p.apply_table(t)?;
+        }
+        for (k, v) in overrides {
+            p.set(k, v)?;
+        }
+        p.check()?;
+        Ok(p)
+    }
+
+    /// Checks what single parameters cannot: `field_inner < field_outer`; one-bit values only
+    /// for exact fields (SVC values are fractional).
     pub fn check(&self) -> Result<(), ParamError> {
+        let bad = |key: &str, value: &str, reason: &str| ParamError::Value {
+            key: key.into(),
+            value: value.into(),
+            reason: reason.into(),
+        };
+        if self.svc_values == ValueFormat::U1 {
+            return Err(bad("svc_values", "u1", "SVC values are fractional (cosine × visibility); use u8 or finer"));
+        }
+        if self.field_values == ValueFormat::U1 && self.field_max_error > 0.0 {
+            return Err(bad(
+                "field_values",
+                "u1",
+                "one-bit values need exact fields (field_max_error = 0); use u8 with a non-zero threshold",
+            ));
+        }
         if self.field_inner >= self.field_outer {
             return Err(ParamError::Value {
                 key: "field_inner".into(),
@@ -248,6 +306,7 @@ impl PrecomputeParams {
             "svc_origin_offset" => format!("{:?}", self.svc_origin_offset),
             "svc_chunk" => self.svc_chunk.to_string(),
             "svc_values" => format!("\"{}\"", self.svc_values.name()),
+            "shape_coding" => format!("\"{}\"", self.shape_coding.name()),
             "field_spheres" => self.field_spheres.to_string(),
             "field_resolution" => self.field_resolution.to_string(),
             "field_inner" => format!("{:?}", self.field_inner),
@@ -304,8 +363,23 @@ mod tests {
         assert_eq!((p.directions, p.field_spheres, p.field_resolution), (32_768, 32, 32));
         let mut q = PrecomputeParams::fast();
         q.set("field_values", "f16").unwrap();
+        q.set("shape_coding", "heights").unwrap();
         q.set("svc_max_error", "0.02").unwrap();
         assert_eq!(PrecomputeParams::from_toml(&q.to_toml()).unwrap(), q);
+    }
+
+    #[test]
+    fn command_line_over_scene_file_over_preset() {
+        let table: toml::Table =
+            toml::from_str("preset = \"fast\"\nfield_spheres = 12\nsvc_max_error = 0.02\n").unwrap();
+        let p = PrecomputeParams::resolve(None, Some(&table), &[("field_spheres", "10")]).unwrap();
+        assert_eq!((p.preset.as_str(), p.directions, p.field_spheres, p.svc_max_error), ("fast", 4096, 10, 0.02));
+        let p = PrecomputeParams::resolve(Some("paper"), Some(&table), &[]).unwrap();
+        assert_eq!((p.directions, p.field_spheres), (32_768, 12));
+        assert_eq!(PrecomputeParams::resolve(None, None, &[]).unwrap(), PrecomputeParams::balanced());
+        let bad: toml::Table = toml::from_str("field_sphere = 3").unwrap();
+        let e = PrecomputeParams::resolve(None, Some(&bad), &[]).unwrap_err().to_string();
+        assert!(e.contains("unknown parameter 'field_sphere'"), "{e}");
     }
 
     #[test]
@@ -315,8 +389,13 @@ mod tests {
         assert!(e.contains("directions = 1000") && e.contains("power of two"), "{e}");
         assert!(p.set("field_max_error", "0.25").is_err());
         assert!(p.set("svc_values", "u4").unwrap_err().to_string().contains("u8"));
+        p.set("field_max_error", "0.1").unwrap();
+        assert_eq!(p.field_values, ValueFormat::U8, "a non-zero threshold needs fractional values");
+        p.set("field_values", "u1").unwrap();
+        assert!(p.check().unwrap_err().to_string().contains("exact fields"));
         assert!(p.set("colour", "red").unwrap_err().to_string().contains("unknown parameter 'colour'"));
         assert!(PrecomputeParams::preset("slow").unwrap_err().to_string().contains("fast, balanced, paper"));
+        p.set("field_values", "u8").unwrap();
         p.set("field_inner", "20").unwrap();
         assert!(p.check().unwrap_err().to_string().contains("below field_outer"));
     }

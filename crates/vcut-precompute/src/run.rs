@@ -20,8 +20,8 @@ use rayon::prelude::*;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;
-use vcut_cut::codec::{self, ValueFormat};
-use vcut_cut::select::select;
+use vcut_cut::codec::{self, ShapeCoding, ValueFormat};
+use vcut_cut::select::Selector;
 use vcut_data::file::{FileError, Reader, SectionId, SectionKind, Writer};
 use vcut_data::{FieldLayout, sections};
 use vcut_dirtree::DirectionTree;
@@ -139,8 +139,10 @@ pub struct CutSizes {
     pub nodes: u64,
     /// Largest cut.
     pub max_nodes: u64,
-    /// Payload bytes in the file (height codec, offsets included).
+    /// Payload bytes in the file (its shape coding and value format, offsets included).
     pub bytes: u64,
+    /// The same cuts in the paper's height codec (4/5-bit heights) with the file's value format.
+    pub heights_codec_bytes: u64,
     /// The same cuts as node index (u16/u32) + f32 value, with the same offsets.
     pub index_baseline_bytes: u64,
 }
@@ -167,7 +169,10 @@ pub fn objects_needing_fields(scene: &Scene) -> Vec<bool> {
 }
 
 /// The direction set of `params` (from `cache_dir` when given) and its tree.
-pub fn directions(params: &PrecomputeParams, cache_dir: Option<&Path>) -> Result<(DirectionSet, Vec<f64>, DirectionTree), PrecomputeError> {
+pub fn directions(
+    params: &PrecomputeParams,
+    cache_dir: Option<&Path>,
+) -> Result<(DirectionSet, Vec<f64>, DirectionTree), PrecomputeError> {
     let rp = RepulsionParams { seed: params.direction_seed, ..RepulsionParams::default() };
     let n = params.directions as usize;
     let set = match cache_dir {
@@ -176,13 +181,19 @@ pub fn directions(params: &PrecomputeParams, cache_dir: Option<&Path>) -> Result
     }
     .map_err(|e| PrecomputeError::Directions(e.to_string()))?;
     let areas = set.cell_areas();
-    let tree = DirectionTree::build(set.directions(), &areas).map_err(|e| PrecomputeError::Directions(e.to_string()))?;
+    let tree =
+        DirectionTree::build(set.directions(), &areas).map_err(|e| PrecomputeError::Directions(e.to_string()))?;
     Ok((set, areas, tree))
 }
 
-fn encode_all(cuts: &[vcut_cut::Cut], format: ValueFormat, id: SectionId) -> Result<Vec<Vec<u8>>, PrecomputeError> {
+fn encode_all(
+    cuts: &[vcut_cut::Cut],
+    format: ValueFormat,
+    coding: ShapeCoding,
+    id: SectionId,
+) -> Result<Vec<Vec<u8>>, PrecomputeError> {
     cuts.iter()
-        .map(|c| codec::encode_heights(c, format))
+        .map(|c| coding.encode(c, format))
         .collect::<Result<_, _>>()
         .map_err(|e| PrecomputeError::Encode { section: id.to_string(), reason: e.to_string() })
 }
@@ -240,16 +251,26 @@ pub fn precompute(job: &Job<'_>, progress: &dyn Progress, interrupt: &AtomicBool
     );
     writer.put(SectionId::new(SectionKind::Params, 0, 0), params_text.as_bytes())?;
     let (set, areas, tree) = directions(p, job.cache_dir.as_deref())?;
-    writer.put(SectionId::new(SectionKind::Directions, 0, 0), &sections::encode_directions(set.directions(), &areas))?;
+    writer.put(
+        SectionId::new(SectionKind::Directions, 0, 0),
+        &sections::encode_directions(set.directions(), &areas, tree.leaf_to_input()),
+    )?;
     for (i, o) in scene.objects.iter().enumerate() {
-        writer.put(SectionId::new(SectionKind::Mesh, i as u32, 0), &sections::encode_mesh(&o.name, o.motion, &o.material, &o.mesh))?;
+        writer.put(
+            SectionId::new(SectionKind::Mesh, i as u32, 0),
+            &sections::encode_mesh(&o.name, o.motion, &o.material, &o.mesh),
+        )?;
     }
     let needs = objects_needing_fields(scene);
     let layouts: Vec<Option<FieldLayout>> = scene
         .objects
         .iter()
         .zip(&needs)
-        .map(|(o, &n)| n.then(|| crate::field::layout_around(&o.mesh, p.field_spheres, p.field_resolution, p.field_inner, p.field_outer)))
+        .map(|(o, &n)| {
+            n.then(|| {
+                crate::field::layout_around(&o.mesh, p.field_spheres, p.field_resolution, p.field_inner, p.field_outer)
+            })
+        })
         .collect();
     for (i, l) in layouts.iter().enumerate() {
         if let Some(l) = l {
@@ -277,7 +298,9 @@ pub fn precompute(job: &Job<'_>, progress: &dyn Progress, interrupt: &AtomicBool
     let static_occ = (!statics.is_empty()).then(|| Occluder::new(&statics));
     let own_occ: Vec<Option<Occluder>> =
         scene.objects.iter().map(|o| (o.motion == Motion::Movable).then(|| Occluder::new(&[&o.mesh]))).collect();
-    let occ_of = |i: usize| own_occ[i].as_ref().or(static_occ.as_ref()).unwrap_or_else(|| unreachable!("static objects share one occluder"));
+    let occ_of = |i: usize| {
+        own_occ[i].as_ref().or(static_occ.as_ref()).unwrap_or_else(|| unreachable!("static objects share one occluder"))
+    };
     let offset_of = |i: usize| p.svc_origin_offset * scene.objects[i].mesh.bounds().radius.max(f32::MIN_POSITIVE);
     // Raw rate: the rays of up to 512 vertices spread over the scene (at most ~400k rays),
     // each vertex's rays in leaf order as the stage casts them, cast on their own.
@@ -300,7 +323,7 @@ pub fn precompute(job: &Job<'_>, progress: &dyn Progress, interrupt: &AtomicBool
         let mut out = vec![0.0f32; tree.leaf_count()];
         visit_leaves(
             &tree,
-            |cone| cone_outside(cone, n, std::f32::consts::FRAC_PI_2).then_some(0.0),
+            |cone| cone_outside(cone, n, crate::Angle::RIGHT).then_some(0.0),
             |d| {
                 if n.dot(d) > 0.0 {
                     rays.push((o, d));
@@ -314,7 +337,15 @@ pub fn precompute(job: &Job<'_>, progress: &dyn Progress, interrupt: &AtomicBool
     let raw_svc = raw_rate(&sample);
     drop(sample);
     progress.stage("svc", total_vertices as u64);
-    let mut svc = StageSummary { name: "svc", seconds: 0.0, rays: RayStats::default(), compute_seconds: 0.0, raw_rays_per_second: raw_svc, computed: 0, resumed: 0 };
+    let mut svc = StageSummary {
+        name: "svc",
+        seconds: 0.0,
+        rays: RayStats::default(),
+        compute_seconds: 0.0,
+        raw_rays_per_second: raw_svc,
+        computed: 0,
+        resumed: 0,
+    };
     for (i, o) in scene.objects.iter().enumerate() {
         let occ = occ_of(i);
         let offset = offset_of(i);
@@ -334,11 +365,12 @@ pub fn precompute(job: &Job<'_>, progress: &dyn Progress, interrupt: &AtomicBool
             let results: Vec<(vcut_cut::Cut, RayStats)> = (start..end)
                 .into_par_iter()
                 .map_init(
-                    || vec![0.0f32; tree.leaf_count()],
-                    |values, v| {
+                    || (vec![0.0f32; tree.leaf_count()], Selector::default()),
+                    |(values, selector), v| {
                         let (pos, nrm) = (o.mesh.positions()[v], o.mesh.normals()[v]);
                         let stats = leaf_visibility(occ, &tree, pos + nrm * offset, nrm, values);
-                        let cut = select(values, &leaf_areas, p.svc_select())
+                        let cut = selector
+                            .select(values, &leaf_areas, p.svc_select())
                             .unwrap_or_else(|_| unreachable!("a tree's leaf count is a power of two"));
                         progress.advance(1);
                         (cut, stats)
@@ -346,9 +378,9 @@ pub fn precompute(job: &Job<'_>, progress: &dyn Progress, interrupt: &AtomicBool
                 )
                 .collect();
             let (cuts, stats): (Vec<vcut_cut::Cut>, Vec<RayStats>) = results.into_iter().unzip();
-            svc.rays = stats.into_iter().fold(svc.rays, RayStats::add);
-            let encoded = encode_all(&cuts, p.svc_values, id)?;
-            writer.put(id, &sections::encode_cut_array(root, p.svc_values, &encoded, None))?;
+            svc.rays = stats.into_iter().fold(svc.rays, |a, b| a + b);
+            let encoded = encode_all(&cuts, p.svc_values, p.shape_coding, id)?;
+            writer.put(id, &sections::encode_cut_array(root, p.svc_values, p.shape_coding, &encoded, None))?;
             svc.compute_seconds += c0.elapsed().as_secs_f64();
             svc.computed += 1;
             progress.section(id, false);
@@ -366,7 +398,8 @@ pub fn precompute(job: &Job<'_>, progress: &dyn Progress, interrupt: &AtomicBool
     // Raw rate: for 64 points of each field's middle sphere, the rays inside the bounding cone.
     let mut sample = Vec::new();
     for &i in &field_objects {
-        let (l, occ) = (layouts[i].unwrap_or_else(|| unreachable!()), field_occ[i].as_ref().unwrap_or_else(|| unreachable!()));
+        let (l, occ) =
+            (layouts[i].unwrap_or_else(|| unreachable!()), field_occ[i].as_ref().unwrap_or_else(|| unreachable!()));
         let per = l.points_per_sphere() as u32;
         for k in 0..64u32.min(per) {
             let pt = l.point(l.spheres / 2, k * per / 64.min(per));
@@ -374,13 +407,19 @@ pub fn precompute(job: &Job<'_>, progress: &dyn Progress, interrupt: &AtomicBool
             let mut out = vec![0.0f32; tree.leaf_count()];
             let to_c = l.center - pt;
             let d = to_c.length();
-            let (axis, cosb) = if d > l.radius { (to_c / d, (1.0 - (l.radius / d).powi(2)).sqrt()) } else { (Vec3::Z, -1.0) };
-            visit_leaves(&tree, |_| None, |dir| {
-                if dir.dot(axis) >= cosb {
-                    rays.push((pt, dir));
-                }
-                0.0
-            }, &mut out);
+            let (axis, cosb) =
+                if d > l.radius { (to_c / d, (1.0 - (l.radius / d).powi(2)).sqrt()) } else { (Vec3::Z, -1.0) };
+            visit_leaves(
+                &tree,
+                |_| None,
+                |dir| {
+                    if dir.dot(axis) >= cosb {
+                        rays.push((pt, dir));
+                    }
+                    0.0
+                },
+                &mut out,
+            );
             sample.push((occ, rays));
         }
     }
@@ -388,10 +427,19 @@ pub fn precompute(job: &Job<'_>, progress: &dyn Progress, interrupt: &AtomicBool
     drop(sample);
     let field_points: u64 = field_objects.iter().map(|&i| layouts[i].map_or(0, |l| l.point_count() as u64)).sum();
     progress.stage("fields", field_points);
-    let mut fields = StageSummary { name: "fields", seconds: 0.0, rays: RayStats::default(), compute_seconds: 0.0, raw_rays_per_second: raw_field, computed: 0, resumed: 0 };
+    let mut fields = StageSummary {
+        name: "fields",
+        seconds: 0.0,
+        rays: RayStats::default(),
+        compute_seconds: 0.0,
+        raw_rays_per_second: raw_field,
+        computed: 0,
+        resumed: 0,
+    };
     let mut inside_points = 0u64;
     for &i in &field_objects {
-        let (l, occ) = (layouts[i].unwrap_or_else(|| unreachable!()), field_occ[i].as_ref().unwrap_or_else(|| unreachable!()));
+        let (l, occ) =
+            (layouts[i].unwrap_or_else(|| unreachable!()), field_occ[i].as_ref().unwrap_or_else(|| unreachable!()));
         for s in 0..l.spheres {
             let id = SectionId::new(SectionKind::Field, i as u32, s);
             check_interrupt(&writer)?;
@@ -406,9 +454,12 @@ pub fn precompute(job: &Job<'_>, progress: &dyn Progress, interrupt: &AtomicBool
             let sc = sphere_cuts(occ, &tree, &leaf_areas, &l, s, p.field_select());
             progress.advance(l.points_per_sphere() as u64);
             inside_points += sc.inside.iter().filter(|&&x| x).count() as u64;
-            fields.rays = fields.rays.add(sc.stats);
-            let encoded = encode_all(&sc.cuts, p.field_values, id)?;
-            writer.put(id, &sections::encode_cut_array(root, p.field_values, &encoded, Some(&sc.inside)))?;
+            fields.rays += sc.stats;
+            let encoded = encode_all(&sc.cuts, p.field_values, p.shape_coding, id)?;
+            writer.put(
+                id,
+                &sections::encode_cut_array(root, p.field_values, p.shape_coding, &encoded, Some(&sc.inside)),
+            )?;
             fields.compute_seconds += c0.elapsed().as_secs_f64();
             fields.computed += 1;
             progress.section(id, false);
@@ -429,11 +480,12 @@ pub fn precompute(job: &Job<'_>, progress: &dyn Progress, interrupt: &AtomicBool
     })
 }
 
-/// Reads every cut section of a `.vcuts` file and totals its sizes per kind, in the height
-/// codec as stored and in the node-index baseline.
+/// Reads every cut section of a `.vcuts` file and totals its sizes per kind: as stored, in the
+/// paper's height codec, and in the node-index baseline (u16/u32 index + f32 value).
 pub fn cut_sizes(path: &Path) -> Result<Vec<CutSizes>, FileError> {
     let mut r = Reader::open(path)?;
-    let mut out = vec![CutSizes { kind: "svc", ..CutSizes::default() }, CutSizes { kind: "field", ..CutSizes::default() }];
+    let mut out =
+        vec![CutSizes { kind: "svc", ..CutSizes::default() }, CutSizes { kind: "field", ..CutSizes::default() }];
     let ids: Vec<SectionId> = r.entries().iter().map(|e| e.id).collect();
     for id in ids {
         let k = match id.kind {
@@ -446,14 +498,17 @@ pub fn cut_sizes(path: &Path) -> Result<Vec<CutSizes>, FileError> {
         let s = &mut out[k];
         s.sections += 1;
         s.bytes += bytes.len() as u64;
-        // Same header and offsets, then index + f32 per node.
-        s.index_baseline_bytes += (bytes.len() - (bytes.len() - 8 - 4 * (a.len() + 1))) as u64;
+        // Same header and offsets, then per cut its own coding.
+        let fixed = (8 + 4 * (a.len() + 1)) as u64;
+        s.index_baseline_bytes += fixed;
+        s.heights_codec_bytes += fixed;
         for c in 0..a.len() {
             let n = a.node_count(c).map_err(|e| r.section_error(id, e))? as u64;
             s.cuts += 1;
             s.nodes += n;
             s.max_nodes = s.max_nodes.max(n);
             s.index_baseline_bytes += codec::index_coded_size(n as usize, a.root_height()) as u64;
+            s.heights_codec_bytes += codec::height_coded_size(n as usize, a.root_height(), a.format()) as u64;
         }
     }
     Ok(out)

@@ -5,7 +5,7 @@ use crate::{Occluder, RayStats};
 use glam::Vec3;
 use rayon::prelude::*;
 use vcut_cut::Cut;
-use vcut_cut::select::{SelectParams, select};
+use vcut_cut::select::{SelectParams, Selector};
 use vcut_dirtree::DirectionTree;
 use vcut_scene::Mesh;
 
@@ -37,7 +37,7 @@ pub fn leaf_visibility(occ: &Occluder, tree: &DirectionTree, origin: Vec3, norma
     let culled = crate::visit_leaves(
         tree,
         // Largest n·ω over the cone is cos(max(0, angle(n, axis) − half-angle)).
-        |cone| crate::cone_outside(cone, normal, std::f32::consts::FRAC_PI_2).then_some(0.0),
+        |cone| crate::cone_outside(cone, normal, crate::Angle::RIGHT).then_some(0.0),
         |d| {
             let c = normal.dot(d);
             if c <= 0.0 {
@@ -69,15 +69,16 @@ pub fn self_visibility_cuts(mesh: &Mesh, tree: &DirectionTree, params: &SvcParam
         .par_iter()
         .zip(mesh.normals().par_iter())
         .map_init(
-            || vec![0.0f32; tree.leaf_count()],
-            |values, (&p, &n)| {
+            || (vec![0.0f32; tree.leaf_count()], Selector::default()),
+            |(values, selector), (&p, &n)| {
                 let stats = leaf_visibility(&occ, tree, p + n * offset, n, values);
-                let cut = select(values, &leaf_areas, params.select)
+                let cut = selector
+                    .select(values, &leaf_areas, params.select)
                     .unwrap_or_else(|_| unreachable!("a tree's leaf count is a power of two"));
                 (cut, stats)
             },
         )
         .collect();
-    let stats = results.iter().fold(RayStats::default(), |a, r| a.add(r.1));
+    let stats = results.iter().fold(RayStats::default(), |a, r| a + r.1);
     (results.into_iter().map(|r| r.0).collect(), stats)
 }

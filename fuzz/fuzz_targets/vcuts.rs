@@ -1,0 +1,52 @@
+//! Fuzz target: a `.vcuts` file of arbitrary bytes — the container (header, offset table,
+//! section checksums) and every section payload parser behind it — gives errors, never a panic.
+#![no_main]
+
+use libfuzzer_sys::fuzz_target;
+use std::io::Cursor;
+use std::path::Path;
+use vcut_data::file::{Reader, SectionKind};
+use vcut_data::sections;
+
+fuzz_target!(|data: &[u8]| {
+    let Some((&mode, rest)) = data.split_first() else { return };
+    match mode % 5 {
+        // Payload parsers directly, so the fuzzer need not forge CRCs to reach them.
+        0 => {
+            if let Ok(a) = sections::CutArray::parse(rest) {
+                for i in 0..a.len().min(64) {
+                    if let Ok(c) = a.cut(i) {
+                        assert!(c.validate().is_ok());
+                    }
+                    let _ = (a.node_count(i), a.inside(i));
+                }
+            }
+        }
+        1 => {
+            let _ = sections::decode_mesh(rest);
+        }
+        2 => {
+            let _ = sections::decode_directions(rest);
+        }
+        3 => {
+            let _ = sections::decode_field_layout(rest);
+        }
+        // The container: open, then read every section it lists and parse the cut arrays.
+        _ => {
+            if let Ok(mut r) = Reader::from_source(Cursor::new(rest), Path::new("fuzz.vcuts")) {
+                let ids: Vec<_> = r.entries().iter().map(|e| e.id).collect();
+                for id in ids {
+                    if let Ok(bytes) = r.section(id) {
+                        if matches!(id.kind, SectionKind::Svc | SectionKind::Field) {
+                            if let Ok(a) = sections::CutArray::parse(&bytes) {
+                                for i in 0..a.len().min(16) {
+                                    let _ = a.cut(i);
+                                }
+                            }
+                        }
+                    }
+                }
+            }
+        }
+    }
+});
