@@ -56,6 +56,88 @@ pub fn point_visibility(
     stats
 }
 
+/// The exact field cut (error threshold 0) of the object seen from `p`, built in the same walk
+/// that casts the rays: a subtree outside the bounding cone is one visible node at once, and
+/// siblings that end up as equal constant nodes merge on the way up. Equal to
+/// `select(point_visibility(..), SelectParams::field())` (tested) without its O(N) node sums,
+/// which dominate for far points where most of the sphere is culled.
+pub fn exact_point_cut(occ: &Occluder, tree: &DirectionTree, p: Vec3, center: Vec3, radius: f32) -> (Cut, RayStats) {
+    let to_c = center - p;
+    let d = to_c.length();
+    let outside = d > radius * (1.0 + 1e-5);
+    let (axis, beta) = if outside { (to_c / d, (radius / d).asin()) } else { (Vec3::Z, std::f32::consts::PI) };
+    let mut walk = ExactWalk {
+        occ,
+        tree,
+        p,
+        axis,
+        outside,
+        angle: Angle::new(beta),
+        cos_beta: beta.cos(),
+        heights: Vec::new(),
+        values: Vec::new(),
+        stats: RayStats::default(),
+    };
+    walk.node(0, tree.height());
+    let cut = Cut::new(tree.height(), walk.heights, walk.values)
+        .unwrap_or_else(|e| unreachable!("the walk covers every leaf once: {e}"));
+    (cut, walk.stats)
+}
+
+/// State of [`exact_point_cut`]'s walk.
+struct ExactWalk<'a> {
+    occ: &'a Occluder,
+    tree: &'a DirectionTree,
+    p: Vec3,
+    axis: Vec3,
+    outside: bool,
+    angle: Angle,
+    cos_beta: f32,
+    heights: Vec<u8>,
+    values: Vec<f32>,
+    stats: RayStats,
+}
+
+impl ExactWalk<'_> {
+    /// Appends the cut of node `k` (height `h`); returns whether it is a single node.
+    fn node(&mut self, k: u32, h: u32) -> bool {
+        if self.outside && cone_outside(&self.tree.cone(k), self.axis, self.angle) {
+            self.stats.resolved_without_ray += 1u64 << h;
+            self.heights.push(h as u8);
+            self.values.push(1.0);
+            return true;
+        }
+        if h == 0 {
+            let dir = self.tree.leaf_directions()[self.tree.leaf_range(k).start];
+            let v = if self.outside && dir.dot(self.axis) < self.cos_beta {
+                self.stats.resolved_without_ray += 1;
+                1.0
+            } else {
+                self.stats.rays_cast += 1;
+                let hit = self.occ.occluded(self.p, dir, f32::INFINITY);
+                self.stats.rays_occluded += u64::from(hit);
+                if hit { 0.0 } else { 1.0 }
+            };
+            self.heights.push(0);
+            self.values.push(v);
+            return true;
+        }
+        let left_single = self.node(2 * k + 1, h - 1);
+        let right_single = self.node(2 * k + 2, h - 1);
+        // Two constant children of equal value are one node of this height.
+        let n = self.values.len();
+        if left_single && right_single && self.values[n - 1] == self.values[n - 2] {
+            let v = self.values[n - 1];
+            self.heights.truncate(n - 2);
+            self.values.truncate(n - 2);
+            self.heights.push(h as u8);
+            self.values.push(v);
+            return true;
+        }
+        false
+    }
+}
+
 /// The cuts of one sphere of a field.
 #[derive(Debug, Clone, Default)]
 pub struct SphereCuts {
@@ -68,7 +150,8 @@ pub struct SphereCuts {
 }
 
 /// The field cuts of sphere `s` of `layout` against `occ` (the object alone), in parallel over
-/// points. `leaf_areas` are the tree's leaf solid angles in leaf order.
+/// points. `leaf_areas` are the tree's leaf solid angles in leaf order. With error threshold 0
+/// (no solid-angle limit applies to fields) cuts come from [`exact_point_cut`].
 pub fn sphere_cuts(
     occ: &Occluder,
     tree: &DirectionTree,
@@ -77,23 +160,28 @@ pub fn sphere_cuts(
     s: u32,
     params: SelectParams,
 ) -> SphereCuts {
+    // Exact fields are built in the ray walk itself (no O(N) statistics per point).
+    let exact = params.max_error == 0.0;
     let results: Vec<(Cut, bool, RayStats)> = (0..layout.points_per_sphere() as u32)
         .into_par_iter()
         .map_init(
             || (vec![0.0f32; tree.leaf_count()], Selector::default()),
             |(values, selector), i| {
                 let p = layout.point(s, i);
-                let (inside, stats) = if occ.inside(p) {
-                    values.fill(0.0);
+                if occ.inside(p) {
                     let n = tree.leaf_count() as u64;
-                    (true, RayStats { resolved_without_ray: n, ..RayStats::default() })
-                } else {
-                    (false, point_visibility(occ, tree, p, layout.center, layout.radius, values))
-                };
+                    let cut = Cut::root(tree.height(), 0.0).unwrap_or_else(|e| unreachable!("{e}"));
+                    return (cut, true, RayStats { resolved_without_ray: n, ..RayStats::default() });
+                }
+                if exact {
+                    let (cut, stats) = exact_point_cut(occ, tree, p, layout.center, layout.radius);
+                    return (cut, false, stats);
+                }
+                let stats = point_visibility(occ, tree, p, layout.center, layout.radius, values);
                 let cut = selector
                     .select(values, leaf_areas, params)
                     .unwrap_or_else(|_| unreachable!("a tree's leaf count is a power of two"));
-                (cut, inside, stats)
+                (cut, false, stats)
             },
         )
         .collect();
@@ -133,6 +221,7 @@ pub fn layout_around(mesh: &Mesh, spheres: u32, resolution: u32, inner: f32, out
 #[cfg(test)]
 mod tests {
     use super::*;
+    use vcut_cut::select::select;
     use vcut_sphere::{DirectionSet, RepulsionParams};
 
     fn tree(n: usize) -> DirectionTree {
@@ -165,6 +254,24 @@ mod tests {
         assert!(!occ.inside(Vec3::new(0.0, 1.2, 0.0)));
         let plane = vcut_scene::shapes::plane(2.0, 4).unwrap();
         assert!(!Occluder::new(&[&plane]).inside(Vec3::new(0.0, -0.5, 0.0)), "an open surface has no inside");
+    }
+
+    #[test]
+    fn the_exact_walk_equals_selection_on_cast_visibility() {
+        let t = tree(4096);
+        let teapot = vcut_scene::teapot::teapot(6).unwrap().0;
+        let occ = Occluder::new(&[&teapot]);
+        let b = teapot.bounds();
+        let areas = leaf_solid_angles(&t);
+        let mut v = vec![0.0f32; 4096];
+        for (k, d) in [0.9f32, 1.05, 1.6, 3.0, 9.5].into_iter().enumerate() {
+            let dir = Vec3::new(0.3 + k as f32, 0.5, -0.7 * k as f32).normalize();
+            let p = b.center + dir * d * b.radius;
+            let stats = point_visibility(&occ, &t, p, b.center, b.radius, &mut v);
+            let (cut, exact_stats) = exact_point_cut(&occ, &t, p, b.center, b.radius);
+            assert_eq!(cut, select(&v, &areas, SelectParams::field()).unwrap(), "distance {d}r");
+            assert_eq!(exact_stats, stats);
+        }
     }
 
     #[test]

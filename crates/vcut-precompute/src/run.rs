@@ -111,7 +111,8 @@ pub struct StageSummary {
     pub rays: RayStats,
     /// Seconds spent in sections computed this run (ray casting, cut selection, encoding).
     pub compute_seconds: f64,
-    /// Raw occlusion rays/s on a sample of this stage's own rays, same occluders, same run.
+    /// Raw occlusion rays/s on a sample of this stage's own rays (every 61st vertex or point of
+    /// each section computed this run), same occluders, interleaved with the stage.
     pub raw_rays_per_second: f64,
     /// Sections computed this run.
     pub computed: usize,
@@ -198,24 +199,73 @@ fn encode_all(
         .map_err(|e| PrecomputeError::Encode { section: id.to_string(), reason: e.to_string() })
 }
 
-/// Raw occlusion rays/s on the rays `sample` would cast (collected first, then cast alone).
-fn raw_rate(occ_rays: &[(&Occluder, Vec<(Vec3, Vec3)>)]) -> f64 {
-    let total: usize = occ_rays.iter().map(|(_, r)| r.len()).sum();
-    if total == 0 {
-        return 0.0;
-    }
-    // Cast the whole sample once to warm caches, then time the better of two passes.
-    let pass = || {
+/// Raw occlusion rays/s, measured on samples of a stage's own rays (collected first, then cast
+/// on their own, on all cores), interleaved with the stage section by section so both figures
+/// see the same machine conditions.
+#[derive(Debug, Default)]
+struct RawMeter {
+    rays: u64,
+    seconds: f64,
+}
+
+impl RawMeter {
+    /// Casts `rays` against `occ` and adds them and the time taken.
+    fn measure(&mut self, occ: &Occluder, rays: &[(Vec3, Vec3)]) {
         let start = Instant::now();
-        let hits: usize = occ_rays
-            .par_iter()
-            .map(|(occ, rays)| rays.iter().map(|&(o, d)| usize::from(occ.occluded(o, d, f32::INFINITY))).sum::<usize>())
-            .sum();
+        let hits: usize =
+            rays.par_chunks(256).map(|c| c.iter().filter(|&&(o, d)| occ.occluded(o, d, f32::INFINITY)).count()).sum();
         std::hint::black_box(hits);
-        start.elapsed().as_secs_f64().max(1e-9)
-    };
-    pass();
-    total as f64 / pass().min(pass())
+        self.seconds += start.elapsed().as_secs_f64();
+        self.rays += rays.len() as u64;
+    }
+
+    fn rate(&self) -> f64 {
+        if self.seconds > 0.0 { self.rays as f64 / self.seconds } else { 0.0 }
+    }
+}
+
+/// Every `RAW_STRIDE`-th vertex or sample point of a section has its rays re-cast raw.
+const RAW_STRIDE: usize = 61;
+
+/// The rays an SVC vertex casts (origin, direction), in the stage's order.
+fn svc_rays(tree: &DirectionTree, origin: Vec3, normal: Vec3) -> Vec<(Vec3, Vec3)> {
+    let mut rays = Vec::new();
+    let mut out = vec![0.0f32; tree.leaf_count()];
+    visit_leaves(
+        tree,
+        |cone| cone_outside(cone, normal, crate::Angle::RIGHT).then_some(0.0),
+        |d| {
+            if normal.dot(d) > 0.0 {
+                rays.push((origin, d));
+            }
+            0.0
+        },
+        &mut out,
+    );
+    rays
+}
+
+/// The rays a field sample point casts (inside the object's bounding cone).
+fn field_rays(tree: &DirectionTree, p: Vec3, l: &FieldLayout) -> Vec<(Vec3, Vec3)> {
+    let mut rays = Vec::new();
+    let mut out = vec![0.0f32; tree.leaf_count()];
+    let to_c = l.center - p;
+    let d = to_c.length();
+    let outside = d > l.radius * (1.0 + 1e-5);
+    let (axis, beta) = if outside { (to_c / d, (l.radius / d).asin()) } else { (Vec3::Z, std::f32::consts::PI) };
+    let angle = crate::Angle::new(beta);
+    visit_leaves(
+        tree,
+        |cone| (outside && cone_outside(cone, axis, angle)).then_some(1.0),
+        |dir| {
+            if !outside || dir.dot(axis) >= beta.cos() {
+                rays.push((p, dir));
+            }
+            1.0
+        },
+        &mut out,
+    );
+    rays
 }
 
 /// Runs the precompute (resuming `<output>.partial` if present). Setting `interrupt` stops it
@@ -302,47 +352,15 @@ pub fn precompute(job: &Job<'_>, progress: &dyn Progress, interrupt: &AtomicBool
         own_occ[i].as_ref().or(static_occ.as_ref()).unwrap_or_else(|| unreachable!("static objects share one occluder"))
     };
     let offset_of = |i: usize| p.svc_origin_offset * scene.objects[i].mesh.bounds().radius.max(f32::MIN_POSITIVE);
-    // Raw rate: the rays of up to 512 vertices spread over the scene (at most ~400k rays),
-    // each vertex's rays in leaf order as the stage casts them, cast on their own.
     let total_vertices: usize = scene.objects.iter().map(|o| o.mesh.vertex_count()).sum();
-    let mut sample = Vec::new();
-    let picks = 512usize.min(total_vertices).min(400_000 / (tree.leaf_count() / 2).max(1)).max(1);
-    for k in 0..picks {
-        let mut g = k * total_vertices / picks;
-        let i = scene.objects.iter().position(|o| {
-            let hit = g < o.mesh.vertex_count();
-            if !hit {
-                g -= o.mesh.vertex_count();
-            }
-            hit
-        });
-        let Some(i) = i else { break };
-        let m = &scene.objects[i].mesh;
-        let (n, o) = (m.normals()[g], m.positions()[g] + m.normals()[g] * offset_of(i));
-        let mut rays = Vec::new();
-        let mut out = vec![0.0f32; tree.leaf_count()];
-        visit_leaves(
-            &tree,
-            |cone| cone_outside(cone, n, crate::Angle::RIGHT).then_some(0.0),
-            |d| {
-                if n.dot(d) > 0.0 {
-                    rays.push((o, d));
-                }
-                0.0
-            },
-            &mut out,
-        );
-        sample.push((occ_of(i), rays));
-    }
-    let raw_svc = raw_rate(&sample);
-    drop(sample);
+    let mut raw = RawMeter::default();
     progress.stage("svc", total_vertices as u64);
     let mut svc = StageSummary {
         name: "svc",
         seconds: 0.0,
         rays: RayStats::default(),
         compute_seconds: 0.0,
-        raw_rays_per_second: raw_svc,
+        raw_rays_per_second: 0.0,
         computed: 0,
         resumed: 0,
     };
@@ -384,9 +402,18 @@ pub fn precompute(job: &Job<'_>, progress: &dyn Progress, interrupt: &AtomicBool
             svc.compute_seconds += c0.elapsed().as_secs_f64();
             svc.computed += 1;
             progress.section(id, false);
+            let sample: Vec<(Vec3, Vec3)> = (start..end)
+                .step_by(RAW_STRIDE)
+                .flat_map(|v| {
+                    let (pos, nrm) = (o.mesh.positions()[v], o.mesh.normals()[v]);
+                    svc_rays(&tree, pos + nrm * offset, nrm)
+                })
+                .collect();
+            raw.measure(occ, &sample);
         }
     }
     progress.end_stage();
+    svc.raw_rays_per_second = raw.rate();
     svc.seconds = t0.elapsed().as_secs_f64();
     stages.push(svc);
 
@@ -395,36 +422,7 @@ pub fn precompute(job: &Job<'_>, progress: &dyn Progress, interrupt: &AtomicBool
     let field_objects: Vec<usize> = (0..scene.objects.len()).filter(|&i| layouts[i].is_some()).collect();
     let field_occ: Vec<Option<Occluder>> =
         scene.objects.iter().zip(&layouts).map(|(o, l)| l.map(|_| Occluder::new(&[&o.mesh]))).collect();
-    // Raw rate: for 64 points of each field's middle sphere, the rays inside the bounding cone.
-    let mut sample = Vec::new();
-    for &i in &field_objects {
-        let (l, occ) =
-            (layouts[i].unwrap_or_else(|| unreachable!()), field_occ[i].as_ref().unwrap_or_else(|| unreachable!()));
-        let per = l.points_per_sphere() as u32;
-        for k in 0..64u32.min(per) {
-            let pt = l.point(l.spheres / 2, k * per / 64.min(per));
-            let mut rays = Vec::new();
-            let mut out = vec![0.0f32; tree.leaf_count()];
-            let to_c = l.center - pt;
-            let d = to_c.length();
-            let (axis, cosb) =
-                if d > l.radius { (to_c / d, (1.0 - (l.radius / d).powi(2)).sqrt()) } else { (Vec3::Z, -1.0) };
-            visit_leaves(
-                &tree,
-                |_| None,
-                |dir| {
-                    if dir.dot(axis) >= cosb {
-                        rays.push((pt, dir));
-                    }
-                    0.0
-                },
-                &mut out,
-            );
-            sample.push((occ, rays));
-        }
-    }
-    let raw_field = raw_rate(&sample);
-    drop(sample);
+    let mut raw = RawMeter::default();
     let field_points: u64 = field_objects.iter().map(|&i| layouts[i].map_or(0, |l| l.point_count() as u64)).sum();
     progress.stage("fields", field_points);
     let mut fields = StageSummary {
@@ -432,7 +430,7 @@ pub fn precompute(job: &Job<'_>, progress: &dyn Progress, interrupt: &AtomicBool
         seconds: 0.0,
         rays: RayStats::default(),
         compute_seconds: 0.0,
-        raw_rays_per_second: raw_field,
+        raw_rays_per_second: 0.0,
         computed: 0,
         resumed: 0,
     };
@@ -463,9 +461,16 @@ pub fn precompute(job: &Job<'_>, progress: &dyn Progress, interrupt: &AtomicBool
             fields.compute_seconds += c0.elapsed().as_secs_f64();
             fields.computed += 1;
             progress.section(id, false);
+            let sample: Vec<(Vec3, Vec3)> = (0..l.points_per_sphere())
+                .step_by(RAW_STRIDE)
+                .filter(|&k| !sc.inside[k])
+                .flat_map(|k| field_rays(&tree, l.point(s, k as u32), &l))
+                .collect();
+            raw.measure(occ, &sample);
         }
     }
     progress.end_stage();
+    fields.raw_rays_per_second = raw.rate();
     fields.seconds = t0.elapsed().as_secs_f64();
     stages.push(fields);
 
