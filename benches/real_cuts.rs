@@ -25,6 +25,9 @@ struct Frame {
     fields: Vec<(Vec<Cut>, Vec<f32>)>,
 }
 
+/// The same inputs index-coded: SVC, then per other object 8 cuts and weights.
+type IndexFrame = (IndexCut, Vec<(Vec<IndexCut>, Vec<f32>)>);
+
 fn data_file() -> PathBuf {
     if let Some(p) = std::env::var_os("VCUT_BENCH_VCUTS") {
         return p.into();
@@ -46,10 +49,13 @@ fn data_file() -> PathBuf {
     path
 }
 
+/// One field sphere's cuts and inside marks.
+type SphereData = (Vec<Cut>, Vec<bool>);
+
 /// Up to `per_object` vertices of every object, each with its frame's inputs at rest.
 fn frames(data: &mut Precomputed, per_object: usize) -> Vec<Frame> {
     let layouts: Vec<Option<FieldLayout>> = data.layouts.clone();
-    let spheres: Vec<Vec<(Vec<Cut>, Vec<bool>)>> = layouts
+    let spheres: Vec<Vec<SphereData>> = layouts
         .iter()
         .enumerate()
         .map(|(o, l)| {
@@ -114,7 +120,7 @@ fn benches(c: &mut Criterion) {
         f0
     );
 
-    let index: Vec<(IndexCut, Vec<(Vec<IndexCut>, Vec<f32>)>)> = frames
+    let index: Vec<IndexFrame> = frames
         .iter()
         .map(|f| {
             (
