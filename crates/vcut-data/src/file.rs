@@ -27,7 +27,7 @@ use std::io::{BufWriter, Read, Seek, SeekFrom, Write};
 use std::path::{Path, PathBuf};
 
 /// Format version written and accepted.
-pub const VERSION: u32 = 1;
+pub const VERSION: u32 = 2;
 const MAGIC: &[u8; 8] = b"VCUTS\0\r\n";
 const HEADER_LEN: u64 = 64;
 const RECORD_LEN: u64 = 32;

@@ -2,9 +2,11 @@
 //!
 //! **Cut array** (SVC chunks, field spheres): `count u32, root height u8, value format u8
 //! (0 f32, 1 f16, 2 u16, 3 u8, 4 u1), flags u8 (bit 0: an "inside the object" bit per cut
-//! follows), shape coding u8 (0 heights, 1 split flags)`, then `count + 1` u32 byte offsets into
-//! the cut bytes, then the bit set (`⌈count/8⌉` bytes, padded to 4), then the cuts, each in the
-//! codec of `vcut-cut`. Cut `i` is `cuts[offsets[i]..offsets[i+1]]`.
+//! follows), shape coding u8 (0 heights, 1 split flags)`; then one u32 byte offset into the cut
+//! area per block of 32 cuts and one for its end (`⌈count/32⌉ + 1`); then the bit set
+//! (`⌈count/8⌉` bytes, padded to 4); then the cut area: per cut its LEB128 byte length and its
+//! bytes in the codec of `vcut-cut`. A cut is found from its block's offset by skipping at most
+//! 31 lengths: 1–2 bytes per cut instead of a 4-byte offset each.
 //!
 //! **Directions**: `n u32`, then n × 3 f32 directions (generation order), then n f64 solid
 //! angles of their cells, then the direction tree's leaf order (n u32: the direction at each
@@ -41,6 +43,34 @@ fn format_of(code: u8) -> Option<ValueFormat> {
     })
 }
 
+/// Cuts per block of the cut array's offset index.
+pub const CUT_BLOCK: usize = 32;
+
+fn put_len(out: &mut Vec<u8>, mut x: usize) {
+    loop {
+        let b = (x & 0x7f) as u8;
+        x >>= 7;
+        if x == 0 {
+            out.push(b);
+            return;
+        }
+        out.push(b | 0x80);
+    }
+}
+
+/// A canonical LEB128 length at `at`: (value, bytes used).
+fn get_len(bytes: &[u8], at: usize) -> Option<(usize, usize)> {
+    let mut x = 0usize;
+    for i in 0..4 {
+        let b = *bytes.get(at + i)?;
+        x |= usize::from(b & 0x7f) << (7 * i);
+        if b & 0x80 == 0 {
+            return (b != 0 || i == 0).then_some((x, i + 1));
+        }
+    }
+    None
+}
+
 /// Builds a cut array payload from already encoded cuts.
 pub fn encode_cut_array(
     root_height: u32,
@@ -51,16 +81,22 @@ pub fn encode_cut_array(
 ) -> Vec<u8> {
     let n = cuts.len();
     let bits = inside.map_or(0, |_| n.div_ceil(8).div_ceil(4) * 4);
-    let total: usize = cuts.iter().map(Vec::len).sum();
-    let mut out = Vec::with_capacity(8 + 4 * (n + 1) + bits + total);
+    let mut area = Vec::with_capacity(cuts.iter().map(|c| c.len() + 2).sum());
+    let mut blocks = Vec::with_capacity(n.div_ceil(CUT_BLOCK) + 1);
+    for (i, c) in cuts.iter().enumerate() {
+        if i % CUT_BLOCK == 0 {
+            blocks.push(area.len() as u32);
+        }
+        put_len(&mut area, c.len());
+        area.extend_from_slice(c);
+    }
+    blocks.push(area.len() as u32);
+    let mut out = Vec::with_capacity(8 + 4 * blocks.len() + bits + area.len());
     out.extend_from_slice(&(n as u32).to_le_bytes());
     let coding_code = u8::from(coding == ShapeCoding::SplitFlags);
     out.extend_from_slice(&[root_height as u8, format_code(format), u8::from(inside.is_some()), coding_code]);
-    let mut at = 0u32;
-    out.extend_from_slice(&at.to_le_bytes());
-    for c in cuts {
-        at += c.len() as u32;
-        out.extend_from_slice(&at.to_le_bytes());
+    for b in blocks {
+        out.extend_from_slice(&b.to_le_bytes());
     }
     if let Some(inside) = inside {
         let mut set = vec![0u8; bits];
@@ -69,22 +105,22 @@ pub fn encode_cut_array(
         }
         out.extend_from_slice(&set);
     }
-    for c in cuts {
-        out.extend_from_slice(c);
-    }
+    out.extend_from_slice(&area);
     out
 }
 
 /// A parsed cut array: cuts are decoded on demand.
-#[derive(Debug, Clone, Copy)]
+#[derive(Debug, Clone)]
 pub struct CutArray<'a> {
     root_height: u32,
     format: ValueFormat,
     coding: ShapeCoding,
-    offsets: &'a [u8],
+    /// Start and length of every cut's bytes in `cuts`.
+    spans: Vec<(u32, u32)>,
     inside: Option<&'a [u8]>,
     cuts: &'a [u8],
     count: usize,
+    overhead: usize,
 }
 
 fn u32_at(b: &[u8], at: usize) -> u32 {
@@ -92,7 +128,8 @@ fn u32_at(b: &[u8], at: usize) -> u32 {
 }
 
 impl<'a> CutArray<'a> {
-    /// Parses the header and offsets (checked: monotone, within the payload).
+    /// Parses the header, the block offsets and every cut's length (checked: each block's
+    /// lengths end exactly at the next block's offset).
     pub fn parse(bytes: &'a [u8]) -> Result<CutArray<'a>, String> {
         if bytes.len() < 8 {
             return Err(format!("cut array of {} bytes, shorter than its 8-byte header", bytes.len()));
@@ -108,26 +145,44 @@ impl<'a> CutArray<'a> {
         if root_height > 20 || bytes[6] > 1 {
             return Err("malformed cut array header".into());
         }
-        let offsets_end = 8 + 4 * (count + 1);
+        let nblocks = count.div_ceil(CUT_BLOCK) + 1;
+        let blocks_end = 8 + 4 * nblocks;
         let bits = if bytes[6] == 1 { count.div_ceil(8).div_ceil(4) * 4 } else { 0 };
-        if bytes.len() < offsets_end + bits {
+        // Every cut takes at least 2 bytes (a length and a count), so a count beyond that is
+        // damage, caught before allocating for it.
+        if bytes.len() < blocks_end + bits || count > bytes.len() {
             return Err(format!("cut array of {count} cuts truncated: {} bytes", bytes.len()));
         }
-        let offsets = &bytes[8..offsets_end];
-        let cuts = &bytes[offsets_end + bits..];
-        let mut last = 0;
-        for i in 0..=count {
-            let o = u32_at(offsets, 4 * i) as usize;
-            if o < last || (i == 0 && o != 0) {
-                return Err(format!("cut offsets not increasing at cut {i}"));
+        let cuts = &bytes[blocks_end + bits..];
+        let block = |j: usize| u32_at(bytes, 8 + 4 * j) as usize;
+        if block(nblocks - 1) != cuts.len() {
+            return Err(format!("cut offsets end at {}, the cut bytes are {} long", block(nblocks - 1), cuts.len()));
+        }
+        let mut spans = Vec::with_capacity(count);
+        let mut at = 0usize;
+        let mut lengths = 0usize;
+        for i in 0..count {
+            if i % CUT_BLOCK == 0 && block(i / CUT_BLOCK) != at {
+                return Err(format!("block offset of cut {i} is {}, its bytes start at {at}", block(i / CUT_BLOCK)));
             }
-            last = o;
+            let (len, used) = get_len(cuts, at).ok_or_else(|| format!("cut {i}: malformed length"))?;
+            at += used;
+            lengths += used;
+            spans.push((at as u32, len as u32));
+            at =
+                at.checked_add(len).filter(|&e| e <= cuts.len()).ok_or_else(|| format!("cut {i} runs past the end"))?;
         }
-        if last != cuts.len() {
-            return Err(format!("cut offsets end at {last}, the cut bytes are {} long", cuts.len()));
+        if at != cuts.len() {
+            return Err(format!("cuts end at {at}, the cut bytes are {} long", cuts.len()));
         }
-        let inside = (bits > 0).then(|| &bytes[offsets_end..offsets_end + bits]);
-        Ok(CutArray { root_height, format, coding, offsets, inside, cuts, count })
+        let inside = (bits > 0).then(|| &bytes[blocks_end..blocks_end + bits]);
+        let overhead = blocks_end + bits + lengths;
+        Ok(CutArray { root_height, format, coding, spans, inside, cuts, count, overhead })
+    }
+
+    /// Bytes of the payload that are not cut bytes (header, block offsets, inside bits, lengths).
+    pub fn overhead(&self) -> usize {
+        self.overhead
     }
 
     /// Number of cuts.
@@ -157,8 +212,8 @@ impl<'a> CutArray<'a> {
 
     /// The encoded bytes of cut `i` (`i < len`).
     pub fn cut_bytes(&self, i: usize) -> &'a [u8] {
-        let (a, b) = (u32_at(self.offsets, 4 * i) as usize, u32_at(self.offsets, 4 * i + 4) as usize);
-        &self.cuts[a..b]
+        let (start, len) = self.spans[i];
+        &self.cuts[start as usize..(start + len) as usize]
     }
 
     /// Decodes cut `i` (`i < len`).
@@ -396,6 +451,40 @@ mod tests {
             (a.coding(), a.cut(0).unwrap(), a.cut(1).unwrap()),
             (ShapeCoding::SplitFlags, cuts[0].clone(), cuts[1].clone())
         );
+    }
+
+    #[test]
+    fn many_cuts_across_blocks_with_long_lengths() {
+        // 100 cuts over 4 blocks; leaf-level cuts of 2^7 f32 values exceed 127 bytes (2-byte lengths).
+        let cuts: Vec<Cut> = (0..100u32)
+            .map(|i| {
+                if i % 3 == 0 {
+                    Cut::from_leaves(7, (0..128).map(|k| ((k * i) % 7) as f32).collect()).unwrap()
+                } else {
+                    Cut::root(7, i as f32).unwrap()
+                }
+            })
+            .collect();
+        let enc: Vec<Vec<u8>> = cuts.iter().map(|c| codec::encode_heights(c, ValueFormat::F32).unwrap()).collect();
+        let inside: Vec<bool> = (0..100).map(|i| i % 7 == 0).collect();
+        let payload = encode_cut_array(7, ValueFormat::F32, ShapeCoding::Heights, &enc, Some(&inside));
+        let a = CutArray::parse(&payload).unwrap();
+        for (i, c) in cuts.iter().enumerate() {
+            assert_eq!(&a.cut(i).unwrap(), c);
+            assert_eq!(a.inside(i), inside[i]);
+        }
+        let stored: usize = enc.iter().map(Vec::len).sum();
+        assert_eq!(a.overhead() + stored, payload.len());
+        // Damage to any block offset or length is caught at parse, never a panic.
+        for at in 8..payload.len().min(400) {
+            let mut bad = payload.clone();
+            bad[at] ^= 0x81;
+            if let Ok(a) = CutArray::parse(&bad) {
+                for i in 0..a.len() {
+                    let _ = a.cut(i);
+                }
+            }
+        }
     }
 
     #[test]

@@ -219,6 +219,19 @@ impl RawMeter {
         self.rays += rays.len() as u64;
     }
 
+    /// Measures the rays of every sample point, in batches of about 256k rays (bounded memory).
+    fn measure_all(&mut self, occ: &Occluder, points: impl Iterator<Item = Vec<(Vec3, Vec3)>>) {
+        let mut batch = Vec::new();
+        for rays in points {
+            batch.extend(rays);
+            if batch.len() >= 1 << 18 {
+                self.measure(occ, &batch);
+                batch.clear();
+            }
+        }
+        self.measure(occ, &batch);
+    }
+
     fn rate(&self) -> f64 {
         if self.seconds > 0.0 { self.rays as f64 / self.seconds } else { 0.0 }
     }
@@ -402,14 +415,13 @@ pub fn precompute(job: &Job<'_>, progress: &dyn Progress, interrupt: &AtomicBool
             svc.compute_seconds += c0.elapsed().as_secs_f64();
             svc.computed += 1;
             progress.section(id, false);
-            let sample: Vec<(Vec3, Vec3)> = (start..end)
-                .step_by(RAW_STRIDE)
-                .flat_map(|v| {
+            raw.measure_all(
+                occ,
+                (start..end).step_by(RAW_STRIDE).map(|v| {
                     let (pos, nrm) = (o.mesh.positions()[v], o.mesh.normals()[v]);
                     svc_rays(&tree, pos + nrm * offset, nrm)
-                })
-                .collect();
-            raw.measure(occ, &sample);
+                }),
+            );
         }
     }
     progress.end_stage();
@@ -461,12 +473,13 @@ pub fn precompute(job: &Job<'_>, progress: &dyn Progress, interrupt: &AtomicBool
             fields.compute_seconds += c0.elapsed().as_secs_f64();
             fields.computed += 1;
             progress.section(id, false);
-            let sample: Vec<(Vec3, Vec3)> = (0..l.points_per_sphere())
-                .step_by(RAW_STRIDE)
-                .filter(|&k| !sc.inside[k])
-                .flat_map(|k| field_rays(&tree, l.point(s, k as u32), &l))
-                .collect();
-            raw.measure(occ, &sample);
+            raw.measure_all(
+                occ,
+                (0..l.points_per_sphere())
+                    .step_by(RAW_STRIDE)
+                    .filter(|&k| !sc.inside[k])
+                    .map(|k| field_rays(&tree, l.point(s, k as u32), &l)),
+            );
         }
     }
     progress.end_stage();
@@ -503,8 +516,8 @@ pub fn cut_sizes(path: &Path) -> Result<Vec<CutSizes>, FileError> {
         let s = &mut out[k];
         s.sections += 1;
         s.bytes += bytes.len() as u64;
-        // Same header and offsets, then per cut its own coding.
-        let fixed = (8 + 4 * (a.len() + 1)) as u64;
+        // Same container (header, offsets, lengths), then per cut its own coding.
+        let fixed = a.overhead() as u64;
         s.index_baseline_bytes += fixed;
         s.heights_codec_bytes += fixed;
         for c in 0..a.len() {
