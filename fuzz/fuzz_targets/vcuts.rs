@@ -13,7 +13,7 @@ fuzz_target!(|data: &[u8]| {
     match mode % 5 {
         // Payload parsers directly, so the fuzzer need not forge CRCs to reach them.
         0 => {
-            if let Ok(a) = sections::CutArray::parse(rest) {
+            if let Ok(a) = sections::CutArray::parse(rest.to_vec()) {
                 for i in 0..a.len().min(64) {
                     if let Ok(c) = a.cut(i) {
                         assert!(c.validate().is_ok());
@@ -38,7 +38,7 @@ fuzz_target!(|data: &[u8]| {
                 for id in ids {
                     if let Ok(bytes) = r.section(id) {
                         if matches!(id.kind, SectionKind::Svc | SectionKind::Field) {
-                            if let Ok(a) = sections::CutArray::parse(&bytes) {
+                            if let Ok(a) = sections::CutArray::parse(bytes) {
                                 for i in 0..a.len().min(16) {
                                     let _ = a.cut(i);
                                 }

@@ -77,9 +77,11 @@ impl Precomputed {
         &mut self.reader
     }
 
-    fn cut_array(&mut self, id: SectionId, expect: Option<usize>) -> Result<(Vec<Cut>, Vec<bool>), FileError> {
+    /// The cut array of section `id`, checked against the file's root height and, if given,
+    /// its expected cut count.
+    pub fn cut_array(&mut self, id: SectionId, expect: Option<usize>) -> Result<CutArray, FileError> {
         let bytes = self.reader.section(id)?;
-        let a = CutArray::parse(&bytes).map_err(|e| self.reader.section_error(id, e))?;
+        let a = CutArray::parse(bytes).map_err(|e| self.reader.section_error(id, e))?;
         if a.root_height() != self.root_height() {
             let reason =
                 format!("cuts of root height {}, the file has {} directions", a.root_height(), self.directions.len());
@@ -88,11 +90,43 @@ impl Precomputed {
         if let Some(n) = expect.filter(|&n| n != a.len()) {
             return Err(self.reader.section_error(id, format!("{} cuts, expected {n}", a.len())));
         }
+        Ok(a)
+    }
+
+    fn decoded(&mut self, id: SectionId, expect: Option<usize>) -> Result<(Vec<Cut>, Vec<bool>), FileError> {
+        let a = self.cut_array(id, expect)?;
         let cuts = (0..a.len())
             .map(|i| a.cut(i))
             .collect::<Result<Vec<_>, _>>()
             .map_err(|e| self.reader.section_error(id, e))?;
         Ok((cuts, (0..a.len()).map(|i| a.inside(i)).collect()))
+    }
+
+    /// The SVC arrays of object `object`, chunk by chunk (encoded; decode cuts on demand).
+    pub fn svc_arrays(&mut self, object: usize) -> Result<Vec<CutArray>, FileError> {
+        let mut out = Vec::new();
+        for chunk in 0.. {
+            let id = SectionId::new(SectionKind::Svc, object as u32, chunk);
+            if !self.reader.has(id) {
+                break;
+            }
+            out.push(self.cut_array(id, None)?);
+        }
+        let got: usize = out.iter().map(CutArray::len).sum();
+        let want = self.objects.get(object).map_or(0, |o| o.mesh.vertex_count());
+        if got != want {
+            let id = SectionId::new(SectionKind::Svc, object as u32, 0);
+            return Err(self.reader.section_error(id, format!("{got} SVCs for {want} vertices")));
+        }
+        Ok(out)
+    }
+
+    /// The field arrays of object `object`, one per sphere (encoded).
+    pub fn field_arrays(&mut self, object: usize) -> Result<Vec<CutArray>, FileError> {
+        let Some(l) = self.layouts.get(object).copied().flatten() else { return Ok(Vec::new()) };
+        (0..l.spheres)
+            .map(|s| self.cut_array(SectionId::new(SectionKind::Field, object as u32, s), Some(l.points_per_sphere())))
+            .collect()
     }
 
     /// Every SVC of object `object`, in vertex order (all its chunks).
@@ -103,7 +137,7 @@ impl Precomputed {
             if !self.reader.has(id) {
                 break;
             }
-            out.extend(self.cut_array(id, None)?.0);
+            out.extend(self.decoded(id, None)?.0);
         }
         let want = self.objects.get(object).map_or(0, |o| o.mesh.vertex_count());
         if out.len() != want {
@@ -120,6 +154,6 @@ impl Precomputed {
         if n.is_none() {
             return Err(FileError::Missing { path: self.reader.path().into(), section: id.to_string() });
         }
-        self.cut_array(id, n)
+        self.decoded(id, n)
     }
 }

@@ -109,16 +109,17 @@ pub fn encode_cut_array(
     out
 }
 
-/// A parsed cut array: cuts are decoded on demand.
+/// A parsed cut array owning its payload: cuts are decoded on demand.
 #[derive(Debug, Clone)]
-pub struct CutArray<'a> {
+pub struct CutArray {
     root_height: u32,
     format: ValueFormat,
     coding: ShapeCoding,
-    /// Start and length of every cut's bytes in `cuts`.
+    /// Start and length of every cut's bytes in `payload`.
     spans: Vec<(u32, u32)>,
-    inside: Option<&'a [u8]>,
-    cuts: &'a [u8],
+    /// Where the inside bits are in `payload`, if any.
+    inside: Option<std::ops::Range<usize>>,
+    payload: Vec<u8>,
     count: usize,
     overhead: usize,
 }
@@ -127,10 +128,11 @@ fn u32_at(b: &[u8], at: usize) -> u32 {
     u32::from_le_bytes([b[at], b[at + 1], b[at + 2], b[at + 3]])
 }
 
-impl<'a> CutArray<'a> {
+impl CutArray {
     /// Parses the header, the block offsets and every cut's length (checked: each block's
     /// lengths end exactly at the next block's offset).
-    pub fn parse(bytes: &'a [u8]) -> Result<CutArray<'a>, String> {
+    pub fn parse(payload: Vec<u8>) -> Result<CutArray, String> {
+        let bytes = payload.as_slice();
         if bytes.len() < 8 {
             return Err(format!("cut array of {} bytes, shorter than its 8-byte header", bytes.len()));
         }
@@ -168,16 +170,16 @@ impl<'a> CutArray<'a> {
             let (len, used) = get_len(cuts, at).ok_or_else(|| format!("cut {i}: malformed length"))?;
             at += used;
             lengths += used;
-            spans.push((at as u32, len as u32));
+            spans.push(((blocks_end + bits + at) as u32, len as u32));
             at =
                 at.checked_add(len).filter(|&e| e <= cuts.len()).ok_or_else(|| format!("cut {i} runs past the end"))?;
         }
         if at != cuts.len() {
             return Err(format!("cuts end at {at}, the cut bytes are {} long", cuts.len()));
         }
-        let inside = (bits > 0).then(|| &bytes[blocks_end..blocks_end + bits]);
+        let inside = (bits > 0).then_some(blocks_end..blocks_end + bits);
         let overhead = blocks_end + bits + lengths;
-        Ok(CutArray { root_height, format, coding, spans, inside, cuts, count, overhead })
+        Ok(CutArray { root_height, format, coding, spans, inside, payload, count, overhead })
     }
 
     /// Bytes of the payload that are not cut bytes (header, block offsets, inside bits, lengths).
@@ -211,9 +213,9 @@ impl<'a> CutArray<'a> {
     }
 
     /// The encoded bytes of cut `i` (`i < len`).
-    pub fn cut_bytes(&self, i: usize) -> &'a [u8] {
+    pub fn cut_bytes(&self, i: usize) -> &[u8] {
         let (start, len) = self.spans[i];
-        &self.cuts[start as usize..(start + len) as usize]
+        &self.payload[start as usize..(start + len) as usize]
     }
 
     /// Decodes cut `i` (`i < len`).
@@ -228,7 +230,7 @@ impl<'a> CutArray<'a> {
 
     /// Whether sample `i` lies inside the object (field arrays; `false` elsewhere).
     pub fn inside(&self, i: usize) -> bool {
-        self.inside.is_some_and(|b| b[i / 8] >> (i % 8) & 1 == 1)
+        self.inside.as_ref().is_some_and(|r| self.payload[r.start + i / 8] >> (i % 8) & 1 == 1)
     }
 }
 
@@ -427,14 +429,14 @@ mod tests {
         ];
         let enc: Vec<Vec<u8>> = cuts.iter().map(|c| codec::encode_heights(c, ValueFormat::F16).unwrap()).collect();
         let payload = encode_cut_array(3, ValueFormat::F16, ShapeCoding::Heights, &enc, Some(&[false, true]));
-        let a = CutArray::parse(&payload).unwrap();
+        let a = CutArray::parse(payload.clone()).unwrap();
         assert_eq!((a.len(), a.root_height(), a.format()), (2, 3, ValueFormat::F16));
         assert_eq!(a.cut(0).unwrap(), cuts[0]);
         assert_eq!(a.cut(1).unwrap(), cuts[1]);
         assert_eq!((a.node_count(0).unwrap(), a.node_count(1).unwrap()), (4, 1));
         assert!(!a.inside(0) && a.inside(1));
         for cut in 0..payload.len() {
-            if let Ok(a) = CutArray::parse(&payload[..cut]) {
+            if let Ok(a) = CutArray::parse(payload[..cut].to_vec()) {
                 for i in 0..a.len() {
                     let _ = a.cut(i);
                 }
@@ -442,11 +444,11 @@ mod tests {
         }
         let mut bad = payload.clone();
         bad[12] = 200;
-        assert!(CutArray::parse(&bad).is_err());
+        assert!(CutArray::parse(bad.clone()).is_err());
         // Split flags and one-bit values.
         let enc: Vec<Vec<u8>> = cuts.iter().map(|c| codec::encode_split_flags(c, ValueFormat::U1).unwrap()).collect();
         let payload = encode_cut_array(3, ValueFormat::U1, ShapeCoding::SplitFlags, &enc, None);
-        let a = CutArray::parse(&payload).unwrap();
+        let a = CutArray::parse(payload.clone()).unwrap();
         assert_eq!(
             (a.coding(), a.cut(0).unwrap(), a.cut(1).unwrap()),
             (ShapeCoding::SplitFlags, cuts[0].clone(), cuts[1].clone())
@@ -468,7 +470,7 @@ mod tests {
         let enc: Vec<Vec<u8>> = cuts.iter().map(|c| codec::encode_heights(c, ValueFormat::F32).unwrap()).collect();
         let inside: Vec<bool> = (0..100).map(|i| i % 7 == 0).collect();
         let payload = encode_cut_array(7, ValueFormat::F32, ShapeCoding::Heights, &enc, Some(&inside));
-        let a = CutArray::parse(&payload).unwrap();
+        let a = CutArray::parse(payload.clone()).unwrap();
         for (i, c) in cuts.iter().enumerate() {
             assert_eq!(&a.cut(i).unwrap(), c);
             assert_eq!(a.inside(i), inside[i]);
@@ -479,7 +481,7 @@ mod tests {
         for at in 8..payload.len().min(400) {
             let mut bad = payload.clone();
             bad[at] ^= 0x81;
-            if let Ok(a) = CutArray::parse(&bad) {
+            if let Ok(a) = CutArray::parse(bad.clone()) {
                 for i in 0..a.len() {
                     let _ = a.cut(i);
                 }

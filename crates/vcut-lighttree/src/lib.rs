@@ -473,9 +473,17 @@ impl LightTreeBuilder {
 
     /// Fast build, in parallel: each texel centre (after the map's rotation) to its nearest
     /// leaf — through the per-row sub-column assignment when the map is lat-long and rotated
-    /// only about +Y (the interactive case), through the cube table otherwise.
+    /// only about +Y (the interactive case), through the cube table otherwise. A map with fewer
+    /// than 8 texels per leaf (texels as large as cells, e.g. a constant map) is binned exactly
+    /// instead, in sub-texel patches numerous enough for 32 per leaf: binning whole texels
+    /// would pour each one into a single leaf.
     pub fn build(&mut self, map: &EnvMap) -> LightTree {
         let layout = map.layout();
+        let texels = layout.texel_count();
+        if texels < 8 * self.leaves {
+            let k = ((32.0 * self.leaves as f64 / texels.max(1) as f64).sqrt().ceil() as u32).max(1);
+            return self.build_exact(map, k);
+        }
         let q = map.rotation();
         if let Layout::LatLong { width, height } = layout {
             if q.x.abs() < 1e-7 && q.z.abs() < 1e-7 {
@@ -531,6 +539,31 @@ impl LightTreeBuilder {
             }
         };
         self.sum_partials(&partials)
+    }
+}
+
+#[cfg(test)]
+mod coarse_map_tests {
+    use super::*;
+
+    #[test]
+    fn a_constant_map_gives_every_leaf_its_cell_share() {
+        let dirs: Vec<glam::Vec3> = (0..1024)
+            .map(|i| {
+                let z = 1.0 - (2 * i + 1) as f32 / 1024.0;
+                let p = i as f32 * std::f32::consts::PI * (3.0 - 5.0f32.sqrt());
+                let r = (1.0 - z * z).sqrt();
+                glam::Vec3::new(r * p.cos(), z, r * p.sin())
+            })
+            .collect();
+        let areas = vec![4.0 * std::f64::consts::PI / 1024.0; 1024];
+        let tree = DirectionTree::build(&dirs, &areas).unwrap();
+        let light = LightTreeBuilder::new(&tree).build(&EnvMap::constant([2.0; 3]));
+        // Any subtree of 64 leaves holds 2 × its solid angle within 3 %.
+        for k in (63..127).step_by(7) {
+            let want = 2.0 * tree.solid_angle(k);
+            assert!((light.node(k)[0] - want).abs() < 0.03 * want, "node {k}: {} vs {want}", light.node(k)[0]);
+        }
     }
 }
 

@@ -512,10 +512,11 @@ pub fn cut_sizes(path: &Path) -> Result<Vec<CutSizes>, FileError> {
             _ => continue,
         };
         let bytes = r.section(id)?;
-        let a = sections::CutArray::parse(&bytes).map_err(|e| r.section_error(id, e))?;
+        let payload_len = bytes.len() as u64;
+        let a = sections::CutArray::parse(bytes).map_err(|e| r.section_error(id, e))?;
         let s = &mut out[k];
         s.sections += 1;
-        s.bytes += bytes.len() as u64;
+        s.bytes += payload_len;
         // Same container (header, offsets, lengths), then per cut its own coding.
         let fixed = a.overhead() as u64;
         s.index_baseline_bytes += fixed;

@@ -1,0 +1,286 @@
+//! The frame loop of the paper, with caching: per vertex the SVC times the fields of the
+//! objects that can move relative to it, interpolated from 8 samples each, merged once and kept;
+//! a move re-merges only the vertices whose field inputs changed; BRDF, camera and lighting
+//! edits only re-shade.
+//!
+//! **Which fields a vertex uses.** Object j's field shadows a vertex of object o (o ≠ j) when
+//! j has a field and o or j is movable (static–static shadows are baked into the SVCs). Within
+//! 0.2r of j's centre the lookup clamps to the innermost sphere; beyond 10r j casts no shadow
+//! (its bounding cone there covers under 0.25 % of the sphere); samples inside j are dropped and
+//! the rest renormalised, and a vertex whose 8 samples are all inside j is fully occluded.
+
+use crate::brdf;
+use glam::Vec3;
+use rayon::prelude::*;
+use vcut_cut::Cut;
+use vcut_data::sections::CutArray;
+use vcut_data::{FieldLayout, FieldSample, FileError, Precomputed};
+use vcut_dirtree::DirectionTree;
+use vcut_envmap::EnvMap;
+use vcut_lighttree::{LightTree, LightTreeBuilder};
+use vcut_merge::{Group, MergedCut, merge};
+use vcut_scene::{Material, Mesh, Motion};
+
+/// Why a frame could not be set up.
+#[derive(Debug, thiserror::Error)]
+pub enum FrameError {
+    /// The precomputed data is unreadable.
+    #[error(transparent)]
+    File(#[from] FileError),
+    /// A cut in the data does not decode or merge.
+    #[error("object {object}, vertex {vertex}: {reason}")]
+    Cut {
+        /// Object index.
+        object: usize,
+        /// Vertex index.
+        vertex: usize,
+        /// What failed.
+        reason: String,
+    },
+}
+
+/// One field's contribution to a vertex: the object, and its 8 samples (`None`: all inside it,
+/// the vertex is fully occluded).
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct FieldKey {
+    object: u32,
+    samples: Option<[FieldSample; 8]>,
+}
+
+/// An object at run time.
+struct ObjectState {
+    name: String,
+    mesh: Mesh,
+    material: Material,
+    motion: Motion,
+    translation: Vec3,
+    svc: Vec<CutArray>,
+    /// First vertex of every SVC chunk.
+    svc_starts: Vec<usize>,
+    layout: Option<FieldLayout>,
+    field: Vec<CutArray>,
+    merged: Vec<MergedCut>,
+    keys: Vec<Vec<FieldKey>>,
+}
+
+impl ObjectState {
+    fn svc_cut(&self, v: usize) -> Result<Cut, String> {
+        let chunk = self.svc_starts.partition_point(|&s| s <= v) - 1;
+        self.svc[chunk].cut(v - self.svc_starts[chunk])
+    }
+}
+
+/// The scene at run time: translations, materials, lighting, and the merged cuts.
+pub struct Frame {
+    tree: DirectionTree,
+    objects: Vec<ObjectState>,
+    builder: LightTreeBuilder,
+    light: LightTree,
+    merges: u64,
+}
+
+impl Frame {
+    /// Reads everything from `data`, builds the light tree of `env`, and merges every vertex.
+    pub fn new(data: &mut Precomputed, env: &EnvMap) -> Result<Frame, FrameError> {
+        let tree = data.tree()?;
+        let mut objects = Vec::new();
+        for o in 0..data.objects.len() {
+            let svc = data.svc_arrays(o)?;
+            let mut svc_starts = vec![0];
+            for a in &svc {
+                svc_starts.push(svc_starts.last().copied().unwrap_or(0) + a.len());
+            }
+            let stored = &data.objects[o];
+            objects.push(ObjectState {
+                name: stored.name.clone(),
+                mesh: stored.mesh.clone(),
+                material: stored.material,
+                motion: stored.motion,
+                translation: Vec3::ZERO,
+                svc,
+                svc_starts,
+                layout: data.layouts[o],
+                field: data.field_arrays(o)?,
+                merged: Vec::new(),
+                keys: Vec::new(),
+            });
+        }
+        let mut builder = LightTreeBuilder::new(&tree);
+        let light = builder.build(env);
+        let mut frame = Frame { tree, objects, builder, light, merges: 0 };
+        for o in 0..frame.objects.len() {
+            let n = frame.objects[o].mesh.vertex_count();
+            let keys: Vec<Vec<FieldKey>> = (0..n).map(|v| frame.keys(o, v)).collect();
+            let merged = frame.merge_all(o, &keys, &(0..n).collect::<Vec<_>>())?;
+            frame.objects[o].keys = keys;
+            frame.objects[o].merged = merged.into_iter().map(|(_, m)| m).collect();
+        }
+        Ok(frame)
+    }
+
+    /// The direction tree.
+    pub fn tree(&self) -> &DirectionTree {
+        &self.tree
+    }
+
+    /// The light tree in use.
+    pub fn light(&self) -> &LightTree {
+        &self.light
+    }
+
+    /// Number of objects.
+    pub fn object_count(&self) -> usize {
+        self.objects.len()
+    }
+
+    /// Index of the object called `name`.
+    pub fn object_index(&self, name: &str) -> Option<usize> {
+        self.objects.iter().position(|o| o.name == name)
+    }
+
+    /// Object `o`'s name, mesh at rest, material, motion and translation.
+    pub fn object(&self, o: usize) -> (&str, &Mesh, &Material, Motion, Vec3) {
+        let s = &self.objects[o];
+        (&s.name, &s.mesh, &s.material, s.motion, s.translation)
+    }
+
+    /// Merges performed so far (every vertex once at setup, then only what moves changed).
+    pub fn merges(&self) -> u64 {
+        self.merges
+    }
+
+    /// The merged cut of vertex `v` of object `o`.
+    pub fn merged(&self, o: usize, v: usize) -> &MergedCut {
+        &self.objects[o].merged[v]
+    }
+
+    /// The field inputs of vertex `v` of object `o` at the current translations.
+    fn keys(&self, o: usize, v: usize) -> Vec<FieldKey> {
+        let me = &self.objects[o];
+        let p = me.mesh.positions()[v] + me.translation;
+        let mut keys = Vec::new();
+        for (j, other) in self.objects.iter().enumerate() {
+            let Some(layout) = other.layout else { continue };
+            if j == o || (me.motion == Motion::Static && other.motion == Motion::Static) {
+                continue;
+            }
+            let Some(mut samples) = layout.lookup(p - other.translation) else { continue };
+            let kept =
+                FieldLayout::drop_inside(&mut samples, |x| other.field[x.sphere as usize].inside(x.point as usize));
+            keys.push(FieldKey { object: j as u32, samples: (kept > 0).then_some(samples) });
+        }
+        keys
+    }
+
+    /// Merges the given vertices of object `o` with their keys, in parallel.
+    fn merge_all(
+        &self,
+        o: usize,
+        keys: &[Vec<FieldKey>],
+        vertices: &[usize],
+    ) -> Result<Vec<(usize, MergedCut)>, FrameError> {
+        let me = &self.objects[o];
+        let h = self.tree.height();
+        vertices
+            .par_iter()
+            .map(|&v| {
+                let err = |reason: String| FrameError::Cut { object: o, vertex: v, reason };
+                let mut out = MergedCut::default();
+                if keys[v].iter().any(|k| k.samples.is_none()) {
+                    out.root_height = h;
+                    out.heights.push(h as u8);
+                    out.values.push(0.0);
+                    out.indices.push(0);
+                    return Ok((v, out));
+                }
+                let svc = me.svc_cut(v).map_err(err)?;
+                let fields: Vec<(Vec<Cut>, Vec<f32>)> = keys[v]
+                    .iter()
+                    .map(|k| {
+                        let samples = k.samples.unwrap_or_else(|| unreachable!("handled above"));
+                        let arrays = &self.objects[k.object as usize].field;
+                        let cuts = samples
+                            .iter()
+                            .map(|x| arrays[x.sphere as usize].cut(x.point as usize))
+                            .collect::<Result<Vec<_>, _>>()?;
+                        Ok((cuts, samples.iter().map(|x| x.weight).collect()))
+                    })
+                    .collect::<Result<_, String>>()
+                    .map_err(err)?;
+                let refs: Vec<Vec<&Cut>> = fields.iter().map(|(c, _)| c.iter().collect()).collect();
+                let svc_ref = &svc;
+                let mut groups = vec![Group::single(&svc_ref)];
+                groups.extend(refs.iter().zip(&fields).map(|(r, (_, w))| Group { cuts: r, weights: w }));
+                merge(&groups, &mut out).map_err(|e| err(e.to_string()))?;
+                Ok((v, out))
+            })
+            .collect()
+    }
+
+    /// Moves object `o` to `translation` (from its rest position) and re-merges the vertices
+    /// whose field inputs changed: its own, and other objects' vertices near it. Returns how
+    /// many vertices were merged.
+    pub fn translate(&mut self, o: usize, translation: Vec3) -> Result<usize, FrameError> {
+        self.objects[o].translation = translation;
+        let mut total = 0;
+        for k in 0..self.objects.len() {
+            let n = self.objects[k].mesh.vertex_count();
+            let new_keys: Vec<Vec<FieldKey>> = (0..n).into_par_iter().map(|v| self.keys(k, v)).collect();
+            let changed: Vec<usize> = (0..n).filter(|&v| new_keys[v] != self.objects[k].keys[v]).collect();
+            let merged = self.merge_all(k, &new_keys, &changed)?;
+            total += merged.len();
+            let state = &mut self.objects[k];
+            for (v, m) in merged {
+                state.merged[v] = m;
+            }
+            state.keys = new_keys;
+        }
+        self.merges += total as u64;
+        Ok(total)
+    }
+
+    /// Changes object `o`'s material (no merge).
+    pub fn set_material(&mut self, o: usize, material: Material) {
+        self.objects[o].material = material;
+    }
+
+    /// Rebuilds the light tree for a new or rotated environment (no merge).
+    pub fn set_environment(&mut self, env: &EnvMap) {
+        self.light = self.builder.build(env);
+    }
+
+    /// World positions of object `o`'s vertices at its current translation.
+    pub fn positions(&self, o: usize) -> Vec<Vec3> {
+        let s = &self.objects[o];
+        s.mesh.positions().iter().map(|&p| p + s.translation).collect()
+    }
+
+    /// Outgoing radiance toward `eye` of every vertex of every object:
+    /// B = Σ_k v_k f_r(ω_k, ω_o) l_k over its merged cut, ω_k the node's mean direction.
+    pub fn shade(&self, eye: Vec3) -> Vec<Vec<Vec3>> {
+        let dirs = self.tree.mean_directions();
+        self.objects
+            .iter()
+            .map(|s| {
+                s.merged
+                    .par_iter()
+                    .enumerate()
+                    .map(|(v, cut)| {
+                        let x = s.mesh.positions()[v] + s.translation;
+                        let n = s.mesh.normals()[v];
+                        let wo = (eye - x).normalize_or_zero();
+                        let mut b = Vec3::ZERO;
+                        for (&k, &val) in cut.indices.iter().zip(&cut.values) {
+                            if val == 0.0 {
+                                continue;
+                            }
+                            let l = Vec3::from(self.light.node_f32(k));
+                            b += val * brdf::eval(&s.material, n, dirs[k as usize], wo) * l;
+                        }
+                        b
+                    })
+                    .collect()
+            })
+            .collect()
+    }
+}

@@ -1,0 +1,31 @@
+//! Run-time shading from precomputed visibility cuts.
+//!
+//! - [`brdf`]: Lambert, normalised Blinn-Phong and Phong, and GGX, evaluated at run time from a
+//!   `vcut_scene::Material` (never precomputed: materials are edited live).
+//! - [`frame::Frame`]: the scene at run time — per vertex the SVC × the interpolated fields of
+//!   the objects that can move relative to it, merged (`vcut-merge`) and cached; moves re-merge
+//!   only the vertices whose field inputs changed; B = Σ_k v_k f_r(ω_k, ω_o) l_k with l_k from
+//!   the light tree at the merged node's level-order index.
+//! - [`reference`]: the exact-direction reference and its error metrics.
+//!
+//! # Invariants
+//! Merged cuts depend only on translations: moving an object back restores them bit for bit, and
+//! BRDF, camera and lighting edits never merge. This crate draws no pixels; images come later.
+//!
+//! # Example
+//! ```no_run
+//! use vcut_data::Precomputed;
+//! use vcut_shade::frame::Frame;
+//! let mut data = Precomputed::open(std::path::Path::new("target/vcuts/teapot-fast.vcuts")).unwrap();
+//! let sky = vcut_envmap::procedural::PreethamSky::default().bake(512);
+//! let mut frame = Frame::new(&mut data, &sky).unwrap();
+//! let teapot = frame.object_index("teapot").unwrap();
+//! frame.translate(teapot, glam::Vec3::new(1.0, 0.0, 0.0)).unwrap();
+//! let radiance = frame.shade(glam::Vec3::new(5.0, 6.0, 10.0));
+//! ```
+
+pub mod brdf;
+pub mod frame;
+pub mod reference;
+
+pub use frame::{Frame, FrameError};

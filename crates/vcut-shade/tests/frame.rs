@@ -1,0 +1,151 @@
+//! The frame loop against analytic results and the exact-direction reference, and its caching.
+
+use glam::Vec3;
+use std::path::{Path, PathBuf};
+use std::sync::atomic::AtomicBool;
+use vcut_data::Precomputed;
+use vcut_envmap::EnvMap;
+use vcut_precompute::PrecomputeParams;
+use vcut_precompute::run::{Job, NoProgress, precompute};
+use vcut_scene::{Material, Scene, SceneDesc};
+use vcut_shade::Frame;
+use vcut_shade::reference::{errors, exact_direction};
+
+const BALL_ABOVE_GROUND: &str = r#"
+[[object]]
+name = "ground"
+source = "builtin:plane"
+size = 4.0
+resolution = 12
+material = { model = "lambert", kd = [0.5, 0.5, 0.5] }
+
+[[object]]
+name = "ball"
+source = "builtin:sphere"
+size = 0.5
+resolution = 10
+translation = [0.0, 0.8, 0.0]
+moves = true
+material = { model = "blinn-phong", kd = [0.3, 0.3, 0.3], ks = [0.3, 0.3, 0.3], exponent = 15.0 }
+"#;
+
+fn scratch(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("vcut-shade-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+fn data(text: &str, params: &[(&str, &str)], out: &Path) -> Precomputed {
+    let file = Path::new("test.toml");
+    let scene: Scene = SceneDesc::parse(text, file).unwrap().instantiate(Path::new("."), file).unwrap();
+    let mut p = PrecomputeParams::fast();
+    for (k, v) in [("directions", "1024"), ("field_spheres", "12"), ("field_resolution", "8")].iter().chain(params) {
+        p.set(k, v).unwrap();
+    }
+    let job = Job {
+        scene: &scene,
+        scene_source: "test.toml".into(),
+        environment: "constant".into(),
+        params: p,
+        cache_dir: None,
+        output: out.into(),
+    };
+    precompute(&job, &NoProgress, &AtomicBool::new(false)).unwrap();
+    Precomputed::open(out).unwrap()
+}
+
+const EYE: Vec3 = Vec3::new(3.0, 4.0, 5.0);
+
+#[test]
+fn an_unoccluded_lambert_object_under_constant_light_is_its_albedo() {
+    let dir = scratch("lambert");
+    let text = "[[object]]\nsource = \"builtin:sphere\"\nresolution = 10\nmaterial = { model = \"lambert\", kd = [0.5, 0.25, 1.0] }\n";
+    let mut d = data(text, &[], &dir.join("a.vcuts"));
+    let frame = Frame::new(&mut d, &EnvMap::constant([2.0; 3])).unwrap();
+    // B = kd/π · L · ∫ max(0, n·ω) dω = kd · L; within 2 % (1,024 directions: the light tree
+    // bins sub-texel patches to their nearest leaf, and cut nodes straddle the horizon).
+    let mesh = frame.object(0).1;
+    for (v, b) in frame.shade(EYE)[0].iter().enumerate() {
+        if mesh.normals()[v].dot(EYE - mesh.positions()[v]) <= 0.0 {
+            assert_eq!(*b, Vec3::ZERO, "no radiance leaves a surface away from the eye");
+            continue;
+        }
+        let want = Vec3::new(0.5, 0.25, 1.0) * 2.0;
+        assert!((*b - want).abs().max_element() < 0.02 * want.max_element(), "{b} vs {want}");
+    }
+}
+
+#[test]
+fn moves_re_merge_only_what_changed_and_edits_never_merge() {
+    let dir = scratch("moves");
+    let mut d = data(BALL_ABOVE_GROUND, &[], &dir.join("b.vcuts"));
+    let env = EnvMap::constant([1.0; 3]);
+    let mut frame = Frame::new(&mut d, &env).unwrap();
+    let (ground, ball) = (frame.object_index("ground").unwrap(), frame.object_index("ball").unwrap());
+    let setup = frame.merges();
+    assert_eq!(setup, 0, "setup merges are not counted as edits");
+    let before = frame.shade(EYE);
+    let centre = frame.positions(ground).iter().position(|p| p.length() < 1e-6).unwrap();
+    let edge =
+        frame.positions(ground).iter().position(|p| (p.x - 2.0).abs() < 1e-6 && (p.z - 2.0).abs() < 1e-6).unwrap();
+    // The ball shadows the ground under it: darker than a corner.
+    assert!(
+        before[ground][centre].x < 0.9 * before[ground][edge].x,
+        "{} vs {}",
+        before[ground][centre],
+        before[ground][edge]
+    );
+
+    // A BRDF edit and a new environment: zero merges, different radiance.
+    frame.set_material(ball, Material { exponent: 70.0, ..*frame.object(ball).2 });
+    frame.set_environment(&EnvMap::constant([0.5, 1.0, 1.0]));
+    assert_eq!(frame.merges(), 0);
+    assert_ne!(frame.shade(EYE)[ball], before[ball]);
+    frame.set_environment(&env);
+    frame.set_material(ball, Material { exponent: 15.0, ..*frame.object(ball).2 });
+
+    // A small move re-merges the ball's vertices and the ground's near it, not all.
+    let n_ball = frame.object(ball).1.vertex_count();
+    let n_ground = frame.object(ground).1.vertex_count();
+    let merged = frame.translate(ball, Vec3::new(0.1, 0.0, 0.0)).unwrap();
+    assert!(merged >= n_ball && merged <= n_ball + n_ground, "{merged}");
+
+    // Beyond 10r (r = 0.5) the ball casts no shadow: the ground shades as if alone.
+    frame.translate(ball, Vec3::new(0.0, 0.0, 40.0)).unwrap();
+    let far = frame.shade(EYE);
+    let alone = {
+        let mut d = data(
+            &BALL_ABOVE_GROUND[..BALL_ABOVE_GROUND.find("[[object]]\nname = \"ball\"").unwrap()],
+            &[],
+            &dir.join("g.vcuts"),
+        );
+        Frame::new(&mut d, &env).unwrap().shade(EYE)
+    };
+    for (a, b) in far[ground].iter().zip(&alone[0]) {
+        assert!((*a - *b).abs().max_element() < 1e-6, "{a} vs {b}");
+    }
+
+    // Back to rest: merged cuts and radiance bit-identical to the start.
+    frame.translate(ball, Vec3::ZERO).unwrap();
+    assert!(frame.shade(EYE) == before, "moving back did not restore the cached result");
+}
+
+#[test]
+fn error_against_the_exact_reference_falls_as_thresholds_tighten() {
+    let dir = scratch("error");
+    let env = vcut_envmap::procedural::PreethamSky::default().bake(128);
+    let mut last = f64::INFINITY;
+    for (svc, divisor) in [("0.05", "16"), ("0.01", "64"), ("0.001", "256")] {
+        let mut d = data(
+            BALL_ABOVE_GROUND,
+            &[("svc_max_error", svc), ("svc_solid_angle_divisor", divisor)],
+            &dir.join("e.vcuts"),
+        );
+        let frame = Frame::new(&mut d, &env).unwrap();
+        let (l2, _) = errors(&frame.shade(EYE), &exact_direction(&frame, EYE, 1e-4));
+        assert!(l2 < last, "thresholds {svc}, 4π/{divisor}: relative L2 {l2} after {last}");
+        last = l2;
+    }
+    assert!(last < 0.05, "tightest thresholds: relative L2 {last}");
+}
