@@ -45,6 +45,45 @@ pub fn eval(m: &Material, n: Vec3, wi: Vec3, wo: Vec3) -> Vec3 {
     }
 }
 
+/// Parses a material edit `MODEL[:KEY=VALUE,...]` over `base`: MODEL is `lambert`,
+/// `blinn-phong`, `phong`, `ggx` or `same`; keys `kd` and `ks` (one value or `r/g/b`), `alpha`
+/// or `exponent` (Phong exponents), `roughness` (GGX α). Example: `blinn-phong:alpha=70`.
+pub fn parse_spec(base: Material, spec: &str) -> Result<Material, String> {
+    let (model, rest) = spec.split_once(':').unwrap_or((spec, ""));
+    let mut m = base;
+    m.model = match model.trim() {
+        "lambert" => BrdfModel::Lambert,
+        "blinn-phong" => BrdfModel::BlinnPhong,
+        "phong" => BrdfModel::Phong,
+        "ggx" => BrdfModel::Ggx,
+        "same" | "" => base.model,
+        other => return Err(format!("unknown BRDF model '{other}' (lambert, blinn-phong, phong, ggx)")),
+    };
+    for kv in rest.split(',').map(str::trim).filter(|s| !s.is_empty()) {
+        let (k, v) = kv.split_once('=').ok_or_else(|| format!("'{kv}': expected KEY=VALUE"))?;
+        let num = |x: &str| -> Result<f32, String> {
+            let f: f32 = x.trim().parse().map_err(|_| format!("{k} = {x}: not a number"))?;
+            if f.is_finite() && f >= 0.0 { Ok(f) } else { Err(format!("{k} = {x}: must be finite and ≥ 0")) }
+        };
+        let rgb = |x: &str| -> Result<[f32; 3], String> {
+            let parts: Vec<f32> = x.split('/').map(num).collect::<Result<_, _>>()?;
+            match parts.as_slice() {
+                [g] => Ok([*g; 3]),
+                [r, g, b] => Ok([*r, *g, *b]),
+                _ => Err(format!("{k} = {x}: one value or r/g/b")),
+            }
+        };
+        match k.trim() {
+            "kd" => m.kd = rgb(v)?,
+            "ks" => m.ks = rgb(v)?,
+            "alpha" | "exponent" => m.exponent = num(v)?.max(1e-3),
+            "roughness" => m.roughness = num(v)?.clamp(1e-3, 1.0),
+            other => return Err(format!("unknown BRDF parameter '{other}' (kd, ks, alpha, roughness)")),
+        }
+    }
+    Ok(m)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -80,6 +119,17 @@ mod tests {
             }
         }
         assert_eq!(eval(&Material::default(), Vec3::Y, -Vec3::Y, Vec3::Y), Vec3::ZERO);
+    }
+
+    #[test]
+    fn specs_parse_over_a_base_and_errors_name_the_key() {
+        let m = parse_spec(Material::default(), "blinn-phong:alpha=70,kd=0.1/0.2/0.3").unwrap();
+        assert_eq!((m.model, m.exponent, m.kd), (BrdfModel::BlinnPhong, 70.0, [0.1, 0.2, 0.3]));
+        let g = parse_spec(m, "ggx:roughness=0.2").unwrap();
+        assert_eq!((g.model, g.roughness, g.kd), (BrdfModel::Ggx, 0.2, [0.1, 0.2, 0.3]));
+        assert!(parse_spec(m, "velvet").unwrap_err().contains("velvet"));
+        assert!(parse_spec(m, "phong:alpha=-3").unwrap_err().contains("alpha"));
+        assert!(parse_spec(m, "phong:shine=3").unwrap_err().contains("shine"));
     }
 
     #[test]

@@ -7,10 +7,12 @@
 //!   only the vertices whose field inputs changed; B = Σ_k v_k f_r(ω_k, ω_o) l_k with l_k from
 //!   the light tree at the merged node's level-order index.
 //! - [`reference`]: the exact-direction reference and its error metrics.
+//! - [`image`]: a headless rasteriser of per-vertex radiance, linear EXR, tone-mapped PNG
+//!   (ACES filmic, Narkowicz's fit), and the whole scene as a PLY mesh.
 //!
 //! # Invariants
 //! Merged cuts depend only on translations: moving an object back restores them bit for bit, and
-//! BRDF, camera and lighting edits never merge. This crate draws no pixels; images come later.
+//! BRDF, camera and lighting edits never merge. No GPU: images are rasterised on the CPU.
 //!
 //! # Example
 //! ```no_run
@@ -26,6 +28,7 @@
 
 pub mod brdf;
 pub mod frame;
+pub mod image;
 pub mod reference;
 
 pub use frame::{Frame, FrameError};

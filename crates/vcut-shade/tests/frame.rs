@@ -149,3 +149,39 @@ fn error_against_the_exact_reference_falls_as_thresholds_tighten() {
     }
     assert!(last < 0.05, "tightest thresholds: relative L2 {last}");
 }
+
+#[test]
+fn images_ply_and_exr_are_written_whole() {
+    let dir = scratch("images");
+    let mut d = data(BALL_ABOVE_GROUND, &[], &dir.join("i.vcuts"));
+    let env = EnvMap::constant([1.0; 3]);
+    let frame = Frame::new(&mut d, &env).unwrap();
+    let camera =
+        vcut_scene::Camera { name: "c".into(), position: EYE, target: Vec3::ZERO, up: Vec3::Y, fov_y_deg: 40.0 };
+    let radiance = frame.shade(EYE);
+    let img = vcut_shade::image::rasterize(&frame, &radiance, &camera, 64, 48, Some(&env));
+    // The ground fills the lower middle; the background shows the constant sky.
+    let centre = (24 * 64 + 32) as usize;
+    assert!(img.covered[centre] && img.rgb[centre].x > 0.0);
+    assert!(!img.covered[0] && (img.rgb[0] - Vec3::ONE).abs().max_element() < 1e-6);
+    let covered = img.covered.iter().filter(|&&c| c).count();
+    assert!(covered > 64 * 48 / 4 && covered < 64 * 48, "{covered}");
+    let png = dir.join("f.png");
+    vcut_shade::image::write_png(&img, &png, vcut_shade::image::auto_exposure(&img)).unwrap();
+    let back = image::open(&png).unwrap().to_rgb8();
+    assert_eq!(back.dimensions(), (64, 48));
+    vcut_shade::image::write_exr(&img, &dir.join("f.exr")).unwrap();
+    let ply = dir.join("s.ply");
+    vcut_shade::image::write_ply(&frame, &radiance, &ply).unwrap();
+    let bytes = std::fs::read(&ply).unwrap();
+    let header_end = bytes.windows(11).position(|w| w == b"end_header\n").unwrap() + 11;
+    let header = std::str::from_utf8(&bytes[..header_end]).unwrap();
+    let nv: usize = (0..2).map(|o| frame.object(o).1.vertex_count()).sum();
+    let nt: usize = (0..2).map(|o| frame.object(o).1.triangle_count()).sum();
+    assert!(header.contains(&format!("element vertex {nv}")) && header.contains(&format!("element face {nt}")));
+    assert_eq!(bytes.len(), header_end + nv * 36 + nt * 13);
+    // Nothing half-written: no temporary files left.
+    let names: Vec<String> =
+        std::fs::read_dir(&dir).unwrap().map(|e| e.unwrap().file_name().to_string_lossy().into_owned()).collect();
+    assert!(names.iter().all(|n| !n.contains("tmp")), "{names:?}");
+}

@@ -1,0 +1,266 @@
+//! Images from per-vertex radiance: a headless rasteriser (z-buffer, perspective-correct
+//! interpolation of vertex radiance over the triangles, the environment map as background),
+//! linear EXR, tone-mapped PNG, and the whole scene as one PLY mesh.
+//!
+//! **Tone mapping** (PNG only): exposure scale (by default [`auto_exposure`]: the geometry's
+//! log-average luminance to 0.18), then the ACES filmic curve in Narkowicz's fit
+//! `x(2.51x + 0.03) / (x(2.43x + 0.59) + 0.14)`, then the sRGB transfer function, 8 bits.
+//! Every file is written under a temporary name and renamed.
+
+use crate::frame::Frame;
+use glam::{Mat4, Vec3, Vec4};
+use std::io::Write;
+use std::path::{Path, PathBuf};
+use vcut_envmap::EnvMap;
+use vcut_scene::Camera;
+
+/// A linear RGB image, row-major from the top.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Image {
+    /// Width in pixels.
+    pub width: u32,
+    /// Height in pixels.
+    pub height: u32,
+    /// Pixels.
+    pub rgb: Vec<Vec3>,
+    /// Whether each pixel shows geometry (false: background).
+    pub covered: Vec<bool>,
+}
+
+/// Why an image could not be written.
+#[derive(Debug, thiserror::Error)]
+pub enum ImageError {
+    /// An OS or encoder error.
+    #[error("{}: {reason}", path.display())]
+    Write {
+        /// The file.
+        path: PathBuf,
+        /// What failed.
+        reason: String,
+    },
+}
+
+fn write_err(path: &Path, e: impl std::fmt::Display) -> ImageError {
+    ImageError::Write { path: path.into(), reason: e.to_string() }
+}
+
+/// The camera's view-projection matrix for an image of `aspect` = width / height.
+pub fn view_projection(camera: &Camera, aspect: f32) -> Mat4 {
+    let view = glam::camera::rh::view::look_at_mat4(camera.position, camera.target, camera.up);
+    let proj = glam::camera::rh::proj::directx::perspective(camera.fov_y_deg.to_radians(), aspect, 0.01, 1.0e4);
+    proj * view
+}
+
+/// Rasterises every object of `frame` with per-vertex `radiance` (as from `Frame::shade`) seen
+/// by `camera`; pixels without geometry show `background` in their view direction (or black).
+pub fn rasterize(
+    frame: &Frame,
+    radiance: &[Vec<Vec3>],
+    camera: &Camera,
+    width: u32,
+    height: u32,
+    background: Option<&EnvMap>,
+) -> Image {
+    let (w, h) = (width.max(1) as usize, height.max(1) as usize);
+    let vp = view_projection(camera, w as f32 / h as f32);
+    let mut depth = vec![f32::INFINITY; w * h];
+    let mut rgb = vec![Vec3::ZERO; w * h];
+    let mut covered = vec![false; w * h];
+    for (o, rad) in radiance.iter().enumerate().take(frame.object_count()) {
+        let (_, mesh, _, _, _) = frame.object(o);
+        let clip: Vec<Vec4> = frame.positions(o).iter().map(|p| vp * p.extend(1.0)).collect();
+        for t in mesh.triangles() {
+            let c = t.map(|i| clip[i as usize]);
+            // Triangles reaching behind the near plane are skipped (scenes are viewed from outside).
+            if c.iter().any(|v| v.w <= 0.01) {
+                continue;
+            }
+            let s = c.map(|v| {
+                let n = v.truncate() / v.w;
+                Vec3::new((n.x * 0.5 + 0.5) * w as f32, (0.5 - n.y * 0.5) * h as f32, n.z)
+            });
+            let area = (s[1].x - s[0].x) * (s[2].y - s[0].y) - (s[2].x - s[0].x) * (s[1].y - s[0].y);
+            if area.abs() < 1e-12 {
+                continue;
+            }
+            let inv_w = c.map(|v| 1.0 / v.w);
+            let attr = t.map(|i| rad[i as usize]);
+            let (x0, x1) = (
+                s.iter().map(|v| v.x).fold(f32::INFINITY, f32::min),
+                s.iter().map(|v| v.x).fold(f32::NEG_INFINITY, f32::max),
+            );
+            let (y0, y1) = (
+                s.iter().map(|v| v.y).fold(f32::INFINITY, f32::min),
+                s.iter().map(|v| v.y).fold(f32::NEG_INFINITY, f32::max),
+            );
+            let (px0, px1) = ((x0.floor().max(0.0)) as usize, (x1.ceil().min(w as f32 - 1.0)).max(0.0) as usize);
+            let (py0, py1) = ((y0.floor().max(0.0)) as usize, (y1.ceil().min(h as f32 - 1.0)).max(0.0) as usize);
+            for py in py0..=py1.min(h - 1) {
+                for px in px0..=px1.min(w - 1) {
+                    let (x, y) = (px as f32 + 0.5, py as f32 + 0.5);
+                    let e = |a: Vec3, b: Vec3| (b.x - a.x) * (y - a.y) - (x - a.x) * (b.y - a.y);
+                    let b0 = e(s[1], s[2]) / area;
+                    let b1 = e(s[2], s[0]) / area;
+                    let b2 = e(s[0], s[1]) / area;
+                    if b0 < 0.0 || b1 < 0.0 || b2 < 0.0 {
+                        continue;
+                    }
+                    let z = b0 * s[0].z + b1 * s[1].z + b2 * s[2].z;
+                    let k = py * w + px;
+                    if z >= depth[k] {
+                        continue;
+                    }
+                    depth[k] = z;
+                    // Perspective-correct: interpolate attribute/w and 1/w.
+                    let q = b0 * inv_w[0] + b1 * inv_w[1] + b2 * inv_w[2];
+                    rgb[k] = (attr[0] * (b0 * inv_w[0]) + attr[1] * (b1 * inv_w[1]) + attr[2] * (b2 * inv_w[2])) / q;
+                    covered[k] = true;
+                }
+            }
+        }
+    }
+    if let Some(env) = background {
+        let inv = vp.inverse();
+        for py in 0..h {
+            for px in 0..w {
+                let k = py * w + px;
+                if covered[k] {
+                    continue;
+                }
+                let ndc =
+                    Vec3::new((px as f32 + 0.5) / w as f32 * 2.0 - 1.0, 1.0 - (py as f32 + 0.5) / h as f32 * 2.0, 1.0);
+                let far = inv.project_point3(ndc);
+                rgb[k] = env.radiance((far - camera.position).normalize_or_zero());
+            }
+        }
+    }
+    Image { width: w as u32, height: h as u32, rgb, covered }
+}
+
+/// Exposure that maps the log-average luminance of the covered pixels to middle grey 0.18
+/// (Reinhard's key value); 1 for an empty or black image.
+pub fn auto_exposure(image: &Image) -> f32 {
+    let (mut sum, mut n) = (0.0f64, 0usize);
+    for (c, &cov) in image.rgb.iter().zip(&image.covered) {
+        let l = f64::from(0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z);
+        if cov && l.is_finite() {
+            sum += (1e-6 + l.max(0.0)).ln();
+            n += 1;
+        }
+    }
+    if n == 0 {
+        return 1.0;
+    }
+    let avg = (sum / n as f64).exp();
+    if avg > 1e-5 { (0.18 / avg) as f32 } else { 1.0 }
+}
+
+/// ACES filmic (Narkowicz's fit) of a linear value, then sRGB, as 8 bits.
+pub fn tone_map(x: f32, exposure: f32) -> u8 {
+    let x = (x * exposure).max(0.0);
+    let y = ((x * (2.51 * x + 0.03)) / (x * (2.43 * x + 0.59) + 0.14)).clamp(0.0, 1.0);
+    let s = if y <= 0.003_130_8 { 12.92 * y } else { 1.055 * y.powf(1.0 / 2.4) - 0.055 };
+    (s * 255.0 + 0.5) as u8
+}
+
+/// Writes the image tone-mapped as PNG (atomically).
+pub fn write_png(image: &Image, path: &Path, exposure: f32) -> Result<(), ImageError> {
+    let bytes: Vec<u8> = image
+        .rgb
+        .iter()
+        .flat_map(|c| [tone_map(c.x, exposure), tone_map(c.y, exposure), tone_map(c.z, exposure)])
+        .collect();
+    let buf =
+        image::RgbImage::from_raw(image.width, image.height, bytes).ok_or_else(|| write_err(path, "size mismatch"))?;
+    let tmp = vcut_envmap::io::temp_name(path);
+    buf.save_with_format(&tmp, image::ImageFormat::Png).map_err(|e| {
+        let _ = std::fs::remove_file(&tmp);
+        write_err(path, e)
+    })?;
+    std::fs::rename(&tmp, path).map_err(|e| write_err(path, e))
+}
+
+/// Writes the image as linear EXR (atomically).
+pub fn write_exr(image: &Image, path: &Path) -> Result<(), ImageError> {
+    let rgb: Vec<[f32; 3]> = image.rgb.iter().map(|c| c.to_array()).collect();
+    vcut_envmap::io::write_exr(path, image.width, image.height, &rgb).map_err(|e| write_err(path, e))
+}
+
+/// Writes the whole scene at its current positions as one binary PLY mesh: per vertex
+/// `x y z nx ny nz r g b` (floats; r g b the outgoing radiance toward the camera), then faces.
+pub fn write_ply(frame: &Frame, radiance: &[Vec<Vec3>], path: &Path) -> Result<(), ImageError> {
+    let mut body = Vec::new();
+    let mut nv = 0usize;
+    let mut faces = Vec::new();
+    for (o, rad) in radiance.iter().enumerate().take(frame.object_count()) {
+        let (_, mesh, _, _, _) = frame.object(o);
+        for ((p, n), c) in frame.positions(o).iter().zip(mesh.normals()).zip(rad) {
+            for x in [p.x, p.y, p.z, n.x, n.y, n.z, c.x, c.y, c.z] {
+                body.extend_from_slice(&x.to_le_bytes());
+            }
+        }
+        faces.extend(mesh.triangles().iter().map(|t| t.map(|i| i + nv as u32)));
+        nv += mesh.vertex_count();
+    }
+    let header = format!(
+        "ply\nformat binary_little_endian 1.0\ncomment vcuts: outgoing radiance toward the camera, linear RGB\n\
+         element vertex {nv}\nproperty float x\nproperty float y\nproperty float z\nproperty float nx\n\
+         property float ny\nproperty float nz\nproperty float r\nproperty float g\nproperty float b\n\
+         element face {}\nproperty list uchar int vertex_indices\nend_header\n",
+        faces.len()
+    );
+    let tmp = vcut_envmap::io::temp_name(path);
+    let write = || -> std::io::Result<()> {
+        let mut f = std::io::BufWriter::new(std::fs::File::create(&tmp)?);
+        f.write_all(header.as_bytes())?;
+        f.write_all(&body)?;
+        for t in &faces {
+            f.write_all(&[3u8])?;
+            for i in t {
+                f.write_all(&(*i as i32).to_le_bytes())?;
+            }
+        }
+        f.flush()?;
+        Ok(())
+    };
+    write().map_err(|e| {
+        let _ = std::fs::remove_file(&tmp);
+        write_err(path, e)
+    })?;
+    std::fs::rename(&tmp, path).map_err(|e| write_err(path, e))
+}
+
+/// Relative L2 and largest per-pixel error of `got` against `reference`, over covered pixels.
+pub fn pixel_errors(got: &Image, reference: &Image) -> (f64, f64) {
+    let (mut num, mut den, mut sum, mut n, mut worst) = (0.0f64, 0.0f64, 0.0f64, 0usize, 0.0f64);
+    for k in 0..got.rgb.len().min(reference.rgb.len()) {
+        if !reference.covered[k] {
+            continue;
+        }
+        let d = (got.rgb[k] - reference.rgb[k]).as_dvec3();
+        num += d.length_squared();
+        den += reference.rgb[k].as_dvec3().length_squared();
+        sum += reference.rgb[k].as_dvec3().length();
+        n += 1;
+        worst = worst.max(d.length());
+    }
+    ((num / den.max(1e-300)).sqrt(), worst / (sum / n.max(1) as f64).max(1e-300))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn tone_mapping_is_monotone_and_bounded() {
+        let mut last = 0u8;
+        for i in 0..1000 {
+            let v = tone_map(i as f32 * 0.01, 1.0);
+            assert!(v >= last);
+            last = v;
+        }
+        assert_eq!(tone_map(0.0, 1.0), 0);
+        assert_eq!(tone_map(1e6, 1.0), 255);
+        assert_eq!(tone_map(f32::NAN, 1.0), 0);
+    }
+}

@@ -1,0 +1,193 @@
+//! `cargo xtask render`: a frame from a `.vcuts` file — objects moved, BRDFs edited — as PNG
+//! (and EXR, PLY), with merge, shade and raster times, and optionally the error against the
+//! exact-direction reference.
+
+use anyhow::{Context, Result, bail};
+use glam::Vec3;
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+use vcut_data::Precomputed;
+use vcut_envmap::EnvMap;
+use vcut_scene::{Camera, Scene};
+use vcut_shade::Frame;
+use vcut_shade::brdf::parse_spec;
+use vcut_shade::image::{auto_exposure, pixel_errors, rasterize, write_exr, write_ply, write_png};
+use vcut_shade::reference::{errors, exact_direction};
+
+/// Arguments of `render`.
+#[derive(clap::Args, Clone)]
+pub struct RenderArgs {
+    /// The precomputed file (from `cargo xtask precompute`).
+    pub input: PathBuf,
+    /// Environment map (default: the scene's).
+    #[arg(long)]
+    pub env: Option<String>,
+    /// Move an object: NAME=dx,dy,dz (repeatable; from its rest position).
+    #[arg(long = "move", value_name = "NAME=DX,DY,DZ")]
+    pub moves: Vec<String>,
+    /// Edit a BRDF: NAME=MODEL[:KEY=VALUE,...], e.g. teapot=blinn-phong:alpha=70 (repeatable).
+    #[arg(long = "brdf", value_name = "NAME=SPEC")]
+    pub brdfs: Vec<String>,
+    /// Camera name (default: the scene's first).
+    #[arg(long)]
+    pub camera: Option<String>,
+    /// Image width.
+    #[arg(long, default_value_t = 640)]
+    pub width: u32,
+    /// Image height.
+    #[arg(long, default_value_t = 480)]
+    pub height: u32,
+    /// Exposure applied before tone mapping (PNG only); default: the geometry's log-average
+    /// luminance to middle grey.
+    #[arg(long)]
+    pub exposure: Option<f32>,
+    /// Output PNG (tone-mapped: ACES filmic, Narkowicz's fit, sRGB).
+    #[arg(short, long, default_value = "target/render/frame.png")]
+    pub output: PathBuf,
+    /// Also write the linear image as EXR.
+    #[arg(long)]
+    pub exr: Option<PathBuf>,
+    /// Also write the scene at its current positions as a PLY mesh with outgoing radiance.
+    #[arg(long)]
+    pub export_ply: Option<PathBuf>,
+    /// Compare with a reference: `exact` (all leaf directions cast, no clustering).
+    #[arg(long)]
+    pub compare: Option<String>,
+}
+
+impl RenderArgs {
+    /// Defaults for `input` written to `output`.
+    pub fn new(input: &Path, output: &Path) -> Self {
+        RenderArgs {
+            input: input.into(),
+            env: None,
+            moves: Vec::new(),
+            brdfs: Vec::new(),
+            camera: None,
+            width: 640,
+            height: 480,
+            exposure: None,
+            output: output.into(),
+            exr: None,
+            export_ply: None,
+            compare: None,
+        }
+    }
+}
+
+/// `key = "value"` from the params section.
+fn recorded(params: &str, key: &str) -> Option<String> {
+    params.lines().find_map(|l| {
+        let (k, v) = l.split_once('=')?;
+        (k.trim() == key).then(|| v.trim().trim_matches('"').to_string())
+    })
+}
+
+/// Runs `render`.
+pub fn run(args: &RenderArgs) -> Result<()> {
+    let mut data = Precomputed::open(&args.input)?;
+    let source = recorded(&data.params_text, "scene").unwrap_or_default();
+    let scene = Scene::open(&source).ok();
+    let env_spec = args.env.clone().or_else(|| recorded(&data.params_text, "environment").filter(|e| e != "scene"));
+    let env: EnvMap = match (&env_spec, &scene) {
+        (Some(e), _) => crate::inspect::load_envmap(e).with_context(|| format!("--env {e}"))?,
+        (None, Some(s)) => s.environment.clone(),
+        (None, None) => {
+            bail!("{}: its scene '{source}' does not open here; name an environment with --env", args.input.display())
+        }
+    };
+    let t = Instant::now();
+    let mut frame = Frame::new(&mut data, &env)?;
+    println!("setup_s={:.3}", t.elapsed().as_secs_f64());
+    let object = |frame: &Frame, name: &str| {
+        frame.object_index(name).with_context(|| {
+            let names: Vec<&str> = (0..frame.object_count()).map(|o| frame.object(o).0).collect();
+            format!("no object '{name}' (objects: {})", names.join(", "))
+        })
+    };
+    for b in &args.brdfs {
+        let Some((name, spec)) = b.split_once('=') else { bail!("--brdf {b}: expected NAME=SPEC") };
+        let o = object(&frame, name)?;
+        let m = parse_spec(*frame.object(o).2, spec).map_err(|e| anyhow::anyhow!("--brdf {b}: {e}"))?;
+        frame.set_material(o, m);
+    }
+    let mut move_ms = 0.0;
+    let mut moved = 0;
+    for m in &args.moves {
+        let Some((name, v)) = m.split_once('=') else { bail!("--move {m}: expected NAME=DX,DY,DZ") };
+        let c: Vec<f32> = v
+            .split(',')
+            .map(|x| x.trim().parse::<f32>())
+            .collect::<Result<_, _>>()
+            .with_context(|| format!("--move {m}"))?;
+        let [dx, dy, dz] = c.as_slice() else { bail!("--move {m}: expected three numbers") };
+        let o = object(&frame, name)?;
+        let t = Instant::now();
+        moved += frame.translate(o, Vec3::new(*dx, *dy, *dz))?;
+        move_ms += t.elapsed().as_secs_f64() * 1e3;
+    }
+    println!("move_merge_ms={move_ms:.2}");
+    println!("move_merged_vertices={moved}");
+    let camera = match (&scene, &args.camera) {
+        (Some(s), Some(name)) => {
+            s.cameras.iter().find(|c| &c.name == name).cloned().with_context(|| format!("no camera '{name}'"))?
+        }
+        (Some(s), None) if !s.cameras.is_empty() => s.cameras[0].clone(),
+        _ => {
+            let b = vcut_scene::Bounds::of_points((0..frame.object_count()).flat_map(|o| frame.positions(o)));
+            Camera {
+                name: "auto".into(),
+                position: b.center + Vec3::new(0.6, 0.5, 1.0).normalize() * b.radius * 2.5,
+                target: b.center,
+                up: Vec3::Y,
+                fov_y_deg: 40.0,
+            }
+        }
+    };
+    let t = Instant::now();
+    let radiance = frame.shade(camera.position);
+    println!("shade_ms={:.2}", t.elapsed().as_secs_f64() * 1e3);
+    let t = Instant::now();
+    let image = rasterize(&frame, &radiance, &camera, args.width, args.height, Some(&env));
+    println!("raster_ms={:.2}", t.elapsed().as_secs_f64() * 1e3);
+    if let Some(dir) = args.output.parent().filter(|d| !d.as_os_str().is_empty()) {
+        std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
+    }
+    let exposure = args.exposure.unwrap_or_else(|| auto_exposure(&image));
+    write_png(&image, &args.output, exposure)?;
+    println!("png={}", args.output.display());
+    println!("tone_map=aces-narkowicz");
+    println!("exposure={exposure:.4}");
+    if let Some(p) = &args.exr {
+        write_exr(&image, p)?;
+        println!("exr={}", p.display());
+    }
+    if let Some(p) = &args.export_ply {
+        write_ply(&frame, &radiance, p)?;
+        println!("ply={}", p.display());
+    }
+    match args.compare.as_deref() {
+        None => {}
+        Some("exact") => {
+            let offset = recorded(&data.params_text, "svc_origin_offset").and_then(|v| v.parse().ok()).unwrap_or(1e-4);
+            let t = Instant::now();
+            let reference = exact_direction(&frame, camera.position, offset);
+            println!("reference_exact_s={:.3}", t.elapsed().as_secs_f64());
+            let (l2, max) = errors(&radiance, &reference);
+            println!("vertex_rel_l2_vs_exact={l2:.5}");
+            println!("vertex_max_err_vs_exact={max:.5}");
+            let ref_image = rasterize(&frame, &reference, &camera, args.width, args.height, Some(&env));
+            let (pl2, pmax) = pixel_errors(&image, &ref_image);
+            println!("pixel_rel_l2_vs_exact={pl2:.5}");
+            println!("pixel_max_err_vs_exact={pmax:.5}");
+            let ref_path = args.output.with_file_name(format!(
+                "{}-exact.png",
+                args.output.file_stem().and_then(|s| s.to_str()).unwrap_or("frame")
+            ));
+            write_png(&ref_image, &ref_path, exposure)?;
+            println!("reference_png={}", ref_path.display());
+        }
+        Some(other) => bail!("--compare {other}: expected exact (Monte Carlo is not there yet)"),
+    }
+    Ok(())
+}
