@@ -122,12 +122,12 @@ pub struct SectionEntry {
 #[derive(Debug, thiserror::Error)]
 pub enum FileError {
     /// An OS error.
-    #[error("{}: {source}", path.display())]
+    #[error("{}: {error}", path.display())]
     Io {
         /// The file.
         path: PathBuf,
-        /// The OS error.
-        source: std::io::Error,
+        /// The OS error (not a `source`: the message already carries it once).
+        error: std::io::Error,
     },
     /// The header or the offset table is unusable.
     #[error("{}: not a usable .vcuts file: {reason}", path.display())]
@@ -219,9 +219,9 @@ impl Writer {
     /// Opens `<path>.partial`, keeping its intact sections if it exists (see the module docs).
     pub fn open(path: &Path) -> Result<Writer, FileError> {
         let partial = partial_path(path);
-        let io = |source| FileError::Io { path: partial.clone(), source };
+        let io = |error| FileError::Io { path: partial.clone(), error };
         if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
-            std::fs::create_dir_all(dir).map_err(|source| FileError::Io { path: dir.into(), source })?;
+            std::fs::create_dir_all(dir).map_err(|error| FileError::Io { path: dir.into(), error })?;
         }
         let mut file =
             OpenOptions::new().read(true).write(true).create(true).truncate(false).open(&partial).map_err(io)?;
@@ -290,7 +290,7 @@ impl Writer {
             }
             self.discard_pending()?;
         }
-        let io = |source| FileError::Io { path: self.partial.clone(), source };
+        let io = |error| FileError::Io { path: self.partial.clone(), error };
         self.out.write_all(&record_bytes(id, payload.len() as u64, crc)).map_err(io)?;
         self.out.write_all(payload).map_err(io)?;
         let pad = padded(payload.len() as u64) - payload.len() as u64;
@@ -304,7 +304,7 @@ impl Writer {
     }
 
     fn discard_pending(&mut self) -> Result<(), FileError> {
-        let io = |source| FileError::Io { path: self.partial.clone(), source };
+        let io = |error| FileError::Io { path: self.partial.clone(), error };
         self.pending.clear();
         self.out.flush().map_err(io)?;
         let file = self.out.get_mut();
@@ -319,7 +319,7 @@ impl Writer {
         if !self.pending.is_empty() {
             self.discard_pending()?;
         }
-        let io = |source| FileError::Io { path: self.partial.clone(), source };
+        let io = |error| FileError::Io { path: self.partial.clone(), error };
         let mut table = Vec::with_capacity(self.entries.len() * ENTRY_LEN as usize);
         for e in &self.entries {
             table.extend_from_slice(&(e.id.kind as u32).to_le_bytes());
@@ -337,8 +337,7 @@ impl Writer {
         file.write_all(&header).map_err(io)?;
         file.sync_all().map_err(io)?;
         let size = self.end + table.len() as u64;
-        std::fs::rename(&self.partial, &self.path)
-            .map_err(|source| FileError::Io { path: self.path.clone(), source })?;
+        std::fs::rename(&self.partial, &self.path).map_err(|error| FileError::Io { path: self.path.clone(), error })?;
         Ok(size)
     }
 }
@@ -388,7 +387,7 @@ pub struct Reader<R = File> {
 impl Reader<File> {
     /// Opens the file and checks its header and offset table.
     pub fn open(path: &Path) -> Result<Reader<File>, FileError> {
-        let file = File::open(path).map_err(|source| FileError::Io { path: path.into(), source })?;
+        let file = File::open(path).map_err(|error| FileError::Io { path: path.into(), error })?;
         Reader::from_source(file, path)
     }
 }
@@ -396,7 +395,7 @@ impl Reader<File> {
 impl<R: Read + Seek> Reader<R> {
     /// Reads the header and offset table from `source`; errors name `path`.
     pub fn from_source(mut file: R, path: &Path) -> Result<Reader<R>, FileError> {
-        let io = |source| FileError::Io { path: path.into(), source };
+        let io = |error| FileError::Io { path: path.into(), error };
         let bad = |reason: String| FileError::Header { path: path.into(), reason };
         let size = file.seek(SeekFrom::End(0)).map_err(io)?;
         file.seek(SeekFrom::Start(0)).map_err(io)?;
@@ -476,7 +475,7 @@ impl<R: Read + Seek> Reader<R> {
             .iter()
             .find(|e| e.id == id)
             .ok_or_else(|| FileError::Missing { path: self.path.clone(), section: id.to_string() })?;
-        let io = |source| FileError::Io { path: self.path.clone(), source };
+        let io = |error| FileError::Io { path: self.path.clone(), error };
         let mut payload = Vec::new();
         payload
             .try_reserve_exact(entry.len as usize)
