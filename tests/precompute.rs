@@ -190,6 +190,7 @@ fn a_field_interpolated_at_a_point_agrees_with_rays_cast_from_it() {
         };
         worst[band] = worst[band].max(e);
     }
+    eprintln!("worst disagreement beyond 2.5r, 1.5r..2.5r, surface..1.5r: {worst:?}");
     assert!(worst[0] < 0.01 && worst[1] < 0.05 && worst[2] < 0.25, "worst disagreement by band {worst:?}");
 }
 
