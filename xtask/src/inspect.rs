@@ -41,11 +41,12 @@ fn is_envmap(t: &str) -> bool {
         )
 }
 
-/// Loads an environment map from a file, a cube folder, or `builtin:sky|studio`.
+/// Loads an environment map from a file, a cube folder, or `builtin:sky|studio|constant`.
 pub fn load_envmap(spec: &str) -> Result<EnvMap> {
     Ok(match spec {
         "builtin:sky" => procedural::PreethamSky::default().bake(1024),
         "builtin:studio" => procedural::Studio::default().bake(1024),
+        "builtin:constant" => EnvMap::constant([1.0; 3]),
         _ => vcut_envmap::load(Path::new(spec), InvalidTexels::Reject)?.0,
     })
 }
