@@ -34,6 +34,10 @@ enum Command {
     /// (--brdf NAME=blinn-phong:alpha=70), write PNG/EXR/PLY, print merge and shade times, and
     /// with --compare exact the error against the exact-direction reference.
     Render(render::RenderArgs),
+    /// The references for a frame (same options as render): the exact-direction reference and
+    /// the Monte Carlo one, each with its image and the frame's error against it (per vertex and
+    /// per pixel: relative L2 and largest error), and the two references against each other.
+    Reference(render::RenderArgs),
     /// Run the main job on the built-in teapot scene under the built-in sky (for now: inspect
     /// both, build the 32,768 directions (cached), the direction tree and the sky's light tree,
     /// precompute the scene at the `fast` preset into target/vcuts/teapot-fast.vcuts, then
@@ -49,6 +53,10 @@ fn main() {
         Command::Directions(args) => directions::run(&args),
         Command::Precompute(args) => precompute::run(&args).map(|_| ()),
         Command::Render(args) => render::run(&args),
+        Command::Reference(mut args) => {
+            args.compare.get_or_insert_with(|| "both".into());
+            render::run(&args)
+        }
         Command::Demo => demo(),
     };
     if let Err(e) = result {

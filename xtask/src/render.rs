@@ -12,7 +12,7 @@ use vcut_scene::{Camera, Scene};
 use vcut_shade::Frame;
 use vcut_shade::brdf::parse_spec;
 use vcut_shade::image::{auto_exposure, pixel_errors, rasterize, write_exr, write_ply, write_png};
-use vcut_shade::reference::{errors, exact_direction};
+use vcut_shade::reference::{MonteCarloParams, errors, exact_direction, monte_carlo};
 
 /// Arguments of `render`.
 #[derive(clap::Args, Clone)]
@@ -50,7 +50,8 @@ pub struct RenderArgs {
     /// Also write the scene at its current positions as a PLY mesh with outgoing radiance.
     #[arg(long)]
     pub export_ply: Option<PathBuf>,
-    /// Compare with a reference: `exact` (all leaf directions cast, no clustering).
+    /// Compare with references: `exact` (all leaf directions cast, no clustering), `mc` (Monte
+    /// Carlo over every texel of the map, to 1 % standard error per vertex) or `both`.
     #[arg(long)]
     pub compare: Option<String>,
 }
@@ -166,28 +167,43 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         write_ply(&frame, &radiance, p)?;
         println!("ply={}", p.display());
     }
-    match args.compare.as_deref() {
-        None => {}
-        Some("exact") => {
-            let offset = recorded(&data.params_text, "svc_origin_offset").and_then(|v| v.parse().ok()).unwrap_or(1e-4);
-            let t = Instant::now();
-            let reference = exact_direction(&frame, camera.position, offset);
-            println!("reference_exact_s={:.3}", t.elapsed().as_secs_f64());
-            let (l2, max) = errors(&radiance, &reference);
-            println!("vertex_rel_l2_vs_exact={l2:.5}");
-            println!("vertex_max_err_vs_exact={max:.5}");
-            let ref_image = rasterize(&frame, &reference, &camera, args.width, args.height, Some(&env));
-            let (pl2, pmax) = pixel_errors(&image, &ref_image);
-            println!("pixel_rel_l2_vs_exact={pl2:.5}");
-            println!("pixel_max_err_vs_exact={pmax:.5}");
-            let ref_path = args.output.with_file_name(format!(
-                "{}-exact.png",
-                args.output.file_stem().and_then(|s| s.to_str()).unwrap_or("frame")
-            ));
-            write_png(&ref_image, &ref_path, exposure)?;
-            println!("reference_png={}", ref_path.display());
-        }
-        Some(other) => bail!("--compare {other}: expected exact (Monte Carlo is not there yet)"),
+    let compare = args.compare.as_deref().unwrap_or("none");
+    if !matches!(compare, "none" | "exact" | "mc" | "both") {
+        bail!("--compare {compare}: expected exact, mc or both");
+    }
+    let offset = recorded(&data.params_text, "svc_origin_offset").and_then(|v| v.parse().ok()).unwrap_or(1e-4);
+    let stem = args.output.file_stem().and_then(|s| s.to_str()).unwrap_or("frame").to_string();
+    let mut refs = Vec::new();
+    if matches!(compare, "exact" | "both") {
+        let t = Instant::now();
+        let r = exact_direction(&frame, camera.position, offset);
+        println!("reference_exact_s={:.3}", t.elapsed().as_secs_f64());
+        refs.push(("exact", r));
+    }
+    if matches!(compare, "mc" | "both") {
+        let t = Instant::now();
+        let (r, stats) = monte_carlo(&frame, &env, camera.position, offset, &MonteCarloParams::default());
+        println!("reference_mc_s={:.3}", t.elapsed().as_secs_f64());
+        println!("reference_mc_samples={}", stats.samples);
+        println!("reference_mc_unconverged_vertices={}", stats.unconverged);
+        refs.push(("mc", r));
+    }
+    for (name, reference) in &refs {
+        let (l2, max) = errors(&radiance, reference);
+        println!("vertex_rel_l2_vs_{name}={l2:.5}");
+        println!("vertex_max_err_vs_{name}={max:.5}");
+        let ref_image = rasterize(&frame, reference, &camera, args.width, args.height, Some(&env));
+        let (pl2, pmax) = pixel_errors(&image, &ref_image);
+        println!("pixel_rel_l2_vs_{name}={pl2:.5}");
+        println!("pixel_max_err_vs_{name}={pmax:.5}");
+        let ref_path = args.output.with_file_name(format!("{stem}-{name}.png"));
+        write_png(&ref_image, &ref_path, exposure)?;
+        println!("reference_{name}_png={}", ref_path.display());
+    }
+    if let [(_, exact), (_, mc)] = refs.as_slice() {
+        let (l2, max) = errors(exact, mc);
+        println!("vertex_rel_l2_exact_vs_mc={l2:.5}");
+        println!("vertex_max_err_exact_vs_mc={max:.5}");
     }
     Ok(())
 }

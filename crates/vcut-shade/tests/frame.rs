@@ -77,6 +77,36 @@ fn an_unoccluded_lambert_object_under_constant_light_is_its_albedo() {
 }
 
 #[test]
+fn the_monte_carlo_reference_meets_the_analytic_result_and_the_exact_one() {
+    let dir = scratch("mc");
+    let text = "[[object]]\nsource = \"builtin:sphere\"\nresolution = 6\nmaterial = { model = \"lambert\", kd = [0.5, 0.25, 1.0] }\n";
+    let mut d = data(text, &[], &dir.join("a.vcuts"));
+    let env = EnvMap::constant([2.0; 3]);
+    let frame = Frame::new(&mut d, &env).unwrap();
+    let params = vcut_shade::reference::MonteCarloParams::default();
+    let (mc, stats) = vcut_shade::reference::monte_carlo(&frame, &env, EYE, 1e-4, &params);
+    assert_eq!(stats.unconverged, 0);
+    let mesh = frame.object(0).1;
+    for (v, b) in mc[0].iter().enumerate() {
+        if mesh.normals()[v].dot(EYE - mesh.positions()[v]) > 0.0 {
+            let want = Vec3::new(0.5, 0.25, 1.0) * 2.0;
+            // 1 % standard error: within 4 % (4σ) of kd · L.
+            assert!((*b - want).abs().max_element() < 0.04 * want.max_element(), "vertex {v}: {b} vs {want}");
+        }
+    }
+    // With shadows and a sun: the two references agree to a few per cent (they differ by the
+    // directions' discretisation: 1,024 leaves against every texel of a 128 × 64 sky).
+    let mut d = data(BALL_ABOVE_GROUND, &[], &dir.join("b.vcuts"));
+    let sky = vcut_envmap::procedural::PreethamSky::default().bake(128);
+    let frame = Frame::new(&mut d, &sky).unwrap();
+    let exact = exact_direction(&frame, EYE, 1e-4);
+    let (mc, _) = vcut_shade::reference::monte_carlo(&frame, &sky, EYE, 1e-4, &params);
+    let (l2, _) = errors(&exact, &mc);
+    eprintln!("exact-direction against Monte Carlo: relative L2 {l2}");
+    assert!(l2 < 0.1, "exact-direction against Monte Carlo: relative L2 {l2}");
+}
+
+#[test]
 fn moves_re_merge_only_what_changed_and_edits_never_merge() {
     let dir = scratch("moves");
     let mut d = data(BALL_ABOVE_GROUND, &[], &dir.join("b.vcuts"));
