@@ -76,7 +76,14 @@ pub struct Frame {
     objects: Vec<ObjectState>,
     builder: LightTreeBuilder,
     light: LightTree,
+    /// Per tree node (level order): mean direction and light, packed for shading.
+    nodes: Vec<[Vec3; 2]>,
     merges: u64,
+}
+
+/// Mean direction and light tree value of every node, side by side.
+fn pack_nodes(tree: &DirectionTree, light: &LightTree) -> Vec<[Vec3; 2]> {
+    tree.mean_directions().iter().enumerate().map(|(k, &d)| [d, Vec3::from(light.node_f32(k as u32))]).collect()
 }
 
 impl Frame {
@@ -107,7 +114,8 @@ impl Frame {
         }
         let mut builder = LightTreeBuilder::new(&tree);
         let light = builder.build(env);
-        let mut frame = Frame { tree, objects, builder, light, merges: 0 };
+        let nodes = pack_nodes(&tree, &light);
+        let mut frame = Frame { tree, objects, builder, light, nodes, merges: 0 };
         for o in 0..frame.objects.len() {
             let n = frame.objects[o].mesh.vertex_count();
             let keys: Vec<Vec<FieldKey>> = (0..n).map(|v| frame.keys(o, v)).collect();
@@ -181,38 +189,46 @@ impl Frame {
     ) -> Result<Vec<(usize, MergedCut)>, FrameError> {
         let me = &self.objects[o];
         let h = self.tree.height();
+        // Neighbouring vertices share most of their field samples: decode each sample once.
+        let mut wanted: Vec<(u32, u32, u32)> = vertices
+            .iter()
+            .flat_map(|&v| keys[v].iter())
+            .filter_map(|k| k.samples.map(|s| (k.object, s)))
+            .flat_map(|(j, s)| s.into_iter().filter(|x| x.weight > 0.0).map(move |x| (j, x.sphere, x.point)))
+            .collect();
+        wanted.sort_unstable();
+        wanted.dedup();
+        let decoded: Vec<Cut> = wanted
+            .par_iter()
+            .map(|&(j, sphere, point)| self.objects[j as usize].field[sphere as usize].cut(point as usize))
+            .collect::<Result<_, String>>()
+            .map_err(|reason| FrameError::Cut { object: o, vertex: vertices.first().copied().unwrap_or(0), reason })?;
+        let find = |j: u32, x: &FieldSample| -> &Cut {
+            let i = wanted.binary_search(&(j, x.sphere, x.point)).unwrap_or_else(|_| unreachable!("collected above"));
+            &decoded[i]
+        };
         vertices
             .par_iter()
-            .map(|&v| {
+            .map_init(MergedCut::default, |scratch, &v| {
                 let err = |reason: String| FrameError::Cut { object: o, vertex: v, reason };
-                let mut out = MergedCut::default();
                 if keys[v].iter().any(|k| k.samples.is_none()) {
-                    out.root_height = h;
-                    out.heights.push(h as u8);
-                    out.values.push(0.0);
-                    out.indices.push(0);
+                    let out = MergedCut { root_height: h, heights: vec![h as u8], values: vec![0.0], indices: vec![0] };
                     return Ok((v, out));
                 }
                 let svc = me.svc_cut(v).map_err(err)?;
-                let fields: Vec<(Vec<Cut>, Vec<f32>)> = keys[v]
+                let fields: Vec<(Vec<&Cut>, Vec<f32>)> = keys[v]
                     .iter()
                     .map(|k| {
                         let samples = k.samples.unwrap_or_else(|| unreachable!("handled above"));
-                        let arrays = &self.objects[k.object as usize].field;
-                        let cuts = samples
-                            .iter()
-                            .map(|x| arrays[x.sphere as usize].cut(x.point as usize))
-                            .collect::<Result<Vec<_>, _>>()?;
-                        Ok((cuts, samples.iter().map(|x| x.weight).collect()))
+                        let kept: Vec<&FieldSample> = samples.iter().filter(|x| x.weight > 0.0).collect();
+                        (kept.iter().map(|x| find(k.object, x)).collect(), kept.iter().map(|x| x.weight).collect())
                     })
-                    .collect::<Result<_, String>>()
-                    .map_err(err)?;
-                let refs: Vec<Vec<&Cut>> = fields.iter().map(|(c, _)| c.iter().collect()).collect();
+                    .collect();
                 let svc_ref = &svc;
                 let mut groups = vec![Group::single(&svc_ref)];
-                groups.extend(refs.iter().zip(&fields).map(|(r, (_, w))| Group { cuts: r, weights: w }));
-                merge(&groups, &mut out).map_err(|e| err(e.to_string()))?;
-                Ok((v, out))
+                groups.extend(fields.iter().map(|(c, w)| Group { cuts: c, weights: w }));
+                merge(&groups, scratch).map_err(|e| err(e.to_string()))?;
+                Ok((v, scratch.clone()))
             })
             .collect()
     }
@@ -247,6 +263,7 @@ impl Frame {
     /// Rebuilds the light tree for a new or rotated environment (no merge).
     pub fn set_environment(&mut self, env: &EnvMap) {
         self.light = self.builder.build(env);
+        self.nodes = pack_nodes(&self.tree, &self.light);
     }
 
     /// World positions of object `o`'s vertices at its current translation.
@@ -258,7 +275,6 @@ impl Frame {
     /// Outgoing radiance toward `eye` of every vertex of every object:
     /// B = Σ_k v_k f_r(ω_k, ω_o) l_k over its merged cut, ω_k the node's mean direction.
     pub fn shade(&self, eye: Vec3) -> Vec<Vec<Vec3>> {
-        let dirs = self.tree.mean_directions();
         self.objects
             .iter()
             .map(|s| {
@@ -274,8 +290,8 @@ impl Frame {
                             if val == 0.0 {
                                 continue;
                             }
-                            let l = Vec3::from(self.light.node_f32(k));
-                            b += val * brdf::eval(&s.material, n, dirs[k as usize], wo) * l;
+                            let [dir, l] = self.nodes[k as usize];
+                            b += val * brdf::eval(&s.material, n, dir, wo) * l;
                         }
                         b
                     })
