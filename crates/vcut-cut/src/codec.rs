@@ -193,7 +193,8 @@ pub enum DecodeError {
     Invalid(#[from] CutError),
 }
 
-fn put_varint(out: &mut Vec<u8>, mut x: u64) {
+/// Appends `x` as unsigned LEB128 (7 bits per byte, low first), as the codecs store counts.
+pub fn put_varint(out: &mut Vec<u8>, mut x: u64) {
     loop {
         let b = (x & 0x7f) as u8;
         x >>= 7;
@@ -205,7 +206,8 @@ fn put_varint(out: &mut Vec<u8>, mut x: u64) {
     }
 }
 
-fn get_varint(bytes: &[u8]) -> Result<(u64, usize), DecodeError> {
+/// Reads a canonical unsigned LEB128 value from the start of `bytes`: (value, bytes used).
+pub fn get_varint(bytes: &[u8]) -> Result<(u64, usize), DecodeError> {
     let mut x = 0u64;
     for (i, &b) in bytes.iter().enumerate().take(10) {
         x |= u64::from(b & 0x7f) << (7 * i);

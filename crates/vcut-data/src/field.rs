@@ -162,11 +162,6 @@ impl FieldLayout {
         }
         samples.iter().filter(|x| x.weight > 0.0).count()
     }
-
-    /// The same layout around a centre moved by `offset` (objects translate rigidly).
-    pub fn translated(&self, offset: Vec3) -> FieldLayout {
-        FieldLayout { center: self.center + offset, ..*self }
-    }
 }
 
 #[cfg(test)]

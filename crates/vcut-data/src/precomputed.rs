@@ -132,17 +132,11 @@ impl Precomputed {
     /// Every SVC of object `object`, in vertex order (all its chunks).
     pub fn svc_cuts(&mut self, object: usize) -> Result<Vec<Cut>, FileError> {
         let mut out = Vec::new();
-        for chunk in 0.. {
-            let id = SectionId::new(SectionKind::Svc, object as u32, chunk);
-            if !self.reader.has(id) {
-                break;
+        for (chunk, a) in self.svc_arrays(object)?.iter().enumerate() {
+            let id = SectionId::new(SectionKind::Svc, object as u32, chunk as u32);
+            for i in 0..a.len() {
+                out.push(a.cut(i).map_err(|e| self.reader.section_error(id, e))?);
             }
-            out.extend(self.decoded(id, None)?.0);
-        }
-        let want = self.objects.get(object).map_or(0, |o| o.mesh.vertex_count());
-        if out.len() != want {
-            let id = SectionId::new(SectionKind::Svc, object as u32, 0);
-            return Err(self.reader.section_error(id, format!("{} SVCs for {want} vertices", out.len())));
         }
         Ok(out)
     }

@@ -46,31 +46,6 @@ fn format_of(code: u8) -> Option<ValueFormat> {
 /// Cuts per block of the cut array's offset index.
 pub const CUT_BLOCK: usize = 32;
 
-fn put_len(out: &mut Vec<u8>, mut x: usize) {
-    loop {
-        let b = (x & 0x7f) as u8;
-        x >>= 7;
-        if x == 0 {
-            out.push(b);
-            return;
-        }
-        out.push(b | 0x80);
-    }
-}
-
-/// A canonical LEB128 length at `at`: (value, bytes used).
-fn get_len(bytes: &[u8], at: usize) -> Option<(usize, usize)> {
-    let mut x = 0usize;
-    for i in 0..4 {
-        let b = *bytes.get(at + i)?;
-        x |= usize::from(b & 0x7f) << (7 * i);
-        if b & 0x80 == 0 {
-            return (b != 0 || i == 0).then_some((x, i + 1));
-        }
-    }
-    None
-}
-
 /// Builds a cut array payload from already encoded cuts.
 pub fn encode_cut_array(
     root_height: u32,
@@ -87,7 +62,7 @@ pub fn encode_cut_array(
         if i % CUT_BLOCK == 0 {
             blocks.push(area.len() as u32);
         }
-        put_len(&mut area, c.len());
+        codec::put_varint(&mut area, c.len() as u64);
         area.extend_from_slice(c);
     }
     blocks.push(area.len() as u32);
@@ -167,7 +142,10 @@ impl CutArray {
             if i % CUT_BLOCK == 0 && block(i / CUT_BLOCK) != at {
                 return Err(format!("block offset of cut {i} is {}, its bytes start at {at}", block(i / CUT_BLOCK)));
             }
-            let (len, used) = get_len(cuts, at).ok_or_else(|| format!("cut {i}: malformed length"))?;
+            let (len, used) = codec::get_varint(&cuts[at.min(cuts.len())..])
+                .ok()
+                .and_then(|(len, used)| Some((usize::try_from(len).ok()?, used)))
+                .ok_or_else(|| format!("cut {i}: malformed length"))?;
             at += used;
             lengths += used;
             spans.push(((blocks_end + bits + at) as u32, len as u32));

@@ -13,8 +13,41 @@ use rayon::prelude::*;
 use vcut_cut::Cut;
 use vcut_cut::select::{SelectParams, Selector};
 use vcut_data::FieldLayout;
-use vcut_dirtree::DirectionTree;
+use vcut_dirtree::{Cone, DirectionTree};
 use vcut_scene::Mesh;
+
+/// The directions from a point that can meet an object's bounding sphere: those within
+/// asin(r/d) of the direction to its centre. From inside the sphere every direction can.
+#[derive(Debug, Clone, Copy)]
+pub struct BoundingCone {
+    axis: Vec3,
+    angle: Angle,
+    cos: f32,
+}
+
+impl BoundingCone {
+    /// The cone from `p` around the sphere (`center`, `radius`); `None` inside the sphere.
+    pub fn from_point(p: Vec3, center: Vec3, radius: f32) -> Option<BoundingCone> {
+        let to_c = center - p;
+        let d = to_c.length();
+        (d > radius * (1.0 + 1e-5)).then(|| {
+            let beta = (radius / d).asin();
+            BoundingCone { axis: to_c / d, angle: Angle::new(beta), cos: beta.cos() }
+        })
+    }
+
+    /// Whether a tree node's whole cone lies outside (all its directions miss the object).
+    #[inline]
+    pub fn excludes(&self, cone: &Cone) -> bool {
+        cone_outside(cone, self.axis, self.angle)
+    }
+
+    /// Whether direction `dir` misses the bounding sphere.
+    #[inline]
+    pub fn misses(&self, dir: Vec3) -> bool {
+        dir.dot(self.axis) < self.cos
+    }
+}
 
 /// V at every leaf (leaf order) from `p` against `occ`, an object inside the sphere
 /// (`center`, `radius`): 1 visible, 0 occluded.
@@ -26,19 +59,13 @@ pub fn point_visibility(
     radius: f32,
     out: &mut [f32],
 ) -> RayStats {
-    let to_c = center - p;
-    let d = to_c.length();
     let mut stats = RayStats::default();
-    // Directions within `beta` of the centre can meet the bounding sphere; from inside it, all can.
-    let (axis, beta) =
-        if d > radius * (1.0 + 1e-5) { (to_c / d, (radius / d).asin()) } else { (Vec3::Z, std::f32::consts::PI) };
-    let cos_beta = beta.cos();
-    let angle = Angle::new(beta);
+    let bound = BoundingCone::from_point(p, center, radius);
     let culled = visit_leaves(
         tree,
-        |cone| (beta < std::f32::consts::PI && cone_outside(cone, axis, angle)).then_some(1.0),
+        |cone| bound.is_some_and(|b| b.excludes(cone)).then_some(1.0),
         |dir| {
-            if beta < std::f32::consts::PI && dir.dot(axis) < cos_beta {
+            if bound.is_some_and(|b| b.misses(dir)) {
                 stats.resolved_without_ray += 1;
                 return 1.0;
             }
@@ -62,18 +89,11 @@ pub fn point_visibility(
 /// `select(point_visibility(..), SelectParams::field())` (tested) without its O(N) node sums,
 /// which dominate for far points where most of the sphere is culled.
 pub fn exact_point_cut(occ: &Occluder, tree: &DirectionTree, p: Vec3, center: Vec3, radius: f32) -> (Cut, RayStats) {
-    let to_c = center - p;
-    let d = to_c.length();
-    let outside = d > radius * (1.0 + 1e-5);
-    let (axis, beta) = if outside { (to_c / d, (radius / d).asin()) } else { (Vec3::Z, std::f32::consts::PI) };
     let mut walk = ExactWalk {
         occ,
         tree,
         p,
-        axis,
-        outside,
-        angle: Angle::new(beta),
-        cos_beta: beta.cos(),
+        bound: BoundingCone::from_point(p, center, radius),
         heights: Vec::new(),
         values: Vec::new(),
         stats: RayStats::default(),
@@ -89,10 +109,7 @@ struct ExactWalk<'a> {
     occ: &'a Occluder,
     tree: &'a DirectionTree,
     p: Vec3,
-    axis: Vec3,
-    outside: bool,
-    angle: Angle,
-    cos_beta: f32,
+    bound: Option<BoundingCone>,
     heights: Vec<u8>,
     values: Vec<f32>,
     stats: RayStats,
@@ -101,7 +118,7 @@ struct ExactWalk<'a> {
 impl ExactWalk<'_> {
     /// Appends the cut of node `k` (height `h`); returns whether it is a single node.
     fn node(&mut self, k: u32, h: u32) -> bool {
-        if self.outside && cone_outside(&self.tree.cone(k), self.axis, self.angle) {
+        if self.bound.is_some_and(|b| b.excludes(&self.tree.cone(k))) {
             self.stats.resolved_without_ray += 1u64 << h;
             self.heights.push(h as u8);
             self.values.push(1.0);
@@ -109,7 +126,7 @@ impl ExactWalk<'_> {
         }
         if h == 0 {
             let dir = self.tree.leaf_directions()[self.tree.leaf_range(k).start];
-            let v = if self.outside && dir.dot(self.axis) < self.cos_beta {
+            let v = if self.bound.is_some_and(|b| b.misses(dir)) {
                 self.stats.resolved_without_ray += 1;
                 1.0
             } else {

@@ -121,6 +121,37 @@ pub struct StageSummary {
 }
 
 impl StageSummary {
+    fn new(name: &'static str) -> StageSummary {
+        StageSummary {
+            name,
+            seconds: 0.0,
+            rays: RayStats::default(),
+            compute_seconds: 0.0,
+            raw_rays_per_second: 0.0,
+            computed: 0,
+            resumed: 0,
+        }
+    }
+
+    /// Keeps section `id` from the partial file if it is the next one there (counting it and
+    /// reporting its `units` of work as done); returns whether it was kept.
+    fn try_keep(
+        &mut self,
+        writer: &mut Writer,
+        id: SectionId,
+        units: u64,
+        progress: &dyn Progress,
+    ) -> Result<bool, FileError> {
+        if !writer.can_keep(id) {
+            return Ok(false);
+        }
+        writer.keep(id)?;
+        self.resumed += 1;
+        progress.advance(units);
+        progress.section(id, true);
+        Ok(true)
+    }
+
     /// Rays cast per second of compute (0 when nothing was cast).
     pub fn rays_per_second(&self) -> f64 {
         if self.compute_seconds > 0.0 { self.rays.rays_cast as f64 / self.compute_seconds } else { 0.0 }
@@ -262,16 +293,12 @@ fn svc_rays(tree: &DirectionTree, origin: Vec3, normal: Vec3) -> Vec<(Vec3, Vec3
 fn field_rays(tree: &DirectionTree, p: Vec3, l: &FieldLayout) -> Vec<(Vec3, Vec3)> {
     let mut rays = Vec::new();
     let mut out = vec![0.0f32; tree.leaf_count()];
-    let to_c = l.center - p;
-    let d = to_c.length();
-    let outside = d > l.radius * (1.0 + 1e-5);
-    let (axis, beta) = if outside { (to_c / d, (l.radius / d).asin()) } else { (Vec3::Z, std::f32::consts::PI) };
-    let angle = crate::Angle::new(beta);
+    let bound = crate::field::BoundingCone::from_point(p, l.center, l.radius);
     visit_leaves(
         tree,
-        |cone| (outside && cone_outside(cone, axis, angle)).then_some(1.0),
+        |cone| bound.is_some_and(|b| b.excludes(cone)).then_some(1.0),
         |dir| {
-            if !outside || dir.dot(axis) >= beta.cos() {
+            if !bound.is_some_and(|b| b.misses(dir)) {
                 rays.push((p, dir));
             }
             1.0
@@ -342,15 +369,7 @@ pub fn precompute(job: &Job<'_>, progress: &dyn Progress, interrupt: &AtomicBool
     }
     progress.advance(1);
     progress.end_stage();
-    stages.push(StageSummary {
-        name: "directions",
-        seconds: t0.elapsed().as_secs_f64(),
-        rays: RayStats::default(),
-        compute_seconds: 0.0,
-        raw_rays_per_second: 0.0,
-        computed: 0,
-        resumed: 0,
-    });
+    stages.push(StageSummary { seconds: t0.elapsed().as_secs_f64(), ..StageSummary::new("directions") });
     let leaf_areas = leaf_solid_angles(&tree);
     let root = tree.height();
 
@@ -368,15 +387,7 @@ pub fn precompute(job: &Job<'_>, progress: &dyn Progress, interrupt: &AtomicBool
     let total_vertices: usize = scene.objects.iter().map(|o| o.mesh.vertex_count()).sum();
     let mut raw = RawMeter::default();
     progress.stage("svc", total_vertices as u64);
-    let mut svc = StageSummary {
-        name: "svc",
-        seconds: 0.0,
-        rays: RayStats::default(),
-        compute_seconds: 0.0,
-        raw_rays_per_second: 0.0,
-        computed: 0,
-        resumed: 0,
-    };
+    let mut svc = StageSummary::new("svc");
     for (i, o) in scene.objects.iter().enumerate() {
         let occ = occ_of(i);
         let offset = offset_of(i);
@@ -385,11 +396,7 @@ pub fn precompute(job: &Job<'_>, progress: &dyn Progress, interrupt: &AtomicBool
             let end = (start + p.svc_chunk as usize).min(n);
             let id = SectionId::new(SectionKind::Svc, i as u32, chunk as u32);
             check_interrupt(&writer)?;
-            if writer.can_keep(id) {
-                writer.keep(id)?;
-                svc.resumed += 1;
-                progress.advance((end - start) as u64);
-                progress.section(id, true);
+            if svc.try_keep(&mut writer, id, (end - start) as u64, progress)? {
                 continue;
             }
             let c0 = Instant::now();
@@ -437,15 +444,7 @@ pub fn precompute(job: &Job<'_>, progress: &dyn Progress, interrupt: &AtomicBool
     let mut raw = RawMeter::default();
     let field_points: u64 = field_objects.iter().map(|&i| layouts[i].map_or(0, |l| l.point_count() as u64)).sum();
     progress.stage("fields", field_points);
-    let mut fields = StageSummary {
-        name: "fields",
-        seconds: 0.0,
-        rays: RayStats::default(),
-        compute_seconds: 0.0,
-        raw_rays_per_second: 0.0,
-        computed: 0,
-        resumed: 0,
-    };
+    let mut fields = StageSummary::new("fields");
     let mut inside_points = 0u64;
     for &i in &field_objects {
         let (l, occ) =
@@ -453,11 +452,7 @@ pub fn precompute(job: &Job<'_>, progress: &dyn Progress, interrupt: &AtomicBool
         for s in 0..l.spheres {
             let id = SectionId::new(SectionKind::Field, i as u32, s);
             check_interrupt(&writer)?;
-            if writer.can_keep(id) {
-                writer.keep(id)?;
-                fields.resumed += 1;
-                progress.advance(l.points_per_sphere() as u64);
-                progress.section(id, true);
+            if fields.try_keep(&mut writer, id, l.points_per_sphere() as u64, progress)? {
                 continue;
             }
             let c0 = Instant::now();

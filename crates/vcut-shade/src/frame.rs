@@ -152,7 +152,8 @@ impl Frame {
         (&s.name, &s.mesh, &s.material, s.motion, s.translation)
     }
 
-    /// Merges performed so far (every vertex once at setup, then only what moves changed).
+    /// Vertices re-merged by moves so far (the merges at setup are not counted; BRDF, camera
+    /// and lighting edits never merge).
     pub fn merges(&self) -> u64 {
         self.merges
     }

@@ -232,19 +232,8 @@ pub fn write_ply(frame: &Frame, radiance: &[Vec<Vec3>], path: &Path) -> Result<(
 
 /// Relative L2 and largest per-pixel error of `got` against `reference`, over covered pixels.
 pub fn pixel_errors(got: &Image, reference: &Image) -> (f64, f64) {
-    let (mut num, mut den, mut sum, mut n, mut worst) = (0.0f64, 0.0f64, 0.0f64, 0usize, 0.0f64);
-    for k in 0..got.rgb.len().min(reference.rgb.len()) {
-        if !reference.covered[k] {
-            continue;
-        }
-        let d = (got.rgb[k] - reference.rgb[k]).as_dvec3();
-        num += d.length_squared();
-        den += reference.rgb[k].as_dvec3().length_squared();
-        sum += reference.rgb[k].as_dvec3().length();
-        n += 1;
-        worst = worst.max(d.length());
-    }
-    ((num / den.max(1e-300)).sqrt(), worst / (sum / n.max(1) as f64).max(1e-300))
+    let pairs = got.rgb.iter().zip(&reference.rgb).zip(&reference.covered);
+    crate::reference::relative_errors(pairs.filter(|(_, c)| **c).map(|((a, b), _)| (*a, *b)))
 }
 
 #[cfg(test)]

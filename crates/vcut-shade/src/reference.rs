@@ -69,16 +69,20 @@ pub fn exact_direction(frame: &Frame, eye: Vec3, origin_offset: f32) -> Vec<Vec<
 /// Relative L2 error of `got` against `reference` over all vertices and channels, and the
 /// largest per-vertex error relative to the reference's mean radiance.
 pub fn errors(got: &[Vec<Vec3>], reference: &[Vec<Vec3>]) -> (f64, f64) {
+    relative_errors(got.iter().zip(reference).flat_map(|(g, r)| g.iter().copied().zip(r.iter().copied())))
+}
+
+/// Relative L2 error over (value, reference) pairs of RGB, and the largest error relative to
+/// the references' mean.
+pub fn relative_errors(pairs: impl Iterator<Item = (Vec3, Vec3)>) -> (f64, f64) {
     let (mut num, mut den, mut sum, mut count, mut worst) = (0.0f64, 0.0f64, 0.0f64, 0usize, 0.0f64);
-    for (g, r) in got.iter().zip(reference) {
-        for (a, b) in g.iter().zip(r) {
-            let d = (*a - *b).as_dvec3();
-            num += d.length_squared();
-            den += b.as_dvec3().length_squared();
-            sum += b.as_dvec3().length();
-            count += 1;
-            worst = worst.max(d.length());
-        }
+    for (a, b) in pairs {
+        let d = (a - b).as_dvec3();
+        num += d.length_squared();
+        den += b.as_dvec3().length_squared();
+        sum += b.as_dvec3().length();
+        count += 1;
+        worst = worst.max(d.length());
     }
     let mean = sum / count.max(1) as f64;
     ((num / den.max(1e-300)).sqrt(), worst / mean.max(1e-300))
