@@ -76,20 +76,12 @@ impl RenderArgs {
     }
 }
 
-/// `key = "value"` from the params section.
-fn recorded(params: &str, key: &str) -> Option<String> {
-    params.lines().find_map(|l| {
-        let (k, v) = l.split_once('=')?;
-        (k.trim() == key).then(|| v.trim().trim_matches('"').to_string())
-    })
-}
-
 /// Runs `render`.
 pub fn run(args: &RenderArgs) -> Result<()> {
     let mut data = Precomputed::open(&args.input)?;
-    let source = recorded(&data.params_text, "scene").unwrap_or_default();
+    let source = data.recorded("scene").unwrap_or_default();
     let scene = Scene::open(&source).ok();
-    let env_spec = args.env.clone().or_else(|| recorded(&data.params_text, "environment").filter(|e| e != "scene"));
+    let env_spec = args.env.clone().or_else(|| data.recorded("environment").filter(|e| e != "scene"));
     let env: EnvMap = match (&env_spec, &scene) {
         (Some(e), _) => crate::inspect::load_envmap(e).with_context(|| format!("--env {e}"))?,
         (None, Some(s)) => s.environment.clone(),
@@ -171,7 +163,7 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     if !matches!(compare, "none" | "exact" | "mc" | "both") {
         bail!("--compare {compare}: expected exact, mc or both");
     }
-    let offset = recorded(&data.params_text, "svc_origin_offset").and_then(|v| v.parse().ok()).unwrap_or(1e-4);
+    let offset = data.recorded("svc_origin_offset").and_then(|v| v.parse().ok()).unwrap_or(1e-4);
     let stem = args.output.file_stem().and_then(|s| s.to_str()).unwrap_or("frame").to_string();
     let mut refs = Vec::new();
     if matches!(compare, "exact" | "both") {

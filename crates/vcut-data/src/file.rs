@@ -26,8 +26,8 @@ use std::fs::{File, OpenOptions};
 use std::io::{BufWriter, Read, Seek, SeekFrom, Write};
 use std::path::{Path, PathBuf};
 
-/// Format version written and accepted.
-pub const VERSION: u32 = 2;
+/// Format version written and accepted. 3: field layouts record their radial spacing.
+pub const VERSION: u32 = 3;
 const MAGIC: &[u8; 8] = b"VCUTS\0\r\n";
 const HEADER_LEN: u64 = 64;
 const RECORD_LEN: u64 = 32;
@@ -409,7 +409,9 @@ impl<R: Read + Seek> Reader<R> {
         }
         let version = u32_at(&h, 8);
         if version != VERSION {
-            return Err(bad(format!("format version {version}; this build reads version {VERSION}")));
+            return Err(bad(format!(
+                "format version {version}; this build reads version {VERSION} (run `cargo xtask precompute` again)"
+            )));
         }
         let (table_offset, table_len, table_crc, count) =
             (u64_at(&h, 16), u64_at(&h, 24), u32_at(&h, 32), u32_at(&h, 36));

@@ -56,6 +56,14 @@ impl Precomputed {
     }
 
     /// The direction tree, rebuilt from the stored directions and checked against the stored
+    /// A value recorded in the `params` section (`key = value` lines; quotes removed).
+    pub fn recorded(&self, key: &str) -> Option<String> {
+        self.params_text.lines().find_map(|l| {
+            let (k, v) = l.split_once('=')?;
+            (k.trim() == key).then(|| v.trim().trim_matches('"').to_string())
+        })
+    }
+
     /// leaf order (a different tree would give the cuts' nodes other meanings).
     pub fn tree(&self) -> Result<DirectionTree, FileError> {
         let id = SectionId::new(SectionKind::Directions, 0, 0);

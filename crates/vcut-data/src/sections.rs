@@ -12,10 +12,10 @@
 //! angles of their cells, then the direction tree's leaf order (n u32: the direction at each
 //! leaf), so a reader can check that the tree it rebuilds is the one the cuts refer to. **Mesh**: name, motion (0 static, 1 movable), material (TOML), vertex
 //! and triangle counts, positions, normals, triangles. **Field layout**: centre, radius,
-//! spheres, resolution, inner, outer. Strings are a u32 length and UTF-8 bytes; all
+//! spheres, resolution, inner, outer, radial spacing (u32: 0 linear, 1 geometric). Strings are a u32 length and UTF-8 bytes; all
 //! little-endian. Every parser checks lengths and returns a reason instead of panicking.
 
-use crate::field::FieldLayout;
+use crate::field::{FieldLayout, RadialSpacing};
 use glam::Vec3;
 use vcut_cut::Cut;
 use vcut_cut::codec::{self, ShapeCoding, ValueFormat};
@@ -312,6 +312,11 @@ pub fn encode_field_layout(l: &FieldLayout) -> Vec<u8> {
     out.extend_from_slice(&l.resolution.to_le_bytes());
     out.extend_from_slice(&l.inner.to_le_bytes());
     out.extend_from_slice(&l.outer.to_le_bytes());
+    let spacing: u32 = match l.spacing {
+        RadialSpacing::Linear => 0,
+        RadialSpacing::Geometric => 1,
+    };
+    out.extend_from_slice(&spacing.to_le_bytes());
     out
 }
 
@@ -325,6 +330,11 @@ pub fn decode_field_layout(bytes: &[u8]) -> Result<FieldLayout, String> {
         resolution: r.u32()?,
         inner: r.f32()?,
         outer: r.f32()?,
+        spacing: match r.u32()? {
+            0 => RadialSpacing::Linear,
+            1 => RadialSpacing::Geometric,
+            code => return Err(format!("unknown radial spacing code {code}")),
+        },
     };
     let ok = r.rest() == 0
         && l.center.is_finite()
@@ -333,6 +343,7 @@ pub fn decode_field_layout(bytes: &[u8]) -> Result<FieldLayout, String> {
         && (1..=4096).contains(&l.spheres)
         && (1..=4096).contains(&l.resolution)
         && l.inner >= 0.0
+        && (l.inner > 0.0 || l.spacing == RadialSpacing::Linear)
         && l.outer > l.inner
         && l.outer.is_finite();
     if ok { Ok(l) } else { Err(format!("malformed field layout {l:?}")) }
@@ -480,8 +491,19 @@ mod tests {
         let dirs = vec![Vec3::X, Vec3::Y];
         let (d, a, o) = decode_directions(&encode_directions(&dirs, &[1.5, 2.5], &[1, 0])).unwrap();
         assert_eq!((d, a, o), (dirs, vec![1.5, 2.5], vec![1, 0]));
-        let l = FieldLayout { center: Vec3::ONE, radius: 2.0, spheres: 4, resolution: 3, inner: 0.2, outer: 10.0 };
+        let l = FieldLayout {
+            center: Vec3::ONE,
+            radius: 2.0,
+            spheres: 4,
+            resolution: 3,
+            inner: 0.2,
+            outer: 10.0,
+            spacing: RadialSpacing::Geometric,
+        };
         assert_eq!(decode_field_layout(&encode_field_layout(&l)).unwrap(), l);
+        let linear = FieldLayout { spacing: RadialSpacing::Linear, ..l };
+        assert_eq!(decode_field_layout(&encode_field_layout(&linear)).unwrap(), linear);
+        assert!(decode_field_layout(&encode_field_layout(&FieldLayout { inner: 0.0, ..l })).is_err());
         assert!(decode_field_layout(&encode_field_layout(&FieldLayout { radius: -1.0, ..l })).is_err());
     }
 }

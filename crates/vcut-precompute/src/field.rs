@@ -230,9 +230,24 @@ pub fn leaf_solid_angles(tree: &DirectionTree) -> Vec<f64> {
 }
 
 /// The field layout of the paper around `mesh`'s bounding sphere.
-pub fn layout_around(mesh: &Mesh, spheres: u32, resolution: u32, inner: f32, outer: f32) -> FieldLayout {
+pub fn layout_around(
+    mesh: &Mesh,
+    spheres: u32,
+    resolution: u32,
+    inner: f32,
+    outer: f32,
+    spacing: vcut_data::RadialSpacing,
+) -> FieldLayout {
     let b = mesh.bounds();
-    FieldLayout { center: b.center, radius: b.radius.max(f32::MIN_POSITIVE), spheres, resolution, inner, outer }
+    FieldLayout {
+        center: b.center,
+        radius: b.radius.max(f32::MIN_POSITIVE),
+        spheres,
+        resolution,
+        inner,
+        outer,
+        spacing,
+    }
 }
 
 #[cfg(test)]
@@ -295,7 +310,7 @@ mod tests {
     fn field_cuts_are_coarse_and_inside_points_are_marked() {
         let t = tree(1024);
         let ball = vcut_scene::shapes::sphere(1.0, 32, 16).unwrap();
-        let layout = layout_around(&ball, 4, 4, 0.2, 10.0);
+        let layout = layout_around(&ball, 4, 4, 0.2, 10.0, vcut_data::RadialSpacing::Linear);
         let field = visibility_cut_field(&ball, &t, &layout, SelectParams::field());
         assert_eq!(field.len(), 4);
         // The innermost sphere (0.2r) is inside the ball; the others are outside it.

@@ -7,6 +7,7 @@
 use std::f64::consts::PI;
 use vcut_cut::codec::{ShapeCoding, ValueFormat};
 use vcut_cut::select::SelectParams;
+use vcut_data::RadialSpacing;
 
 /// Everything that decides the precomputed data.
 #[derive(Debug, Clone, PartialEq)]
@@ -37,6 +38,9 @@ pub struct PrecomputeParams {
     pub field_inner: f32,
     /// Outermost field sphere radius / bounding radius.
     pub field_outer: f32,
+    /// How the field spheres are spaced between inner and outer (geometric: a constant ratio,
+    /// dense near the object; linear: evenly, as the paper).
+    pub field_spacing: RadialSpacing,
     /// Field cut selection error threshold (0 = exact; must stay below 0.25). Setting it above
     /// 0 switches one-bit field values to u8.
     pub field_max_error: f64,
@@ -70,7 +74,7 @@ pub enum ParamError {
 }
 
 /// Parameter names, in the order they are recorded.
-pub const KEYS: [&str; 15] = [
+pub const KEYS: [&str; 16] = [
     "preset",
     "directions",
     "direction_seed",
@@ -84,6 +88,7 @@ pub const KEYS: [&str; 15] = [
     "field_resolution",
     "field_inner",
     "field_outer",
+    "field_spacing",
     "field_max_error",
     "field_values",
 ];
@@ -93,7 +98,8 @@ pub const PRESETS: [&str; 3] = ["fast", "balanced", "paper"];
 
 impl PrecomputeParams {
     /// The paper's setting: 32,768 directions, 32 spheres from 0.2r to 10r of 6×32×32 points,
-    /// exact field cuts.
+    /// exact field cuts — with the spheres spaced geometrically, not evenly as in the paper
+    /// (`field_spacing = "linear"` restores that; see `vcut_data::field` for why and by how much).
     pub fn paper() -> Self {
         Self {
             preset: "paper".into(),
@@ -109,6 +115,7 @@ impl PrecomputeParams {
             field_resolution: 32,
             field_inner: 0.2,
             field_outer: 10.0,
+            field_spacing: RadialSpacing::Geometric,
             field_max_error: 0.0,
             field_values: ValueFormat::U1,
         }
@@ -218,6 +225,10 @@ impl PrecomputeParams {
                 }
                 if key == "field_inner" { self.field_inner = x } else { self.field_outer = x }
             }
+            "field_spacing" => {
+                self.field_spacing =
+                    RadialSpacing::named(value.trim()).ok_or_else(|| bad("must be geometric or linear"))?;
+            }
             "field_max_error" => {
                 let e: f64 = num(value, bad)?;
                 if !(0.0..0.25).contains(&e) {
@@ -311,6 +322,7 @@ impl PrecomputeParams {
             "field_resolution" => self.field_resolution.to_string(),
             "field_inner" => format!("{:?}", self.field_inner),
             "field_outer" => format!("{:?}", self.field_outer),
+            "field_spacing" => format!("\"{}\"", self.field_spacing.name()),
             "field_max_error" => format!("{:?}", self.field_max_error),
             "field_values" => format!("\"{}\"", self.field_values.name()),
             _ => return None,

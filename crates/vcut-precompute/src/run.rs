@@ -358,7 +358,14 @@ pub fn precompute(job: &Job<'_>, progress: &dyn Progress, interrupt: &AtomicBool
         .zip(&needs)
         .map(|(o, &n)| {
             n.then(|| {
-                crate::field::layout_around(&o.mesh, p.field_spheres, p.field_resolution, p.field_inner, p.field_outer)
+                crate::field::layout_around(
+                    &o.mesh,
+                    p.field_spheres,
+                    p.field_resolution,
+                    p.field_inner,
+                    p.field_outer,
+                    p.field_spacing,
+                )
             })
         })
         .collect();

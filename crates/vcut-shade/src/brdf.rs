@@ -45,6 +45,98 @@ pub fn eval(m: &Material, n: Vec3, wi: Vec3, wo: Vec3) -> Vec3 {
     }
 }
 
+/// The part of f_r beyond the Lambert term `kd/π`, for one surface point: normal `n` and view
+/// direction `wo` fixed, so what depends only on them is computed once and a frame's inner loop
+/// (one evaluation per cut node) does the rest. `kd/π + lobe.eval(wi)` equals [`eval`] wherever
+/// both `n·wi` and `n·wo` are positive (the caller's guarantee).
+#[derive(Debug, Clone, Copy)]
+pub enum Lobe {
+    /// Lambert: nothing beyond `kd/π`.
+    None,
+    /// Normalised Blinn-Phong: `ks (α+8)/(8π) (n·h)^α`.
+    BlinnPhong {
+        /// Normal.
+        n: Vec3,
+        /// View direction.
+        wo: Vec3,
+        /// `ks (α+8)/(8π)`.
+        scale: Vec3,
+        /// α.
+        exponent: f32,
+    },
+    /// Normalised Phong: `ks (α+2)/(2π) (r·wo)^α` — evaluated as `(r_o·wi)^α` with `r_o` the
+    /// mirror of `wo`, the same number.
+    Phong {
+        /// `wo` mirrored about the normal.
+        mirror: Vec3,
+        /// `ks (α+2)/(2π)`.
+        scale: Vec3,
+        /// α.
+        exponent: f32,
+    },
+    /// GGX with height-correlated Smith visibility and Schlick Fresnel.
+    Ggx {
+        /// Normal.
+        n: Vec3,
+        /// View direction.
+        wo: Vec3,
+        /// `n·wo`.
+        cos_o: f32,
+        /// α².
+        a2: f32,
+        /// Smith Λ term of `wo`: `sqrt(α² + (1 − α²) cos_o²)`.
+        lambda_o: f32,
+        /// F0.
+        ks: Vec3,
+    },
+}
+
+impl Lobe {
+    /// The lobe of `m` at normal `n` seen from `wo` (both unit).
+    pub fn new(m: &Material, n: Vec3, wo: Vec3) -> Lobe {
+        let ks = Vec3::from(m.ks);
+        match m.model {
+            BrdfModel::Lambert => Lobe::None,
+            BrdfModel::BlinnPhong => {
+                Lobe::BlinnPhong { n, wo, scale: ks * ((m.exponent + 8.0) / (8.0 * PI)), exponent: m.exponent }
+            }
+            BrdfModel::Phong => Lobe::Phong {
+                mirror: 2.0 * n.dot(wo) * n - wo,
+                scale: ks * ((m.exponent + 2.0) / (2.0 * PI)),
+                exponent: m.exponent,
+            },
+            BrdfModel::Ggx => {
+                let a2 = (m.roughness * m.roughness).max(1e-8);
+                let cos_o = n.dot(wo);
+                Lobe::Ggx { n, wo, cos_o, a2, lambda_o: (a2 + (1.0 - a2) * cos_o * cos_o).sqrt(), ks }
+            }
+        }
+    }
+
+    /// The lobe's value toward `wi` (unit, above the surface).
+    #[inline]
+    pub fn eval(&self, wi: Vec3) -> Vec3 {
+        match *self {
+            Lobe::None => Vec3::ZERO,
+            Lobe::BlinnPhong { n, wo, scale, exponent } => {
+                let h = (wi + wo).normalize_or_zero();
+                scale * n.dot(h).max(0.0).powf(exponent)
+            }
+            Lobe::Phong { mirror, scale, exponent } => scale * mirror.dot(wi).max(0.0).powf(exponent),
+            Lobe::Ggx { n, wo, cos_o, a2, lambda_o, ks } => {
+                let h = (wi + wo).normalize_or_zero();
+                let nh = n.dot(h).max(0.0);
+                let d = a2 / (PI * (nh * nh * (a2 - 1.0) + 1.0).powi(2));
+                let cos_i = n.dot(wi);
+                let lambda_i = (a2 + (1.0 - a2) * cos_i * cos_i).sqrt();
+                let v = 0.5 / (cos_o * lambda_i + cos_i * lambda_o).max(1e-12);
+                let f = ks + (Vec3::ONE - ks) * (1.0 - wi.dot(h).clamp(0.0, 1.0)).powi(5);
+                f * (d * v)
+            }
+        }
+    }
+}
+
 /// Parses a material edit `MODEL[:KEY=VALUE,...]` over `base`: MODEL is `lambert`,
 /// `blinn-phong`, `phong`, `ggx` or `same`; keys `kd` and `ks` (one value or `r/g/b`), `alpha`
 /// or `exponent` (Phong exponents), `roughness` (GGX α). Example: `blinn-phong:alpha=70`.
@@ -119,6 +211,26 @@ mod tests {
             }
         }
         assert_eq!(eval(&Material::default(), Vec3::Y, -Vec3::Y, Vec3::Y), Vec3::ZERO);
+    }
+
+    #[test]
+    fn lobes_plus_lambert_are_the_brdf() {
+        let n = Vec3::new(0.2, 0.9, -0.1).normalize();
+        let wo = Vec3::new(0.5, 0.8, 0.3).normalize();
+        for model in [BrdfModel::Lambert, BrdfModel::BlinnPhong, BrdfModel::Phong, BrdfModel::Ggx] {
+            let m = Material { model, kd: [0.3, 0.5, 0.7], ks: [0.4, 0.2, 0.1], exponent: 40.0, roughness: 0.3 };
+            let lobe = Lobe::new(&m, n, wo);
+            for i in 0..200 {
+                let (t, p) = (i as f32 * 0.0077, i as f32 * 0.61);
+                let wi = Vec3::new(t.sin() * p.cos(), t.cos(), t.sin() * p.sin());
+                if n.dot(wi) <= 0.0 {
+                    continue;
+                }
+                let want = eval(&m, n, wi, wo);
+                let got = Vec3::from(m.kd) / PI + lobe.eval(wi);
+                assert!((got - want).abs().max_element() <= 1e-5 * want.max_element().max(1.0), "{model:?} {wi}");
+            }
+        }
     }
 
     #[test]

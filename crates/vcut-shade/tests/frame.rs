@@ -215,3 +215,27 @@ fn images_ply_and_exr_are_written_whole() {
         std::fs::read_dir(&dir).unwrap().map(|e| e.unwrap().file_name().to_string_lossy().into_owned()).collect();
     assert!(names.iter().all(|n| !n.contains("tmp")), "{names:?}");
 }
+
+#[test]
+fn a_sun_inside_a_cut_node_is_shaded_where_it_is() {
+    // An open plane: no occluders, so every cut node is fully visible and the only error left
+    // is where in a node the light is. A sun 10^5× the zenith covering under one leaf: with
+    // light-weighted node directions the frame meets the exact reference within 1 % for diffuse
+    // and moderately glossy surfaces (measured 0.45 % and 0.67 %; with the nodes' plain mean
+    // directions Lambert was 3.0 % off). At α = 70 the lobe (≈ 7° wide) is narrower than the
+    // largest nodes of these 1,024-direction cuts (4π/64 sr) and is evaluated once per node:
+    // 1.9 %.
+    let dir = scratch("sun");
+    let text = "[[object]]\nsource = \"builtin:plane\"\nresolution = 6\nmaterial = { model = \"lambert\", kd = [0.5, 0.5, 0.5] }\n";
+    let mut d = data(text, &[], &dir.join("a.vcuts"));
+    let sky = vcut_envmap::procedural::PreethamSky::from_elevation_azimuth(35.0, 20.0).bake(512);
+    let mut frame = Frame::new(&mut d, &sky).unwrap();
+    for (spec, bound) in
+        [("lambert", 0.01), ("blinn-phong:alpha=15,ks=0.5", 0.01), ("blinn-phong:alpha=70,ks=0.5", 0.03)]
+    {
+        let m = vcut_shade::brdf::parse_spec(*frame.object(0).2, spec).unwrap();
+        frame.set_material(0, m);
+        let (rel, _) = errors(&frame.shade(EYE), &exact_direction(&frame, EYE, 1e-4));
+        assert!(rel < bound, "{spec}: relative L2 {rel}");
+    }
+}

@@ -1,0 +1,116 @@
+//! Where a frame's error against the exact-direction reference comes from, per object:
+//!
+//! - `frame`: the frame as rendered (SVC × interpolated fields, merged, shaded);
+//! - `exact_fields`: the SVC times each field's exact cut at the vertex itself (no trilinear
+//!   interpolation between field samples), shaded the same way: what denser fields could reach;
+//! - `exact_visibility`: the frame's merged cut with every node's value replaced by the exact
+//!   mean of V·max(0, n·ω) over its leaves: the clustering error alone.
+//!
+//! `cargo run --release -p vcut-shade --example error_sources -- FILE.vcuts [--env builtin:constant]
+//! [--eye X,Y,Z] [--move OBJECT=DX,DY,DZ]` prints `key=value` lines.
+
+use glam::Vec3;
+use rayon::prelude::*;
+use std::path::Path;
+use vcut_data::Precomputed;
+use vcut_envmap::{EnvMap, procedural};
+use vcut_merge::{MergedCut, merge_product};
+use vcut_precompute::Occluder;
+use vcut_precompute::field::exact_point_cut;
+use vcut_precompute::svc::leaf_visibility;
+use vcut_scene::Mesh;
+use vcut_shade::Frame;
+use vcut_shade::reference::{errors, exact_direction};
+
+fn vec3(s: &str) -> Result<Vec3, String> {
+    let v: Vec<f32> =
+        s.split(',').map(|x| x.trim().parse::<f32>().map_err(|e| format!("{s}: {e}"))).collect::<Result<_, _>>()?;
+    match v.as_slice() {
+        [x, y, z] => Ok(Vec3::new(*x, *y, *z)),
+        _ => Err(format!("{s}: expected X,Y,Z")),
+    }
+}
+
+fn main() -> Result<(), String> {
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    let file = args.first().ok_or(
+        "usage: error_sources FILE.vcuts [--env builtin:sky|builtin:constant] [--eye X,Y,Z] [--move OBJECT=DX,DY,DZ]",
+    )?;
+    let option = |name: &str| args.iter().position(|a| a == name).and_then(|i| args.get(i + 1)).cloned();
+    let env = match option("--env").as_deref() {
+        None | Some("builtin:sky") => procedural::PreethamSky::default().bake(1024),
+        Some("builtin:constant") => EnvMap::constant([1.0; 3]),
+        Some(other) => return Err(format!("--env {other}: builtin:sky or builtin:constant")),
+    };
+    let eye = option("--eye").map(|e| vec3(&e)).transpose()?.unwrap_or(Vec3::new(0.0, 2.0, 6.0));
+    let mut data = Precomputed::open(Path::new(file)).map_err(|e| e.to_string())?;
+    let offset: f32 = data.recorded("svc_origin_offset").and_then(|v| v.parse().ok()).unwrap_or(1e-4);
+    let mut frame = Frame::new(&mut data, &env).map_err(|e| e.to_string())?;
+    if let Some(m) = option("--move") {
+        let (name, d) = m.split_once('=').ok_or("--move OBJECT=DX,DY,DZ")?;
+        let o = frame.object_index(name).ok_or(format!("no object {name}"))?;
+        frame.translate(o, vec3(d)?).map_err(|e| e.to_string())?;
+    }
+    let shaded = frame.shade(eye);
+    let exact = exact_direction(&frame, eye, offset);
+    let meshes: Vec<Mesh> = (0..frame.object_count())
+        .map(|o| {
+            let (_, m, _, _, _) = frame.object(o);
+            Mesh::from_valid_parts(frame.positions(o), m.normals().to_vec(), m.triangles().to_vec())
+                .map_err(|e| e.to_string())
+        })
+        .collect::<Result<_, _>>()?;
+    let all = Occluder::new(&meshes.iter().collect::<Vec<_>>());
+    let alone: Vec<Occluder> = meshes.iter().map(|m| Occluder::new(&[m])).collect();
+    let tree = frame.tree();
+    let (mut fields_all, mut vis_all) = (Vec::new(), Vec::new());
+    for o in 0..frame.object_count() {
+        let positions = frame.positions(o);
+        let radius = frame.object(o).1.bounds().radius;
+        let rows: Vec<(Vec3, Vec3)> = (0..positions.len())
+            .into_par_iter()
+            .map(|v| {
+                let x = positions[v];
+                // SVC × exact field cuts at x.
+                let mut cuts = vec![frame.svc(o, v).unwrap_or_else(|e| panic!("vertex {v}: {e}"))];
+                for (j, layout) in frame.field_sources(o, v) {
+                    let centre = layout.center + frame.object(j).4;
+                    cuts.push(exact_point_cut(&alone[j], tree, x, centre, layout.radius).0);
+                }
+                let mut product = MergedCut::default();
+                merge_product(&cuts.iter().collect::<Vec<_>>(), &mut product).unwrap_or_else(|e| panic!("{e}"));
+                // The frame's cut with exact node means.
+                let n = frame.object(o).1.normals()[v];
+                let mut leaves = vec![0.0f32; tree.leaf_count()];
+                leaf_visibility(&all, tree, x + n * offset * radius, n, &mut leaves);
+                let mut means = frame.merged(o, v).clone();
+                let mut leaf = 0usize;
+                for (value, &h) in means.values.iter_mut().zip(&frame.merged(o, v).heights) {
+                    let w = 1usize << h;
+                    *value = leaves[leaf..leaf + w].iter().sum::<f32>() / w as f32;
+                    leaf += w;
+                }
+                (frame.shade_cut(o, v, &product, eye), frame.shade_cut(o, v, &means, eye))
+            })
+            .collect();
+        let fields: Vec<Vec3> = rows.iter().map(|r| r.0).collect();
+        let vis: Vec<Vec3> = rows.iter().map(|r| r.1).collect();
+        let e = |got: &[Vec3]| errors(&[got.to_vec()], &[exact[o].clone()]).0;
+        println!(
+            "object={} frame={:.4} exact_fields={:.4} exact_visibility={:.4}",
+            frame.object(o).0,
+            e(&shaded[o]),
+            e(&fields),
+            e(&vis)
+        );
+        fields_all.push(fields);
+        vis_all.push(vis);
+    }
+    println!(
+        "object=all frame={:.4} exact_fields={:.4} exact_visibility={:.4}",
+        errors(&shaded, &exact).0,
+        errors(&fields_all, &exact).0,
+        errors(&vis_all, &exact).0
+    );
+    Ok(())
+}
