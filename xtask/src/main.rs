@@ -1,10 +1,12 @@
 //! `cargo xtask`: the one orchestrating binary. It wires the library crates together; the logic
 //! lives in the crates. Run with no arguments for help.
 
+mod bench;
 mod directions;
 mod inspect;
 mod precompute;
 mod render;
+mod tradeoff;
 
 use anyhow::Result;
 use clap::{Parser, Subcommand};
@@ -38,6 +40,11 @@ enum Command {
     /// the Monte Carlo one, each with its image and the frame's error against it (per vertex and
     /// per pixel: relative L2 and largest error), and the two references against each other.
     Reference(render::RenderArgs),
+    /// Measure the paper's Table 1 on this machine: per scene precompute time and rays/s, data
+    /// size (ours and the index baseline), BRDF-edit and object-move times with the counter merge
+    /// and the index baseline, errors against the references; the machine, the directions and
+    /// the light-tree rebuild — into target/report/ (report.json, table1.md, table1.csv).
+    Bench(bench::BenchArgs),
     /// Run the main job on the built-in teapot scene under the built-in sky (for now: inspect
     /// both, build the 32,768 directions (cached), the direction tree and the sky's light tree,
     /// precompute the scene at the `fast` preset into target/vcuts/teapot-fast.vcuts, then
@@ -57,6 +64,7 @@ fn main() {
             args.compare.get_or_insert_with(|| "both".into());
             render::run(&args)
         }
+        Command::Bench(args) => bench::run(&args),
         Command::Demo => demo(),
     };
     if let Err(e) = result {

@@ -30,12 +30,14 @@
 use crate::brdf;
 use glam::Vec3;
 use rayon::prelude::*;
+use std::time::Instant;
 use vcut_cut::Cut;
 use vcut_data::sections::CutArray;
 use vcut_data::{FieldLayout, FieldSample, FileError, Precomputed};
 use vcut_dirtree::DirectionTree;
 use vcut_envmap::EnvMap;
 use vcut_lighttree::{LightTree, LightTreeBuilder};
+use vcut_merge::baseline::{self, IndexCut, IndexGroup};
 use vcut_merge::{Group, MergedCut, merge};
 use vcut_scene::{Material, Mesh, Motion};
 
@@ -55,6 +57,33 @@ pub enum FrameError {
         /// What failed.
         reason: String,
     },
+}
+
+/// Which merge a move uses. Both give the same merged cuts bit for bit (tested), so they can be
+/// timed on the same frames.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum MergeAlgorithm {
+    /// The paper's counter merge over height-coded cuts.
+    #[default]
+    Counter,
+    /// The index baseline (Cheslack-Postava 2008 style): cuts converted to level-order indices
+    /// when decoded, merged by "advance until nested".
+    Index,
+}
+
+/// Where the last move's time went (seconds, wall clock over both cores).
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct MoveTiming {
+    /// Field lookups of every vertex (the keys).
+    pub keys_s: f64,
+    /// Decoding the field samples the changed vertices need (once each).
+    pub decode_s: f64,
+    /// Merging the changed vertices (SVC decode included).
+    pub merge_s: f64,
+    /// Rebuilding their shading lists.
+    pub lists_s: f64,
+    /// Vertices re-merged.
+    pub vertices: usize,
 }
 
 /// One field's contribution to a vertex: the object, and its 8 samples (`None`: all inside it,
@@ -98,6 +127,8 @@ pub struct Frame {
     /// Per tree node (level order): what shading needs.
     nodes: Vec<ShadeNode>,
     merges: u64,
+    algorithm: MergeAlgorithm,
+    last_move: MoveTiming,
 }
 
 /// What shading needs of one tree node, in one cache line.
@@ -232,11 +263,20 @@ impl Frame {
         let mut builder = LightTreeBuilder::new(&tree);
         let light = builder.build(env);
         let nodes = shade_nodes(&tree, &light);
-        let mut frame = Frame { tree, objects, builder, light, nodes, merges: 0 };
+        let mut frame = Frame {
+            tree,
+            objects,
+            builder,
+            light,
+            nodes,
+            merges: 0,
+            algorithm: MergeAlgorithm::Counter,
+            last_move: MoveTiming::default(),
+        };
         for o in 0..frame.objects.len() {
             let n = frame.objects[o].mesh.vertex_count();
             let keys: Vec<Vec<FieldKey>> = (0..n).map(|v| frame.keys(o, v)).collect();
-            let merged = frame.merge_all(o, &keys, &(0..n).collect::<Vec<_>>())?;
+            let merged = frame.merge_all(o, &keys, &(0..n).collect::<Vec<_>>(), &mut MoveTiming::default())?;
             frame.objects[o].keys = keys;
             frame.objects[o].merged = merged.into_iter().map(|(_, m)| m).collect();
         }
@@ -274,6 +314,26 @@ impl Frame {
     /// and lighting edits never merge).
     pub fn merges(&self) -> u64 {
         self.merges
+    }
+
+    /// Chooses the merge that later moves use.
+    pub fn set_merge_algorithm(&mut self, algorithm: MergeAlgorithm) {
+        self.algorithm = algorithm;
+    }
+
+    /// Where the last [`Frame::translate`]'s time went.
+    pub fn last_move(&self) -> MoveTiming {
+        self.last_move
+    }
+
+    /// Bytes a shading pass reads from the shading lists (node index and weight per entry, and
+    /// the diffuse sum per vertex): with the machine's memory bandwidth, a floor under its time.
+    pub fn shade_bytes(&self) -> usize {
+        self.objects
+            .iter()
+            .flat_map(|s| &s.lists)
+            .map(|l| l.nodes.len() * (size_of::<u32>() + size_of::<f32>()) + size_of::<Vec3>())
+            .sum()
     }
 
     /// The merged cut of vertex `v` of object `o`.
@@ -319,6 +379,7 @@ impl Frame {
         o: usize,
         keys: &[Vec<FieldKey>],
         vertices: &[usize],
+        timing: &mut MoveTiming,
     ) -> Result<Vec<(usize, MergedCut)>, FrameError> {
         let me = &self.objects[o];
         let h = self.tree.height();
@@ -331,16 +392,22 @@ impl Frame {
             .collect();
         wanted.sort_unstable();
         wanted.dedup();
+        let start = Instant::now();
         let decoded: Vec<Cut> = wanted
             .par_iter()
             .map(|&(j, sphere, point)| self.objects[j as usize].field[sphere as usize].cut(point as usize))
             .collect::<Result<_, String>>()
             .map_err(|reason| FrameError::Cut { object: o, vertex: vertices.first().copied().unwrap_or(0), reason })?;
-        let find = |j: u32, x: &FieldSample| -> &Cut {
-            let i = wanted.binary_search(&(j, x.sphere, x.point)).unwrap_or_else(|_| unreachable!("collected above"));
-            &decoded[i]
+        let decoded_index: Vec<IndexCut> = match self.algorithm {
+            MergeAlgorithm::Counter => Vec::new(),
+            MergeAlgorithm::Index => decoded.par_iter().map(IndexCut::from_cut).collect(),
         };
-        vertices
+        timing.decode_s += start.elapsed().as_secs_f64();
+        let at = |j: u32, x: &FieldSample| -> usize {
+            wanted.binary_search(&(j, x.sphere, x.point)).unwrap_or_else(|_| unreachable!("collected above"))
+        };
+        let start = Instant::now();
+        let merged = vertices
             .par_iter()
             .map_init(MergedCut::default, |scratch, &v| {
                 let err = |reason: String| FrameError::Cut { object: o, vertex: v, reason };
@@ -349,21 +416,39 @@ impl Frame {
                     return Ok((v, out));
                 }
                 let svc = me.svc_cut(v).map_err(err)?;
-                let fields: Vec<(Vec<&Cut>, Vec<f32>)> = keys[v]
+                // Per field: where its kept samples' cuts are, and their weights.
+                let fields: Vec<(Vec<usize>, Vec<f32>)> = keys[v]
                     .iter()
                     .map(|k| {
                         let samples = k.samples.unwrap_or_else(|| unreachable!("handled above"));
                         let kept: Vec<&FieldSample> = samples.iter().filter(|x| x.weight > 0.0).collect();
-                        (kept.iter().map(|x| find(k.object, x)).collect(), kept.iter().map(|x| x.weight).collect())
+                        (kept.iter().map(|x| at(k.object, x)).collect(), kept.iter().map(|x| x.weight).collect())
                     })
                     .collect();
-                let svc_ref = &svc;
-                let mut groups = vec![Group::single(&svc_ref)];
-                groups.extend(fields.iter().map(|(c, w)| Group { cuts: c, weights: w }));
-                merge(&groups, scratch).map_err(|e| err(e.to_string()))?;
+                match self.algorithm {
+                    MergeAlgorithm::Counter => {
+                        let cuts: Vec<Vec<&Cut>> =
+                            fields.iter().map(|(i, _)| i.iter().map(|&i| &decoded[i]).collect()).collect();
+                        let svc_ref = &svc;
+                        let mut groups = vec![Group::single(&svc_ref)];
+                        groups.extend(cuts.iter().zip(&fields).map(|(c, (_, w))| Group { cuts: c, weights: w }));
+                        merge(&groups, scratch).map_err(|e| err(e.to_string()))?;
+                    }
+                    MergeAlgorithm::Index => {
+                        let svc = IndexCut::from_cut(&svc);
+                        let svc_refs = [&svc];
+                        let cuts: Vec<Vec<&IndexCut>> =
+                            fields.iter().map(|(i, _)| i.iter().map(|&i| &decoded_index[i]).collect()).collect();
+                        let mut groups = vec![IndexGroup { cuts: &svc_refs, weights: &[1.0] }];
+                        groups.extend(cuts.iter().zip(&fields).map(|(c, (_, w))| IndexGroup { cuts: c, weights: w }));
+                        baseline::merge(&groups, scratch).map_err(|e| err(e.to_string()))?;
+                    }
+                }
                 Ok((v, scratch.clone()))
             })
-            .collect()
+            .collect();
+        timing.merge_s += start.elapsed().as_secs_f64();
+        merged
     }
 
     /// Moves object `o` to `translation` (from its rest position) and re-merges the vertices
@@ -372,12 +457,16 @@ impl Frame {
     pub fn translate(&mut self, o: usize, translation: Vec3) -> Result<usize, FrameError> {
         self.objects[o].translation = translation;
         let mut total = 0;
+        let mut timing = MoveTiming::default();
         for k in 0..self.objects.len() {
             let n = self.objects[k].mesh.vertex_count();
+            let start = Instant::now();
             let new_keys: Vec<Vec<FieldKey>> = (0..n).into_par_iter().map(|v| self.keys(k, v)).collect();
             let changed: Vec<usize> = (0..n).filter(|&v| new_keys[v] != self.objects[k].keys[v]).collect();
-            let merged = self.merge_all(k, &new_keys, &changed)?;
+            timing.keys_s += start.elapsed().as_secs_f64();
+            let merged = self.merge_all(k, &new_keys, &changed, &mut timing)?;
             total += merged.len();
+            let start = Instant::now();
             let lists: Vec<ShadeList> = merged
                 .par_iter()
                 .map(|(v, m)| ShadeList::new(m, self.objects[k].mesh.normals()[*v], &self.nodes))
@@ -388,8 +477,11 @@ impl Frame {
                 state.lists[v] = list;
             }
             state.keys = new_keys;
+            timing.lists_s += start.elapsed().as_secs_f64();
         }
         self.merges += total as u64;
+        timing.vertices = total;
+        self.last_move = timing;
         Ok(total)
     }
 
@@ -425,10 +517,17 @@ impl Frame {
     pub fn shade_cut(&self, o: usize, v: usize, cut: &MergedCut, eye: Vec3) -> Vec3 {
         let s = &self.objects[o];
         let list = ShadeList::new(cut, s.mesh.normals()[v], &self.nodes);
-        self.shade_vertex(s, v, &list, eye)
+        self.shade_vertex(s, v, &list, eye, brdf::PowTable::new(s.material.exponent).as_ref())
     }
 
-    fn shade_vertex(&self, s: &ObjectState, v: usize, list: &ShadeList, eye: Vec3) -> Vec3 {
+    fn shade_vertex(
+        &self,
+        s: &ObjectState,
+        v: usize,
+        list: &ShadeList,
+        eye: Vec3,
+        table: Option<&brdf::PowTable>,
+    ) -> Vec3 {
         let x = s.mesh.positions()[v] + s.translation;
         let n = s.mesh.normals()[v];
         let wo = (eye - x).normalize_or_zero();
@@ -436,7 +535,9 @@ impl Frame {
             return Vec3::ZERO;
         }
         let diffuse = Vec3::from(s.material.kd) / std::f32::consts::PI * list.diffuse;
-        let lobe = brdf::Lobe::new(&s.material, n, wo);
+        let pow = table.map_or(brdf::Pow::Exact(s.material.exponent), brdf::Pow::Table);
+        let lobe = brdf::Lobe::with_pow(&s.material, n, wo, pow);
+        // One loop per lobe kind, so the match leaves the inner loop.
         diffuse
             + match lobe {
                 brdf::Lobe::None => Vec3::ZERO,
@@ -452,7 +553,14 @@ impl Frame {
     pub fn shade(&self, eye: Vec3) -> Vec<Vec<Vec3>> {
         self.objects
             .iter()
-            .map(|s| s.lists.par_iter().enumerate().map(|(v, list)| self.shade_vertex(s, v, list, eye)).collect())
+            .map(|s| {
+                let table = brdf::PowTable::new(s.material.exponent);
+                s.lists
+                    .par_iter()
+                    .enumerate()
+                    .map(|(v, list)| self.shade_vertex(s, v, list, eye, table.as_ref()))
+                    .collect()
+            })
             .collect()
     }
 }

@@ -31,4 +31,4 @@ pub mod frame;
 pub mod image;
 pub mod reference;
 
-pub use frame::{Frame, FrameError};
+pub use frame::{Frame, FrameError, MergeAlgorithm, MoveTiming};

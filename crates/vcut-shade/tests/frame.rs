@@ -8,8 +8,8 @@ use vcut_envmap::EnvMap;
 use vcut_precompute::PrecomputeParams;
 use vcut_precompute::run::{Job, NoProgress, precompute};
 use vcut_scene::{Material, Scene, SceneDesc};
-use vcut_shade::Frame;
 use vcut_shade::reference::{errors, exact_direction};
+use vcut_shade::{Frame, MergeAlgorithm};
 
 const BALL_ABOVE_GROUND: &str = r#"
 [[object]]
@@ -159,6 +159,18 @@ fn moves_re_merge_only_what_changed_and_edits_never_merge() {
     // Back to rest: merged cuts and radiance bit-identical to the start.
     frame.translate(ball, Vec3::ZERO).unwrap();
     assert!(frame.shade(EYE) == before, "moving back did not restore the cached result");
+    assert!(frame.last_move().vertices > 0 && frame.last_move().merge_s > 0.0);
+
+    // The index baseline merges the same cuts bit for bit.
+    let moved = Vec3::new(0.3, 0.1, -0.2);
+    frame.translate(ball, moved).unwrap();
+    let counter: Vec<_> = (0..n_ground).map(|v| frame.merged(ground, v).clone()).collect();
+    let shaded = frame.shade(EYE);
+    frame.set_merge_algorithm(MergeAlgorithm::Index);
+    frame.translate(ball, Vec3::ZERO).unwrap();
+    frame.translate(ball, moved).unwrap();
+    assert!((0..n_ground).all(|v| *frame.merged(ground, v) == counter[v]));
+    assert!(frame.shade(EYE) == shaded);
 }
 
 #[test]

@@ -1,0 +1,388 @@
+//! `cargo xtask bench [--quick]`: the paper's Table 1 on this machine — per scene the precompute
+//! (time, rays/s against the raw figure, data size in our codec and the index baseline), a BRDF
+//! edit, an object move with the counter merge and with the index baseline, and the error against
+//! the exact-direction and Monte Carlo references — plus the machine, the direction set, the
+//! light-tree rebuild, into `target/report/` (`report.json`, `table1.md`, `table1.csv`).
+//!
+//! **Edit**: the median over 11 shadings after alternating the movable object's Blinn-Phong
+//! exponent 15 ↔ 70. **Move**: the median over a path of 8 translations of the movable object
+//! (steps of 0.1 r along (1, 0, 0.5), r its bounding radius), each a re-merge of the vertices
+//! whose field inputs changed plus a shading; the same path for both merges, each starting from
+//! rest. Timings are wall clock on all cores; every figure a goal names is also given as a ratio
+//! against its baseline measured in the same run.
+
+use anyhow::{Context, Result, bail};
+use glam::Vec3;
+use rayon::prelude::*;
+use serde_json::{Value, json};
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+use vcut_data::Precomputed;
+use vcut_lighttree::LightTreeBuilder;
+use vcut_precompute::run::Summary;
+use vcut_scene::{Material, Motion, Scene};
+use vcut_shade::reference::{MonteCarloParams, errors, exact_direction, monte_carlo};
+use vcut_shade::{Frame, MergeAlgorithm};
+use vcut_sphere::{DirectionSet, RepulsionParams};
+
+/// Arguments of `bench`.
+#[derive(clap::Args)]
+pub struct BenchArgs {
+    /// A first look in a few minutes: smaller presets (named in each scene's `preset`).
+    #[arg(long)]
+    pub quick: bool,
+    /// Output folder.
+    #[arg(long, default_value = "target/report")]
+    pub out: PathBuf,
+    /// Scenes (built-in names), comma-separated.
+    #[arg(long, value_delimiter = ',', default_value = "teapot,bunny")]
+    pub scenes: Vec<String>,
+    /// Skip the Monte Carlo reference (its key is then null).
+    #[arg(long)]
+    pub no_mc: bool,
+    /// Skip the trade-off sweeps.
+    #[arg(long)]
+    pub no_tradeoff: bool,
+}
+
+/// A row of the paper's Table 1 (Core2 Quad Q9650 + GTX 280).
+struct PaperRow {
+    scene: &'static str,
+    vertices: u32,
+    objects: u32,
+    baseline_mb: f64,
+    baseline_edit_s: f64,
+    baseline_move_s: f64,
+    mb: f64,
+    edit_s: f64,
+    move_s: f64,
+}
+
+const PAPER: [PaperRow; 2] = [
+    PaperRow {
+        scene: "teapot",
+        vertices: 11_565,
+        objects: 3,
+        baseline_mb: 266.0,
+        baseline_edit_s: 0.13,
+        baseline_move_s: 2.03,
+        mb: 97.0,
+        edit_s: 0.13,
+        move_s: 1.79,
+    },
+    PaperRow {
+        scene: "bunny",
+        vertices: 40_172,
+        objects: 2,
+        baseline_mb: 251.0,
+        baseline_edit_s: 0.50,
+        baseline_move_s: 3.41,
+        mb: 117.0,
+        edit_s: 0.50,
+        move_s: 3.36,
+    },
+];
+
+fn median(mut v: Vec<f64>) -> f64 {
+    v.sort_by(f64::total_cmp);
+    if v.is_empty() { f64::NAN } else { v[v.len() / 2] }
+}
+
+/// Read bandwidth in GB/s: the median of 5 parallel sums over 256 MB.
+fn memory_bandwidth() -> f64 {
+    let data: Vec<u64> = (0..32u64 << 20).collect();
+    let runs: Vec<f64> = (0..5)
+        .map(|_| {
+            let t = Instant::now();
+            let s: u64 = data.par_chunks(1 << 16).map(|c| c.iter().fold(0u64, |a, &x| a.wrapping_add(x))).sum();
+            std::hint::black_box(s);
+            (data.len() * 8) as f64 / t.elapsed().as_secs_f64() / 1e9
+        })
+        .collect();
+    median(runs)
+}
+
+fn cpu_name() -> String {
+    std::fs::read_to_string("/proc/cpuinfo")
+        .ok()
+        .and_then(|s| {
+            s.lines()
+                .find(|l| l.starts_with("model name"))
+                .and_then(|l| l.split(':').nth(1))
+                .map(|x| x.trim().to_string())
+        })
+        .unwrap_or_else(|| "unknown".into())
+}
+
+/// Rays/s of the precompute's ray stages and the raw figure over the same rays.
+fn rays(summary: &Summary) -> (f64, f64) {
+    let stages: Vec<_> = summary.stages.iter().filter(|s| s.name != "directions" && s.rays.rays_cast > 0).collect();
+    let rays: f64 = stages.iter().map(|s| s.rays.rays_cast as f64).sum();
+    let secs: f64 = stages.iter().map(|s| s.compute_seconds).sum();
+    let raw_secs: f64 = stages
+        .iter()
+        .filter(|s| s.raw_rays_per_second > 0.0)
+        .map(|s| s.rays.rays_cast as f64 / s.raw_rays_per_second)
+        .sum();
+    (rays / secs.max(1e-12), if raw_secs > 0.0 { rays / raw_secs } else { 0.0 })
+}
+
+/// One scene: precompute, edit, move (both merges), references.
+fn bench_scene(name: &str, preset: &str, data_dir: &Path, no_mc: bool) -> Result<Value> {
+    println!("\n== {name}: precompute at preset {preset}");
+    let mut args = crate::precompute::PrecomputeArgs::new(&format!("builtin:{name}"), preset);
+    args.output = Some(data_dir.join(format!("{name}-{preset}.vcuts")));
+    args.fresh = true;
+    let t = Instant::now();
+    let (file, summary) = crate::precompute::run(&args)?;
+    let precompute_s = t.elapsed().as_secs_f64();
+    let (rays_per_s, raw_rays_per_s) = rays(&summary);
+    let cut_bytes: u64 = summary.sizes.iter().map(|z| z.bytes).sum();
+    let index_bytes: u64 = summary.sizes.iter().map(|z| z.index_baseline_bytes).sum();
+    let heights_bytes: u64 = summary.sizes.iter().map(|z| z.heights_codec_bytes).sum();
+    let other_bytes = summary.file_bytes - cut_bytes;
+
+    let scene = Scene::open(&format!("builtin:{name}"))?;
+    let eye = scene.cameras.first().map(|c| c.position).context("the built-in scene has a camera")?;
+    let mut data = Precomputed::open(&file)?;
+    let offset: f32 = data.recorded("svc_origin_offset").and_then(|v| v.parse().ok()).unwrap_or(1e-4);
+    let t = Instant::now();
+    let mut frame = Frame::new(&mut data, &scene.environment)?;
+    let setup_s = t.elapsed().as_secs_f64();
+    let movable = (0..frame.object_count())
+        .find(|&o| frame.object(o).3 == Motion::Movable)
+        .with_context(|| format!("scene {name} has no movable object"))?;
+    let vertices: usize = (0..frame.object_count()).map(|o| frame.object(o).1.vertex_count()).sum();
+
+    println!("== {name}: edit, move, references");
+    let rest_material = *frame.object(movable).2;
+    let edit_ms = |frame: &mut Frame| -> f64 {
+        median(
+            (0..11)
+                .map(|i| {
+                    let exponent = if i % 2 == 0 { 70.0 } else { 15.0 };
+                    frame.set_material(movable, Material { exponent, ..rest_material });
+                    let t = Instant::now();
+                    std::hint::black_box(frame.shade(eye));
+                    t.elapsed().as_secs_f64() * 1e3
+                })
+                .collect(),
+        )
+    };
+    let edit = edit_ms(&mut frame);
+    frame.set_material(movable, rest_material);
+    let radius = frame.object(movable).1.bounds().radius;
+    let step = Vec3::new(1.0, 0.0, 0.5) * 0.1 * radius;
+    let path = |frame: &mut Frame, algorithm: MergeAlgorithm| -> Result<(f64, f64, usize)> {
+        frame.set_merge_algorithm(algorithm);
+        frame.translate(movable, Vec3::ZERO)?;
+        let (mut times, mut merge_s, mut merged) = (Vec::new(), 0.0, 0);
+        for i in 1..=8 {
+            let t = Instant::now();
+            merged += frame.translate(movable, step * i as f32)?;
+            std::hint::black_box(frame.shade(eye));
+            times.push(t.elapsed().as_secs_f64() * 1e3);
+            merge_s += frame.last_move().merge_s;
+        }
+        Ok((median(times), merge_s, merged / 8))
+    };
+    let (move_ms, merge_s, merged_per_move) = path(&mut frame, MergeAlgorithm::Counter)?;
+    let (move_ms_index, merge_s_index, _) = path(&mut frame, MergeAlgorithm::Index)?;
+    let edit_index = edit_ms(&mut frame);
+    frame.set_material(movable, rest_material);
+    frame.set_merge_algorithm(MergeAlgorithm::Counter);
+    frame.translate(movable, Vec3::ZERO)?;
+
+    let shaded = frame.shade(eye);
+    let t = Instant::now();
+    let exact = exact_direction(&frame, eye, offset);
+    let exact_ms = t.elapsed().as_secs_f64() * 1e3;
+    let (rel_l2_exact, max_exact) = errors(&shaded, &exact);
+    let mc = if no_mc {
+        None
+    } else {
+        let t = Instant::now();
+        let (r, _) = monte_carlo(&frame, &scene.environment, eye, offset, &MonteCarloParams::default());
+        Some((errors(&shaded, &r).0, t.elapsed().as_secs_f64()))
+    };
+    let shade_bytes = frame.shade_bytes();
+    println!(
+        "{name}: edit {edit:.1} ms, move {move_ms:.1} ms (index {move_ms_index:.1} ms), rel L2 vs exact {rel_l2_exact:.4}"
+    );
+    Ok(json!({
+        "preset": preset,
+        "vertices": vertices,
+        "objects": frame.object_count(),
+        "moved_object": frame.object(movable).0,
+        "precompute_s": precompute_s,
+        "rays_per_s": rays_per_s,
+        "raw_rays_per_s": raw_rays_per_s,
+        "rays_per_s_vs_raw": rays_per_s / raw_rays_per_s.max(1e-12),
+        "data_bytes_height": summary.file_bytes,
+        "data_bytes_index": other_bytes + index_bytes,
+        "data_bytes_height_codec_4bit": other_bytes + heights_bytes,
+        "data_size_vs_index": summary.file_bytes as f64 / (other_bytes + index_bytes) as f64,
+        "setup_s": setup_s,
+        "edit_ms": edit,
+        "move_ms": move_ms,
+        "edit_ms_index": edit_index,
+        "move_ms_index": move_ms_index,
+        "move_vs_index": move_ms / move_ms_index,
+        "merge_s_path": merge_s,
+        "merge_s_path_index": merge_s_index,
+        "merge_speedup": merge_s_index / merge_s.max(1e-12),
+        "vertices_merged_per_move": merged_per_move,
+        "exact_reference_ms": exact_ms,
+        "edit_vs_exact_reference": edit / exact_ms,
+        "move_vs_exact_reference": move_ms / exact_ms,
+        "shade_bytes": shade_bytes,
+        "rel_l2_exact": rel_l2_exact,
+        "max_err_exact": max_exact,
+        "rel_l2_mc": mc.map(|m| m.0),
+        "mc_reference_s": mc.map(|m| m.1),
+    }))
+}
+
+fn f(v: &Value, k: &str) -> f64 {
+    v[k].as_f64().unwrap_or(f64::NAN)
+}
+
+/// Table 1 as Markdown and CSV rows.
+fn table1(scenes: &serde_json::Map<String, Value>) -> (String, String) {
+    let mut md = String::from(
+        "| scene | preset | vertices | objects | data MB (ours / index baseline) | edit ms (ours / index) | move ms (ours / index) | paper: data MB (paper / baseline) | paper: edit s (paper / baseline) | paper: move s (paper / baseline) |\n|---|---|---:|---:|---:|---:|---:|---:|---:|---:|\n",
+    );
+    let mut csv = String::from(
+        "scene,preset,vertices,objects,data_mb,data_mb_index,edit_ms,edit_ms_index,move_ms,move_ms_index,paper_vertices,paper_objects,paper_data_mb,paper_data_mb_baseline,paper_edit_s,paper_move_s,paper_move_s_baseline\n",
+    );
+    for (name, s) in scenes {
+        let p = PAPER.iter().find(|p| p.scene == name);
+        let mb = |k: &str| f(s, k) / 1e6;
+        md.push_str(&format!(
+            "| {name} | {} | {} | {} | {:.1} / {:.1} | {:.1} / {:.1} | {:.0} / {:.0} | {} | {} | {} |\n",
+            s["preset"].as_str().unwrap_or("?"),
+            s["vertices"],
+            s["objects"],
+            mb("data_bytes_height"),
+            mb("data_bytes_index"),
+            f(s, "edit_ms"),
+            f(s, "edit_ms_index"),
+            f(s, "move_ms"),
+            f(s, "move_ms_index"),
+            p.map(|p| format!("{} / {}", p.mb, p.baseline_mb)).unwrap_or_default(),
+            p.map(|p| format!("{} / {}", p.edit_s, p.baseline_edit_s)).unwrap_or_default(),
+            p.map(|p| format!("{} / {}", p.move_s, p.baseline_move_s)).unwrap_or_default(),
+        ));
+        csv.push_str(&format!(
+            "{name},{},{},{},{:.3},{:.3},{:.3},{:.3},{:.3},{:.3},{}\n",
+            s["preset"].as_str().unwrap_or("?"),
+            s["vertices"],
+            s["objects"],
+            mb("data_bytes_height"),
+            mb("data_bytes_index"),
+            f(s, "edit_ms"),
+            f(s, "edit_ms_index"),
+            f(s, "move_ms"),
+            f(s, "move_ms_index"),
+            p.map(|p| {
+                format!(
+                    "{},{},{},{},{},{},{}",
+                    p.vertices, p.objects, p.mb, p.baseline_mb, p.edit_s, p.move_s, p.baseline_move_s
+                )
+            })
+            .unwrap_or_else(|| ",,,,,,".into()),
+        ));
+    }
+    (md, csv)
+}
+
+/// Writes `bytes` to `path` whole (a temporary file renamed into place).
+fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
+    let tmp = path.with_extension("partial");
+    std::fs::write(&tmp, bytes).with_context(|| format!("writing {}", tmp.display()))?;
+    std::fs::rename(&tmp, path).with_context(|| format!("renaming {} to {}", tmp.display(), path.display()))
+}
+
+/// Runs `bench`.
+pub fn run(args: &BenchArgs) -> Result<()> {
+    for s in &args.scenes {
+        if !["teapot", "bunny", "spheres"].contains(&s.as_str()) {
+            bail!("--scenes {s}: expected teapot, bunny or spheres");
+        }
+    }
+    let data_dir = args.out.join("data");
+    std::fs::create_dir_all(&data_dir).with_context(|| format!("creating {}", data_dir.display()))?;
+    let started = Instant::now();
+
+    println!("== machine");
+    let bandwidth = memory_bandwidth();
+    println!("memory_bandwidth_gb_s={bandwidth:.2}");
+
+    println!("== directions (32,768) and the light tree");
+    let (set, _) =
+        DirectionSet::load_or_generate(Path::new("target/vcut-cache"), 32_768, &RepulsionParams::default(), |_, _| {})?;
+    let u = set.uniformity();
+    let tree = vcut_dirtree::DirectionTree::build(set.directions(), &set.cell_areas())?;
+    let sky = vcut_envmap::procedural::PreethamSky::default().bake(1024);
+    let mut builder = LightTreeBuilder::new(&tree);
+    let rebuild_ms = median(
+        (0..11)
+            .map(|_| {
+                let t = Instant::now();
+                std::hint::black_box(builder.build(&sky));
+                t.elapsed().as_secs_f64() * 1e3
+            })
+            .collect(),
+    );
+
+    let mut scenes = serde_json::Map::new();
+    for name in &args.scenes {
+        let preset = match (args.quick, name.as_str()) {
+            (false, _) => "paper",
+            (true, "teapot") => "balanced",
+            (true, _) => "fast",
+        };
+        scenes.insert(name.clone(), bench_scene(name, preset, &data_dir, args.no_mc)?);
+    }
+    for s in scenes.values_mut() {
+        let bound_ms = f(s, "shade_bytes") / (bandwidth * 1e9) * 1e3;
+        s["shade_bandwidth_bound_ms"] = json!(bound_ms);
+        s["edit_vs_bandwidth_bound"] = json!(f(s, "edit_ms") / bound_ms);
+    }
+    let first = scenes.values().next();
+    let raw = first.map(|s| f(s, "raw_rays_per_s")).unwrap_or(f64::NAN);
+    let teapot = scenes.get("teapot").or(first);
+    let report = json!({
+        "quick": args.quick,
+        "machine": {
+            "cpu": cpu_name(),
+            "cores": rayon::current_num_threads(),
+            "memory_bandwidth_gb_s": bandwidth,
+            "raw_rays_per_s": raw,
+        },
+        "directions": { "n": u.n, "cv_cell_area": u.cv_cell_area, "min_nn_ratio": u.min_nn_ratio },
+        "light_tree_rebuild_ms": rebuild_ms,
+        "merge_speedup": teapot.map(|s| f(s, "merge_speedup")),
+        "codec_size_ratio": teapot.map(|s| f(s, "data_bytes_height_codec_4bit") / f(s, "data_bytes_index")),
+        "stored_size_ratio": teapot.map(|s| f(s, "data_size_vs_index")),
+        "scenes": scenes,
+    });
+    let mut report = report;
+    if !args.no_tradeoff {
+        let base = if args.quick { "fast" } else { "balanced" };
+        let points = crate::tradeoff::run("teapot", base, args.quick, &data_dir, args.no_mc)?;
+        write_atomic(&args.out.join("tradeoff.csv"), crate::tradeoff::csv(&points).as_bytes())?;
+        crate::tradeoff::plot(&points, "data_bytes", "data size (MB)", &args.out.join("tradeoff_size.png"))?;
+        crate::tradeoff::plot(&points, "move_ms", "object move (ms)", &args.out.join("tradeoff_move.png"))?;
+        report["tradeoff"] =
+            json!({ "scene": "teapot", "base_preset": base, "points": crate::tradeoff::json(&points) });
+    }
+    report["bench_s"] = json!(started.elapsed().as_secs_f64());
+    let (md, csv) = table1(report["scenes"].as_object().context("scenes")?);
+    write_atomic(&args.out.join("report.json"), serde_json::to_string_pretty(&report)?.as_bytes())?;
+    write_atomic(&args.out.join("table1.md"), md.as_bytes())?;
+    write_atomic(&args.out.join("table1.csv"), csv.as_bytes())?;
+    println!("\n{md}");
+    println!("report={}", args.out.join("report.json").display());
+    Ok(())
+}

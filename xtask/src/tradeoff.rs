@@ -1,0 +1,312 @@
+//! The trade-off sweeps of `cargo xtask bench`: one scene, a base preset, and one knob varied at a
+//! time (the presets themselves, the SVC error and solid-angle thresholds, the number of
+//! directions, field spheres, resolution and spacing, value quantisation). Per point: precompute
+//! time, data size, merge, shade, edit and move times, and the relative L2 error against the
+//! exact-direction reference (cast once per direction count and reused) and the Monte Carlo one
+//! (once per scene). Written as `tradeoff.csv` with the Pareto fronts marked, and two plots.
+
+use anyhow::{Context, Result};
+use glam::Vec3;
+use plotters::prelude::*;
+use serde_json::{Value, json};
+use std::collections::BTreeMap;
+use std::path::Path;
+use std::time::Instant;
+use vcut_data::Precomputed;
+use vcut_scene::{Material, Motion, Scene};
+use vcut_shade::Frame;
+use vcut_shade::reference::{MonteCarloParams, errors, exact_direction, monte_carlo};
+
+/// One point of a sweep.
+#[derive(Debug, Clone)]
+pub struct Point {
+    /// Which knob (`preset` for the presets themselves).
+    pub sweep: String,
+    /// Its value.
+    pub value: String,
+    /// The preset it starts from.
+    pub preset: String,
+    /// Figures, by report key.
+    pub figures: BTreeMap<&'static str, f64>,
+    /// On the error-versus-size Pareto front.
+    pub pareto_size: bool,
+    /// On the error-versus-move-time Pareto front.
+    pub pareto_move: bool,
+}
+
+/// The sweeps: (knob, values). `quick` keeps them short.
+fn sweeps(quick: bool) -> Vec<(&'static str, Vec<&'static str>)> {
+    if quick {
+        vec![
+            ("preset", vec!["fast", "balanced"]),
+            ("svc_max_error", vec!["0.02", "0.005"]),
+            ("directions", vec!["4096", "8192"]),
+            ("field_spheres", vec!["4", "16"]),
+            ("field_resolution", vec!["4", "16"]),
+            ("field_spacing", vec!["linear"]),
+            ("svc_values", vec!["u8", "f32"]),
+        ]
+    } else {
+        vec![
+            ("preset", vec!["fast", "balanced", "paper"]),
+            ("svc_max_error", vec!["0.02", "0.01", "0.0025"]),
+            ("svc_solid_angle_divisor", vec!["32", "64", "256"]),
+            ("directions", vec!["4096", "8192", "32768", "65536"]),
+            ("field_spheres", vec!["8", "24", "32"]),
+            ("field_resolution", vec!["8", "24", "32"]),
+            ("field_spacing", vec!["linear"]),
+            ("svc_values", vec!["u8", "f16", "f32"]),
+        ]
+    }
+}
+
+fn median(mut v: Vec<f64>) -> f64 {
+    v.sort_by(f64::total_cmp);
+    if v.is_empty() { f64::NAN } else { v[v.len() / 2] }
+}
+
+/// Edit and move timings of a frame: (edit ms, move ms, merge ms per move), medians over 5
+/// edits and a path of 4 steps of 0.1 r.
+fn frame_timings(frame: &mut Frame, movable: usize, eye: Vec3) -> Result<(f64, f64, f64)> {
+    let rest = *frame.object(movable).2;
+    let edit = median(
+        (0..5)
+            .map(|i| {
+                frame.set_material(movable, Material { exponent: if i % 2 == 0 { 70.0 } else { 15.0 }, ..rest });
+                let t = Instant::now();
+                std::hint::black_box(frame.shade(eye));
+                t.elapsed().as_secs_f64() * 1e3
+            })
+            .collect(),
+    );
+    frame.set_material(movable, rest);
+    let step = Vec3::new(1.0, 0.0, 0.5) * 0.1 * frame.object(movable).1.bounds().radius;
+    let (mut moves, mut merges) = (Vec::new(), Vec::new());
+    for i in 1..=4 {
+        let t = Instant::now();
+        frame.translate(movable, step * i as f32)?;
+        std::hint::black_box(frame.shade(eye));
+        moves.push(t.elapsed().as_secs_f64() * 1e3);
+        merges.push(frame.last_move().merge_s * 1e3);
+    }
+    frame.translate(movable, Vec3::ZERO)?;
+    Ok((edit, median(moves), median(merges)))
+}
+
+/// Marks the points not dominated in (x, error): lower is better in both.
+fn pareto(points: &[(f64, f64)]) -> Vec<bool> {
+    points
+        .iter()
+        .map(|&(x, e)| {
+            x.is_finite() && e.is_finite() && !points.iter().any(|&(x2, e2)| x2 <= x && e2 <= e && (x2 < x || e2 < e))
+        })
+        .collect()
+}
+
+/// Runs every sweep on `scene_name` from `base` and returns the points.
+pub fn run(scene_name: &str, base: &str, quick: bool, data_dir: &Path, no_mc: bool) -> Result<Vec<Point>> {
+    let scene = Scene::open(&format!("builtin:{scene_name}"))?;
+    let eye = scene.cameras.first().map(|c| c.position).context("the built-in scene has a camera")?;
+    let mut exact_by_n: BTreeMap<usize, Vec<Vec<Vec3>>> = BTreeMap::new();
+    let mut mc: Option<Vec<Vec<Vec3>>> = None;
+    let mut points = Vec::new();
+    let all: Vec<(&str, &str)> =
+        sweeps(quick).into_iter().flat_map(|(k, vs)| vs.into_iter().map(move |v| (k, v))).collect();
+    for (i, (key, value)) in all.iter().enumerate() {
+        println!("\n== trade-off {}/{}: {scene_name}, {base} with {key} = {value}", i + 1, all.len());
+        let preset = if *key == "preset" { *value } else { base };
+        let mut args = crate::precompute::PrecomputeArgs::new(&format!("builtin:{scene_name}"), preset);
+        if *key != "preset" {
+            args.set.push(format!("{key}={value}"));
+        }
+        let file = data_dir.join(format!("tradeoff-{scene_name}-{i}.vcuts"));
+        args.output = Some(file.clone());
+        args.fresh = true;
+        let t = Instant::now();
+        let (_, summary) = crate::precompute::run(&args)?;
+        let precompute_s = t.elapsed().as_secs_f64();
+        let mut data = Precomputed::open(&file)?;
+        let offset: f32 = data.recorded("svc_origin_offset").and_then(|v| v.parse().ok()).unwrap_or(1e-4);
+        let mut frame = Frame::new(&mut data, &scene.environment)?;
+        let movable = (0..frame.object_count())
+            .find(|&o| frame.object(o).3 == Motion::Movable)
+            .with_context(|| format!("scene {scene_name} has no movable object"))?;
+        let (edit_ms, move_ms, merge_ms) = frame_timings(&mut frame, movable, eye)?;
+        let shaded = frame.shade(eye);
+        let n = frame.tree().leaf_count();
+        let exact = exact_by_n.entry(n).or_insert_with(|| exact_direction(&frame, eye, offset));
+        let rel_l2_exact = errors(&shaded, exact).0;
+        if mc.is_none() && !no_mc {
+            mc = Some(monte_carlo(&frame, &scene.environment, eye, offset, &MonteCarloParams::default()).0);
+        }
+        let rel_l2_mc = mc.as_ref().map_or(f64::NAN, |r| errors(&shaded, r).0);
+        drop(data);
+        std::fs::remove_file(&file).with_context(|| format!("removing {}", file.display()))?;
+        let mut figures = BTreeMap::new();
+        figures.insert("directions", n as f64);
+        figures.insert("precompute_s", precompute_s);
+        figures.insert("data_bytes", summary.file_bytes as f64);
+        figures.insert("merge_ms", merge_ms);
+        figures.insert("shade_ms", edit_ms);
+        figures.insert("edit_ms", edit_ms);
+        figures.insert("move_ms", move_ms);
+        figures.insert("rel_l2_exact", rel_l2_exact);
+        figures.insert("rel_l2_mc", rel_l2_mc);
+        println!(
+            "{key}={value}: {:.1} MB, move {move_ms:.0} ms, rel L2 {rel_l2_exact:.4}",
+            summary.file_bytes as f64 / 1e6
+        );
+        points.push(Point {
+            sweep: key.to_string(),
+            value: value.to_string(),
+            preset: preset.to_string(),
+            figures,
+            pareto_size: false,
+            pareto_move: false,
+        });
+    }
+    let err = |p: &Point| p.figures["rel_l2_exact"];
+    let by_size = pareto(&points.iter().map(|p| (p.figures["data_bytes"], err(p))).collect::<Vec<_>>());
+    let by_move = pareto(&points.iter().map(|p| (p.figures["move_ms"], err(p))).collect::<Vec<_>>());
+    for ((p, s), m) in points.iter_mut().zip(by_size).zip(by_move) {
+        p.pareto_size = s;
+        p.pareto_move = m;
+    }
+    Ok(points)
+}
+
+/// The points as CSV.
+pub fn csv(points: &[Point]) -> String {
+    let keys = [
+        "directions",
+        "precompute_s",
+        "data_bytes",
+        "merge_ms",
+        "shade_ms",
+        "edit_ms",
+        "move_ms",
+        "rel_l2_exact",
+        "rel_l2_mc",
+    ];
+    let mut out = format!("sweep,value,preset,{},pareto_size,pareto_move\n", keys.join(","));
+    for p in points {
+        let figs: Vec<String> = keys.iter().map(|k| format!("{}", p.figures[k])).collect();
+        out.push_str(&format!(
+            "{},{},{},{},{},{}\n",
+            p.sweep,
+            p.value,
+            p.preset,
+            figs.join(","),
+            u8::from(p.pareto_size),
+            u8::from(p.pareto_move)
+        ));
+    }
+    out
+}
+
+/// The points under report keys.
+pub fn json(points: &[Point]) -> Value {
+    Value::Array(
+        points
+            .iter()
+            .map(|p| {
+                let mut v = json!({
+                    "sweep": p.sweep, "value": p.value, "preset": p.preset,
+                    "pareto_size": p.pareto_size, "pareto_move": p.pareto_move,
+                });
+                for (k, x) in &p.figures {
+                    v[*k] = if x.is_finite() { json!(x) } else { Value::Null };
+                }
+                v
+            })
+            .collect(),
+    )
+}
+
+/// Registers a system sans-serif font for the plots' text; false if none is found (the plots
+/// are then drawn without text).
+fn font() -> bool {
+    let candidates = [
+        "/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf",
+        "/usr/share/fonts/TTF/DejaVuSans.ttf",
+        "/usr/share/fonts/dejavu/DejaVuSans.ttf",
+        "/usr/share/fonts/truetype/liberation/LiberationSans-Regular.ttf",
+    ];
+    for c in candidates {
+        if let Ok(bytes) = std::fs::read(c) {
+            let bytes: &'static [u8] = Box::leak(bytes.into_boxed_slice());
+            if plotters::style::register_font("sans-serif", FontStyle::Normal, bytes).is_ok() {
+                return true;
+            }
+        }
+    }
+    false
+}
+
+/// Error against data size and against move time, log-log, one colour per sweep, the Pareto
+/// fronts joined: `path` (PNG).
+pub fn plot(points: &[Point], x_key: &'static str, x_label: &str, path: &Path) -> Result<()> {
+    let text = font();
+    let scale = if x_key == "data_bytes" { 1e-6 } else { 1.0 };
+    let xy: Vec<(f64, f64)> = points.iter().map(|p| (p.figures[x_key] * scale, p.figures["rel_l2_exact"])).collect();
+    let finite: Vec<&(f64, f64)> =
+        xy.iter().filter(|(x, y)| x.is_finite() && y.is_finite() && *x > 0.0 && *y > 0.0).collect();
+    if finite.is_empty() {
+        return Ok(());
+    }
+    let (x0, x1) = finite.iter().fold((f64::MAX, f64::MIN), |(a, b), p| (a.min(p.0), b.max(p.0)));
+    let (y0, y1) = finite.iter().fold((f64::MAX, f64::MIN), |(a, b), p| (a.min(p.1), b.max(p.1)));
+    let tmp = path.with_extension("partial.png");
+    {
+        let root = BitMapBackend::new(&tmp, (900, 600)).into_drawing_area();
+        root.fill(&WHITE).map_err(|e| anyhow::anyhow!("{e}"))?;
+        let mut builder = ChartBuilder::on(&root);
+        builder.margin(20);
+        if text {
+            builder.caption(format!("relative L2 vs exact reference against {x_label}"), ("sans-serif", 22));
+            builder.x_label_area_size(45).y_label_area_size(70);
+        }
+        let mut chart = builder
+            .build_cartesian_2d((x0 * 0.8..x1 * 1.25).log_scale(), (y0 * 0.8..y1 * 1.25).log_scale())
+            .map_err(|e| anyhow::anyhow!("{e}"))?;
+        if text {
+            chart
+                .configure_mesh()
+                .x_desc(x_label)
+                .y_desc("relative L2 (exact reference)")
+                .draw()
+                .map_err(|e| anyhow::anyhow!("{e}"))?;
+        }
+        let sweeps: Vec<String> = points.iter().map(|p| p.sweep.clone()).fold(Vec::new(), |mut v, s| {
+            if !v.contains(&s) {
+                v.push(s);
+            }
+            v
+        });
+        for (k, sweep) in sweeps.iter().enumerate() {
+            let colour = Palette99::pick(k).to_rgba();
+            let series: Vec<(f64, f64)> =
+                points.iter().zip(&xy).filter(|(p, _)| &p.sweep == sweep).map(|(_, &q)| q).collect();
+            let drawn = chart
+                .draw_series(series.iter().map(|&(x, y)| Circle::new((x, y), 6, colour.filled())))
+                .map_err(|e| anyhow::anyhow!("{e}"))?;
+            if text {
+                drawn.label(sweep.as_str()).legend(move |(x, y)| Circle::new((x, y), 5, colour.filled()));
+            }
+        }
+        let on_front = |p: &Point| if x_key == "data_bytes" { p.pareto_size } else { p.pareto_move };
+        let mut front: Vec<(f64, f64)> = points.iter().zip(&xy).filter(|(p, _)| on_front(p)).map(|(_, &q)| q).collect();
+        front.sort_by(|a, b| a.0.total_cmp(&b.0));
+        chart.draw_series(LineSeries::new(front, BLACK.stroke_width(2))).map_err(|e| anyhow::anyhow!("{e}"))?;
+        if text {
+            chart
+                .configure_series_labels()
+                .background_style(WHITE.mix(0.8))
+                .border_style(BLACK)
+                .draw()
+                .map_err(|e| anyhow::anyhow!("{e}"))?;
+        }
+        root.present().map_err(|e| anyhow::anyhow!("{e}"))?;
+    }
+    std::fs::rename(&tmp, path).with_context(|| format!("writing {}", path.display()))
+}
