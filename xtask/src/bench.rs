@@ -386,3 +386,37 @@ pub fn run(args: &BenchArgs) -> Result<()> {
     println!("report={}", args.out.join("report.json").display());
     Ok(())
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn table1_puts_the_papers_figures_beside_ours() {
+        let mut scenes = serde_json::Map::new();
+        scenes.insert(
+            "teapot".into(),
+            json!({
+                "preset": "paper", "vertices": 11564, "objects": 3, "data_bytes_height": 56_000_000u64,
+                "data_bytes_index": 560_000_000u64, "edit_ms": 30.0, "edit_ms_index": 31.0,
+                "move_ms": 400.0, "move_ms_index": 900.0,
+            }),
+        );
+        let (md, csv) = table1(&scenes);
+        let row = md.lines().nth(2).unwrap();
+        assert!(
+            row.contains("| teapot | paper | 11564 | 3 | 56.0 / 560.0 | 30.0 / 31.0 | 400 / 900 | 97 / 266 |"),
+            "{row}"
+        );
+        assert!(row.contains("1.79 / 2.03"), "{row}");
+        let fields: Vec<&str> = csv.lines().nth(1).unwrap().split(',').collect();
+        assert_eq!(fields.len(), csv.lines().next().unwrap().split(',').count());
+        assert_eq!(fields[0], "teapot");
+    }
+
+    #[test]
+    fn medians_are_the_middle_value() {
+        assert_eq!(median(vec![3.0, 1.0, 2.0]), 2.0);
+        assert!(median(Vec::new()).is_nan());
+    }
+}

@@ -310,3 +310,50 @@ pub fn plot(points: &[Point], x_key: &'static str, x_label: &str, path: &Path) -
     }
     std::fs::rename(&tmp, path).with_context(|| format!("writing {}", path.display()))
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_pareto_front_keeps_only_undominated_points() {
+        // (size, error): (3, 0.5) is dominated by (2, 0.4); ties on one axis need a win on the other.
+        let pts = [(1.0, 0.9), (2.0, 0.4), (3.0, 0.5), (4.0, 0.1), (4.0, 0.2), (f64::NAN, 0.0)];
+        assert_eq!(pareto(&pts), vec![true, true, false, true, false, false]);
+    }
+
+    #[test]
+    fn csv_rows_carry_every_figure_and_the_fronts() {
+        let figures = [
+            "directions",
+            "precompute_s",
+            "data_bytes",
+            "merge_ms",
+            "shade_ms",
+            "edit_ms",
+            "move_ms",
+            "rel_l2_exact",
+            "rel_l2_mc",
+        ]
+        .into_iter()
+        .enumerate()
+        .map(|(i, k)| (k, i as f64))
+        .collect();
+        let p = Point {
+            sweep: "directions".into(),
+            value: "4096".into(),
+            preset: "fast".into(),
+            figures,
+            pareto_size: true,
+            pareto_move: false,
+        };
+        let text = csv(std::slice::from_ref(&p));
+        let mut lines = text.lines();
+        let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+        let row: Vec<&str> = lines.next().unwrap().split(',').collect();
+        assert_eq!(header.len(), row.len());
+        assert_eq!(row[header.iter().position(|h| *h == "rel_l2_exact").unwrap()], "7");
+        assert_eq!(&row[row.len() - 2..], ["1", "0"]);
+        assert_eq!(json(&[p])[0]["move_ms"], 6.0);
+    }
+}

@@ -169,8 +169,9 @@ impl<'a> Lobe<'a> {
         match *self {
             Lobe::None => Vec3::ZERO,
             Lobe::BlinnPhong { n, wo, scale, pow } => {
-                let h = (wi + wo).normalize_or_zero();
-                scale * pow.of(n.dot(h))
+                // n·h without normalising h; wi + wo ≠ 0 as both are above the surface.
+                let s = wi + wo;
+                scale * pow.of(n.dot(s) / s.length())
             }
             Lobe::Phong { mirror, scale, pow } => scale * pow.of(mirror.dot(wi)),
             Lobe::Ggx { n, wo, cos_o, a2, lambda_o, ks } => {

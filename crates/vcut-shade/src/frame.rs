@@ -133,10 +133,13 @@ pub struct Frame {
 
 /// What shading needs of one tree node, in one cache line.
 #[derive(Debug, Clone, Copy, Default)]
+#[repr(C, align(64))]
 struct ShadeNode {
     /// Ê_k: the node's light-weighted mean direction, normalised (its plain mean direction when
     /// the node holds no light).
     dir: Vec3,
+    /// l_k, the node's light (RGB). Beside `dir`: the specular loop reads these two only.
+    light: Vec3,
     /// E_k: the light-weighted mean of the leaf directions (not normalised).
     centroid: Vec3,
     /// m_k: the plain mean of the leaf directions (not normalised).
@@ -146,8 +149,6 @@ struct ShadeNode {
     /// Sine of the cone's half-angle (2 when the cone exceeds a hemisphere): the node lies
     /// wholly above the horizon of `n` when `n·axis ≥ sin_half`.
     sin_half: f32,
-    /// l_k, the node's light (RGB).
-    light: Vec3,
 }
 
 /// The shading table of every node (level order) under `light`.
