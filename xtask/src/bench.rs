@@ -43,6 +43,9 @@ pub struct BenchArgs {
     /// Skip the trade-off sweeps.
     #[arg(long)]
     pub no_tradeoff: bool,
+    /// Only redraw the trade-off plots from `OUT/tradeoff.csv`.
+    #[arg(long)]
+    pub plot_only: bool,
 }
 
 /// A row of the paper's Table 1 (Core2 Quad Q9650 + GTX 280).
@@ -303,12 +306,26 @@ fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
     std::fs::rename(&tmp, path).with_context(|| format!("renaming {} to {}", tmp.display(), path.display()))
 }
 
+/// The two trade-off plots.
+fn plots(points: &[crate::tradeoff::Point], out: &Path) -> Result<()> {
+    crate::tradeoff::plot(points, "data_bytes", "data size (MB)", &out.join("tradeoff_size.png"))?;
+    crate::tradeoff::plot(points, "move_ms", "object move (ms)", &out.join("tradeoff_move.png"))?;
+    println!("plots={}", out.join("tradeoff_size.png").display());
+    Ok(())
+}
+
 /// Runs `bench`.
 pub fn run(args: &BenchArgs) -> Result<()> {
     for s in &args.scenes {
         if !["teapot", "bunny", "spheres"].contains(&s.as_str()) {
             bail!("--scenes {s}: expected teapot, bunny or spheres");
         }
+    }
+    if args.plot_only {
+        let path = args.out.join("tradeoff.csv");
+        let text = std::fs::read_to_string(&path).with_context(|| format!("reading {}", path.display()))?;
+        let points = crate::tradeoff::parse_csv(&text).with_context(|| format!("{}", path.display()))?;
+        return plots(&points, &args.out);
     }
     let data_dir = args.out.join("data");
     std::fs::create_dir_all(&data_dir).with_context(|| format!("creating {}", data_dir.display()))?;
@@ -372,8 +389,7 @@ pub fn run(args: &BenchArgs) -> Result<()> {
         let base = if args.quick { "fast" } else { "balanced" };
         let points = crate::tradeoff::run("teapot", base, args.quick, &data_dir, args.no_mc)?;
         write_atomic(&args.out.join("tradeoff.csv"), crate::tradeoff::csv(&points).as_bytes())?;
-        crate::tradeoff::plot(&points, "data_bytes", "data size (MB)", &args.out.join("tradeoff_size.png"))?;
-        crate::tradeoff::plot(&points, "move_ms", "object move (ms)", &args.out.join("tradeoff_move.png"))?;
+        plots(&points, &args.out)?;
         report["tradeoff"] =
             json!({ "scene": "teapot", "base_preset": base, "points": crate::tradeoff::json(&points) });
     }

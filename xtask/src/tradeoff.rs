@@ -175,19 +175,22 @@ pub fn run(scene_name: &str, base: &str, quick: bool, data_dir: &Path, no_mc: bo
     Ok(points)
 }
 
+/// The figures of a point, in CSV column order.
+const KEYS: [&str; 9] = [
+    "directions",
+    "precompute_s",
+    "data_bytes",
+    "merge_ms",
+    "shade_ms",
+    "edit_ms",
+    "move_ms",
+    "rel_l2_exact",
+    "rel_l2_mc",
+];
+
 /// The points as CSV.
 pub fn csv(points: &[Point]) -> String {
-    let keys = [
-        "directions",
-        "precompute_s",
-        "data_bytes",
-        "merge_ms",
-        "shade_ms",
-        "edit_ms",
-        "move_ms",
-        "rel_l2_exact",
-        "rel_l2_mc",
-    ];
+    let keys = KEYS;
     let mut out = format!("sweep,value,preset,{},pareto_size,pareto_move\n", keys.join(","));
     for p in points {
         let figs: Vec<String> = keys.iter().map(|k| format!("{}", p.figures[k])).collect();
@@ -202,6 +205,36 @@ pub fn csv(points: &[Point]) -> String {
         ));
     }
     out
+}
+
+/// Reads what [`csv`] wrote (to re-plot without re-running the sweeps).
+pub fn parse_csv(text: &str) -> Result<Vec<Point>> {
+    let mut lines = text.lines();
+    let header: Vec<&str> = lines.next().context("empty trade-off CSV")?.split(',').collect();
+    let col = |name: &str| header.iter().position(|h| *h == name).with_context(|| format!("no column {name}"));
+    let (sweep, value, preset) = (col("sweep")?, col("value")?, col("preset")?);
+    let (ps, pm) = (col("pareto_size")?, col("pareto_move")?);
+    let figure_cols: Vec<(&'static str, usize)> =
+        KEYS.iter().map(|&k| col(k).map(|c| (k, c))).collect::<Result<_>>()?;
+    lines
+        .enumerate()
+        .map(|(i, line)| {
+            let f: Vec<&str> = line.split(',').collect();
+            anyhow::ensure!(f.len() == header.len(), "line {}: {} fields, expected {}", i + 2, f.len(), header.len());
+            let figures = figure_cols
+                .iter()
+                .map(|&(k, c)| Ok((k, f[c].parse::<f64>().with_context(|| format!("line {}: {k} = {}", i + 2, f[c]))?)))
+                .collect::<Result<_>>()?;
+            Ok(Point {
+                sweep: f[sweep].into(),
+                value: f[value].into(),
+                preset: f[preset].into(),
+                figures,
+                pareto_size: f[ps] == "1",
+                pareto_move: f[pm] == "1",
+            })
+        })
+        .collect()
 }
 
 /// The points under report keys.
@@ -243,8 +276,8 @@ fn font() -> bool {
     false
 }
 
-/// Error against data size and against move time, log-log, one colour per sweep, the Pareto
-/// fronts joined: `path` (PNG).
+/// Error against data size or move time (`x_key`), one colour per sweep and each point labelled
+/// with its value, the Pareto front joined: `path` (PNG).
 pub fn plot(points: &[Point], x_key: &'static str, x_label: &str, path: &Path) -> Result<()> {
     let text = font();
     let scale = if x_key == "data_bytes" { 1e-6 } else { 1.0 };
@@ -254,8 +287,8 @@ pub fn plot(points: &[Point], x_key: &'static str, x_label: &str, path: &Path) -
     if finite.is_empty() {
         return Ok(());
     }
-    let (x0, x1) = finite.iter().fold((f64::MAX, f64::MIN), |(a, b), p| (a.min(p.0), b.max(p.0)));
-    let (y0, y1) = finite.iter().fold((f64::MAX, f64::MIN), |(a, b), p| (a.min(p.1), b.max(p.1)));
+    let x1 = finite.iter().fold(f64::MIN, |a, p| a.max(p.0));
+    let y1 = finite.iter().fold(f64::MIN, |a, p| a.max(p.1));
     let tmp = path.with_extension("partial.png");
     {
         let root = BitMapBackend::new(&tmp, (900, 600)).into_drawing_area();
@@ -267,13 +300,16 @@ pub fn plot(points: &[Point], x_key: &'static str, x_label: &str, path: &Path) -
             builder.x_label_area_size(45).y_label_area_size(70);
         }
         let mut chart = builder
-            .build_cartesian_2d((x0 * 0.8..x1 * 1.25).log_scale(), (y0 * 0.8..y1 * 1.25).log_scale())
+            .build_cartesian_2d(0.0..x1 * 1.3, 0.0..y1 * 1.15)
             .map_err(|e| anyhow::anyhow!("{e}"))?;
         if text {
             chart
                 .configure_mesh()
                 .x_desc(x_label)
                 .y_desc("relative L2 (exact reference)")
+                .x_labels(12)
+                .y_labels(12)
+                .y_label_formatter(&|y| format!("{y:.3}"))
                 .draw()
                 .map_err(|e| anyhow::anyhow!("{e}"))?;
         }
@@ -285,10 +321,18 @@ pub fn plot(points: &[Point], x_key: &'static str, x_label: &str, path: &Path) -
         });
         for (k, sweep) in sweeps.iter().enumerate() {
             let colour = Palette99::pick(k).to_rgba();
-            let series: Vec<(f64, f64)> =
-                points.iter().zip(&xy).filter(|(p, _)| &p.sweep == sweep).map(|(_, &q)| q).collect();
+            let series: Vec<(f64, f64, String)> = points
+                .iter()
+                .zip(&xy)
+                .filter(|(p, _)| &p.sweep == sweep)
+                .map(|(p, &(x, y))| (x, y, if text { p.value.clone() } else { String::new() }))
+                .collect();
             let drawn = chart
-                .draw_series(series.iter().map(|&(x, y)| Circle::new((x, y), 6, colour.filled())))
+                .draw_series(series.into_iter().map(|(x, y, label)| {
+                    EmptyElement::at((x, y))
+                        + Circle::new((0, 0), 6, colour.filled())
+                        + Text::new(label, (8, -14), ("sans-serif", 13))
+                }))
                 .map_err(|e| anyhow::anyhow!("{e}"))?;
             if text {
                 drawn.label(sweep.as_str()).legend(move |(x, y)| Circle::new((x, y), 5, colour.filled()));
@@ -301,6 +345,7 @@ pub fn plot(points: &[Point], x_key: &'static str, x_label: &str, path: &Path) -
         if text {
             chart
                 .configure_series_labels()
+                .position(SeriesLabelPosition::LowerRight)
                 .background_style(WHITE.mix(0.8))
                 .border_style(BLACK)
                 .draw()
@@ -348,6 +393,9 @@ mod tests {
             pareto_move: false,
         };
         let text = csv(std::slice::from_ref(&p));
+        let back = parse_csv(&text).unwrap();
+        assert_eq!((back[0].figures.clone(), back[0].pareto_size), (p.figures.clone(), true));
+        assert!(parse_csv("sweep,value\n").unwrap_err().to_string().contains("no column"));
         let mut lines = text.lines();
         let header: Vec<&str> = lines.next().unwrap().split(',').collect();
         let row: Vec<&str> = lines.next().unwrap().split(',').collect();
