@@ -73,16 +73,16 @@ fn integral(cut: &Cut, tree: &DirectionTree) -> f64 {
 type SphereData = (Vec<Cut>, Vec<bool>);
 
 /// The field of `object` interpolated at `p` (8 samples, trilinear, samples inside the object
-/// dropped), expanded to leaves.
+/// fully occluded), expanded to leaves.
 fn interpolated(data: &mut Precomputed, object: usize, layout: &FieldLayout, p: Vec3) -> Vec<f32> {
-    let mut samples = layout.lookup(p).expect("inside the field");
+    let samples = layout.lookup(p).expect("inside the field");
     let spheres: Vec<(u32, SphereData)> = {
         let mut s: Vec<u32> = samples.iter().map(|x| x.sphere).collect();
         s.dedup();
         s.into_iter().map(|s| (s, data.field_sphere(object, s).unwrap())).collect()
     };
     let sphere = |s: u32| &spheres.iter().find(|(x, _)| *x == s).unwrap().1;
-    if FieldLayout::drop_inside(&mut samples, |x| sphere(x.sphere).1[x.point as usize]) == 0 {
+    if FieldLayout::outside_count(&samples, |x| sphere(x.sphere).1[x.point as usize]) == 0 {
         return vec![0.0; data.directions.len()];
     }
     let cuts: Vec<&Cut> = samples.iter().map(|x| &sphere(x.sphere).0[x.point as usize]).collect();

@@ -43,6 +43,10 @@ pub struct BenchArgs {
     /// Skip the trade-off sweeps.
     #[arg(long)]
     pub no_tradeoff: bool,
+    /// Reuse a scene's data file from an earlier run (and the precompute figures kept beside
+    /// it) instead of precomputing again: to re-time frames after a change to shading.
+    #[arg(long)]
+    pub reuse: bool,
     /// Only redraw the trade-off plots from `OUT/tradeoff.csv`.
     #[arg(long)]
     pub plot_only: bool,
@@ -131,10 +135,22 @@ fn rays(summary: &Summary) -> (f64, f64) {
 }
 
 /// One scene: precompute, edit, move (both merges), references.
-fn bench_scene(name: &str, preset: &str, data_dir: &Path, no_mc: bool) -> Result<Value> {
+/// What the precompute of a scene measured: kept beside its output (`.summary.json`) so
+/// `--reuse` can time frames again without precomputing.
+fn precompute_figures(name: &str, preset: &str, data_dir: &Path, reuse: bool) -> Result<(PathBuf, Value)> {
+    let file = data_dir.join(format!("{name}-{preset}.vcuts"));
+    let sidecar = file.with_extension("summary.json");
+    if reuse && file.exists() {
+        if let Ok(text) = std::fs::read_to_string(&sidecar) {
+            println!("\n== {name}: reusing {} (precomputed earlier)", file.display());
+            let figures: Value =
+                serde_json::from_str(&text).with_context(|| format!("reading {}", sidecar.display()))?;
+            return Ok((file, figures));
+        }
+    }
     println!("\n== {name}: precompute at preset {preset}");
     let mut args = crate::precompute::PrecomputeArgs::new(&format!("builtin:{name}"), preset);
-    args.output = Some(data_dir.join(format!("{name}-{preset}.vcuts")));
+    args.output = Some(file.clone());
     args.fresh = true;
     let t = Instant::now();
     let (file, summary) = crate::precompute::run(&args)?;
@@ -144,7 +160,23 @@ fn bench_scene(name: &str, preset: &str, data_dir: &Path, no_mc: bool) -> Result
     let index_bytes: u64 = summary.sizes.iter().map(|z| z.index_baseline_bytes).sum();
     let heights_bytes: u64 = summary.sizes.iter().map(|z| z.heights_codec_bytes).sum();
     let other_bytes = summary.file_bytes - cut_bytes;
+    let figures = json!({
+        "precompute_s": precompute_s,
+        "rays_per_s": rays_per_s,
+        "raw_rays_per_s": raw_rays_per_s,
+        "rays_per_s_vs_raw": rays_per_s / raw_rays_per_s.max(1e-12),
+        "data_bytes_height": summary.file_bytes,
+        "data_bytes_index": other_bytes + index_bytes,
+        "data_bytes_height_codec_4bit": other_bytes + heights_bytes,
+        "data_size_vs_index": summary.file_bytes as f64 / (other_bytes + index_bytes) as f64,
+    });
+    write_atomic(&sidecar, serde_json::to_string_pretty(&figures)?.as_bytes())?;
+    Ok((file, figures))
+}
 
+/// One scene: precompute (or reuse), edit, move (both merges), references.
+fn bench_scene(name: &str, preset: &str, data_dir: &Path, no_mc: bool, reuse: bool) -> Result<Value> {
+    let (file, pre) = precompute_figures(name, preset, data_dir, reuse)?;
     let scene = Scene::open(&format!("builtin:{name}"))?;
     let eye = scene.cameras.first().map(|c| c.position).context("the built-in scene has a camera")?;
     let mut data = Precomputed::open(&file)?;
@@ -212,19 +244,11 @@ fn bench_scene(name: &str, preset: &str, data_dir: &Path, no_mc: bool) -> Result
     println!(
         "{name}: edit {edit:.1} ms, move {move_ms:.1} ms (index {move_ms_index:.1} ms), rel L2 vs exact {rel_l2_exact:.4}"
     );
-    Ok(json!({
+    let mut out = json!({
         "preset": preset,
         "vertices": vertices,
         "objects": frame.object_count(),
         "moved_object": frame.object(movable).0,
-        "precompute_s": precompute_s,
-        "rays_per_s": rays_per_s,
-        "raw_rays_per_s": raw_rays_per_s,
-        "rays_per_s_vs_raw": rays_per_s / raw_rays_per_s.max(1e-12),
-        "data_bytes_height": summary.file_bytes,
-        "data_bytes_index": other_bytes + index_bytes,
-        "data_bytes_height_codec_4bit": other_bytes + heights_bytes,
-        "data_size_vs_index": summary.file_bytes as f64 / (other_bytes + index_bytes) as f64,
         "setup_s": setup_s,
         "edit_ms": edit,
         "move_ms": move_ms,
@@ -243,7 +267,11 @@ fn bench_scene(name: &str, preset: &str, data_dir: &Path, no_mc: bool) -> Result
         "max_err_exact": max_exact,
         "rel_l2_mc": mc.map(|m| m.0),
         "mc_reference_s": mc.map(|m| m.1),
-    }))
+    });
+    for (k, v) in pre.as_object().context("precompute figures")? {
+        out[k] = v.clone();
+    }
+    Ok(out)
 }
 
 fn f(v: &Value, k: &str) -> f64 {
@@ -359,7 +387,7 @@ pub fn run(args: &BenchArgs) -> Result<()> {
             (true, "teapot") => "balanced",
             (true, _) => "fast",
         };
-        scenes.insert(name.clone(), bench_scene(name, preset, &data_dir, args.no_mc)?);
+        scenes.insert(name.clone(), bench_scene(name, preset, &data_dir, args.no_mc, args.reuse)?);
     }
     for s in scenes.values_mut() {
         let bound_ms = f(s, "shade_bytes") / (bandwidth * 1e9) * 1e3;

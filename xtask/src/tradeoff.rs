@@ -299,9 +299,8 @@ pub fn plot(points: &[Point], x_key: &'static str, x_label: &str, path: &Path) -
             builder.caption(format!("relative L2 vs exact reference against {x_label}"), ("sans-serif", 22));
             builder.x_label_area_size(45).y_label_area_size(70);
         }
-        let mut chart = builder
-            .build_cartesian_2d(0.0..x1 * 1.3, 0.0..y1 * 1.15)
-            .map_err(|e| anyhow::anyhow!("{e}"))?;
+        let mut chart =
+            builder.build_cartesian_2d(0.0..x1 * 1.3, 0.0..y1 * 1.15).map_err(|e| anyhow::anyhow!("{e}"))?;
         if text {
             chart
                 .configure_mesh()
