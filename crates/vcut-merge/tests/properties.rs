@@ -92,10 +92,16 @@ proptest! {
 
     /// A frame's whole expression: SVC × interp(8 cuts) × interp(8 cuts), in one pass.
     #[test]
-    fn frame_expression_in_one_pass(root in 1u32..=15, seed in any::<u64>()) {
+    /// With `binary`, the field cuts hold only 0 and 1 (exact fields), which the merge sums
+    /// through a table of masks.
+    fn frame_expression_in_one_pass(root in 1u32..=15, seed in any::<u64>(), binary in any::<bool>()) {
         let svc = random_cut(root, seed, 0.6, 0.4, 0.1);
-        let fa: Vec<Cut> = (0..8).map(|k| random_cut(root, seed ^ (k + 1), 0.5, 0.1, 0.6)).collect();
-        let fb: Vec<Cut> = (0..8).map(|k| random_cut(root, seed ^ ((k + 1) << 20), 0.5, 0.1, 0.6)).collect();
+        let (zero, one) = if binary { (0.4, 0.6) } else { (0.1, 0.6) };
+        let fa: Vec<Cut> = (0..8).map(|k| random_cut(root, seed ^ (k + 1), 0.5, zero, one)).collect();
+        let fb: Vec<Cut> = (0..8).map(|k| random_cut(root, seed ^ ((k + 1) << 20), 0.5, zero, one)).collect();
+        if binary {
+            prop_assert!(fa.iter().chain(&fb).all(|c| c.values().iter().all(|&v| v == 0.0 || v == 1.0)));
+        }
         let (ra, rb): (Vec<&Cut>, Vec<&Cut>) = (fa.iter().collect(), fb.iter().collect());
         let wa = [0.05f32, 0.1, 0.15, 0.2, 0.1, 0.1, 0.2, 0.1];
         let wb = [0.125f32; 8];
