@@ -76,8 +76,20 @@ impl RenderArgs {
     }
 }
 
-/// Runs `render`.
-pub fn run(args: &RenderArgs) -> Result<()> {
+/// What a render printed, as `key=value` pairs in order (for the demo's report).
+#[derive(Debug, Default)]
+pub struct Printed(pub Vec<(String, String)>);
+
+impl Printed {
+    fn emit(&mut self, key: String, value: String) {
+        println!("{key}={value}");
+        self.0.push((key, value));
+    }
+}
+
+/// Runs `render`; returns what it printed.
+pub fn run(args: &RenderArgs) -> Result<Printed> {
+    let mut out = Printed::default();
     let mut data = Precomputed::open(&args.input)?;
     let source = data.recorded("scene").unwrap_or_default();
     let scene = Scene::open(&source).ok();
@@ -91,7 +103,7 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     };
     let t = Instant::now();
     let mut frame = Frame::new(&mut data, &env)?;
-    println!("setup_s={:.3}", t.elapsed().as_secs_f64());
+    out.emit(format!("setup_s"), format!("{:.3}", t.elapsed().as_secs_f64()));
     let object = |frame: &Frame, name: &str| {
         frame.object_index(name).with_context(|| {
             let names: Vec<&str> = (0..frame.object_count()).map(|o| frame.object(o).0).collect();
@@ -119,8 +131,8 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         moved += frame.translate(o, Vec3::new(*dx, *dy, *dz))?;
         move_ms += t.elapsed().as_secs_f64() * 1e3;
     }
-    println!("move_merge_ms={move_ms:.2}");
-    println!("move_merged_vertices={moved}");
+    out.emit(format!("move_merge_ms"), format!("{move_ms:.2}"));
+    out.emit(format!("move_merged_vertices"), format!("{moved}"));
     let camera = match (&scene, &args.camera) {
         (Some(s), Some(name)) => {
             s.cameras.iter().find(|c| &c.name == name).cloned().with_context(|| format!("no camera '{name}'"))?
@@ -139,25 +151,25 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     };
     let t = Instant::now();
     let radiance = frame.shade(camera.position);
-    println!("shade_ms={:.2}", t.elapsed().as_secs_f64() * 1e3);
+    out.emit(format!("shade_ms"), format!("{:.2}", t.elapsed().as_secs_f64() * 1e3));
     let t = Instant::now();
     let image = rasterize(&frame, &radiance, &camera, args.width, args.height, Some(&env));
-    println!("raster_ms={:.2}", t.elapsed().as_secs_f64() * 1e3);
+    out.emit(format!("raster_ms"), format!("{:.2}", t.elapsed().as_secs_f64() * 1e3));
     if let Some(dir) = args.output.parent().filter(|d| !d.as_os_str().is_empty()) {
         std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
     }
     let exposure = args.exposure.unwrap_or_else(|| auto_exposure(&image));
     write_png(&image, &args.output, exposure)?;
-    println!("png={}", args.output.display());
-    println!("tone_map=aces-narkowicz");
-    println!("exposure={exposure:.4}");
+    out.emit(format!("png"), format!("{}", args.output.display()));
+    out.emit(format!("tone_map"), format!("aces-narkowicz"));
+    out.emit(format!("exposure"), format!("{exposure:.4}"));
     if let Some(p) = &args.exr {
         write_exr(&image, p)?;
-        println!("exr={}", p.display());
+        out.emit(format!("exr"), format!("{}", p.display()));
     }
     if let Some(p) = &args.export_ply {
         write_ply(&frame, &radiance, p)?;
-        println!("ply={}", p.display());
+        out.emit(format!("ply"), format!("{}", p.display()));
     }
     let compare = args.compare.as_deref().unwrap_or("none");
     if !matches!(compare, "none" | "exact" | "mc" | "both") {
@@ -169,33 +181,33 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     if matches!(compare, "exact" | "both") {
         let t = Instant::now();
         let r = exact_direction(&frame, camera.position, offset);
-        println!("reference_exact_s={:.3}", t.elapsed().as_secs_f64());
+        out.emit(format!("reference_exact_s"), format!("{:.3}", t.elapsed().as_secs_f64()));
         refs.push(("exact", r));
     }
     if matches!(compare, "mc" | "both") {
         let t = Instant::now();
         let (r, stats) = monte_carlo(&frame, &env, camera.position, offset, &MonteCarloParams::default());
-        println!("reference_mc_s={:.3}", t.elapsed().as_secs_f64());
-        println!("reference_mc_samples={}", stats.samples);
-        println!("reference_mc_unconverged_vertices={}", stats.unconverged);
+        out.emit(format!("reference_mc_s"), format!("{:.3}", t.elapsed().as_secs_f64()));
+        out.emit(format!("reference_mc_samples"), format!("{}", stats.samples));
+        out.emit(format!("reference_mc_unconverged_vertices"), format!("{}", stats.unconverged));
         refs.push(("mc", r));
     }
     for (name, reference) in &refs {
         let (l2, max) = errors(&radiance, reference);
-        println!("vertex_rel_l2_vs_{name}={l2:.5}");
-        println!("vertex_max_err_vs_{name}={max:.5}");
+        out.emit(format!("vertex_rel_l2_vs_{name}"), format!("{l2:.5}"));
+        out.emit(format!("vertex_max_err_vs_{name}"), format!("{max:.5}"));
         let ref_image = rasterize(&frame, reference, &camera, args.width, args.height, Some(&env));
         let (pl2, pmax) = pixel_errors(&image, &ref_image);
-        println!("pixel_rel_l2_vs_{name}={pl2:.5}");
-        println!("pixel_max_err_vs_{name}={pmax:.5}");
+        out.emit(format!("pixel_rel_l2_vs_{name}"), format!("{pl2:.5}"));
+        out.emit(format!("pixel_max_err_vs_{name}"), format!("{pmax:.5}"));
         let ref_path = args.output.with_file_name(format!("{stem}-{name}.png"));
         write_png(&ref_image, &ref_path, exposure)?;
-        println!("reference_{name}_png={}", ref_path.display());
+        out.emit(format!("reference_{name}_png"), format!("{}", ref_path.display()));
     }
     if let [(_, exact), (_, mc)] = refs.as_slice() {
         let (l2, max) = errors(exact, mc);
-        println!("vertex_rel_l2_exact_vs_mc={l2:.5}");
-        println!("vertex_max_err_exact_vs_mc={max:.5}");
+        out.emit(format!("vertex_rel_l2_exact_vs_mc"), format!("{l2:.5}"));
+        out.emit(format!("vertex_max_err_exact_vs_mc"), format!("{max:.5}"));
     }
-    Ok(())
+    Ok(out)
 }
