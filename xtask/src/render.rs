@@ -81,7 +81,8 @@ impl RenderArgs {
 pub struct Printed(pub Vec<(String, String)>);
 
 impl Printed {
-    fn emit(&mut self, key: String, value: String) {
+    fn emit(&mut self, key: impl Into<String>, value: String) {
+        let key = key.into();
         println!("{key}={value}");
         self.0.push((key, value));
     }
@@ -103,7 +104,7 @@ pub fn run(args: &RenderArgs) -> Result<Printed> {
     };
     let t = Instant::now();
     let mut frame = Frame::new(&mut data, &env)?;
-    out.emit(format!("setup_s"), format!("{:.3}", t.elapsed().as_secs_f64()));
+    out.emit("setup_s", format!("{:.3}", t.elapsed().as_secs_f64()));
     let object = |frame: &Frame, name: &str| {
         frame.object_index(name).with_context(|| {
             let names: Vec<&str> = (0..frame.object_count()).map(|o| frame.object(o).0).collect();
@@ -131,8 +132,8 @@ pub fn run(args: &RenderArgs) -> Result<Printed> {
         moved += frame.translate(o, Vec3::new(*dx, *dy, *dz))?;
         move_ms += t.elapsed().as_secs_f64() * 1e3;
     }
-    out.emit(format!("move_merge_ms"), format!("{move_ms:.2}"));
-    out.emit(format!("move_merged_vertices"), format!("{moved}"));
+    out.emit("move_merge_ms", format!("{move_ms:.2}"));
+    out.emit("move_merged_vertices", format!("{moved}"));
     let camera = match (&scene, &args.camera) {
         (Some(s), Some(name)) => {
             s.cameras.iter().find(|c| &c.name == name).cloned().with_context(|| format!("no camera '{name}'"))?
@@ -151,25 +152,25 @@ pub fn run(args: &RenderArgs) -> Result<Printed> {
     };
     let t = Instant::now();
     let radiance = frame.shade(camera.position);
-    out.emit(format!("shade_ms"), format!("{:.2}", t.elapsed().as_secs_f64() * 1e3));
+    out.emit("shade_ms", format!("{:.2}", t.elapsed().as_secs_f64() * 1e3));
     let t = Instant::now();
     let image = rasterize(&frame, &radiance, &camera, args.width, args.height, Some(&env));
-    out.emit(format!("raster_ms"), format!("{:.2}", t.elapsed().as_secs_f64() * 1e3));
+    out.emit("raster_ms", format!("{:.2}", t.elapsed().as_secs_f64() * 1e3));
     if let Some(dir) = args.output.parent().filter(|d| !d.as_os_str().is_empty()) {
         std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
     }
     let exposure = args.exposure.unwrap_or_else(|| auto_exposure(&image));
     write_png(&image, &args.output, exposure)?;
-    out.emit(format!("png"), format!("{}", args.output.display()));
-    out.emit(format!("tone_map"), format!("aces-narkowicz"));
-    out.emit(format!("exposure"), format!("{exposure:.4}"));
+    out.emit("png", format!("{}", args.output.display()));
+    out.emit("tone_map", "aces-narkowicz".into());
+    out.emit("exposure", format!("{exposure:.4}"));
     if let Some(p) = &args.exr {
         write_exr(&image, p)?;
-        out.emit(format!("exr"), format!("{}", p.display()));
+        out.emit("exr", format!("{}", p.display()));
     }
     if let Some(p) = &args.export_ply {
         write_ply(&frame, &radiance, p)?;
-        out.emit(format!("ply"), format!("{}", p.display()));
+        out.emit("ply", format!("{}", p.display()));
     }
     let compare = args.compare.as_deref().unwrap_or("none");
     if !matches!(compare, "none" | "exact" | "mc" | "both") {
@@ -181,15 +182,15 @@ pub fn run(args: &RenderArgs) -> Result<Printed> {
     if matches!(compare, "exact" | "both") {
         let t = Instant::now();
         let r = exact_direction(&frame, camera.position, offset);
-        out.emit(format!("reference_exact_s"), format!("{:.3}", t.elapsed().as_secs_f64()));
+        out.emit("reference_exact_s", format!("{:.3}", t.elapsed().as_secs_f64()));
         refs.push(("exact", r));
     }
     if matches!(compare, "mc" | "both") {
         let t = Instant::now();
         let (r, stats) = monte_carlo(&frame, &env, camera.position, offset, &MonteCarloParams::default());
-        out.emit(format!("reference_mc_s"), format!("{:.3}", t.elapsed().as_secs_f64()));
-        out.emit(format!("reference_mc_samples"), format!("{}", stats.samples));
-        out.emit(format!("reference_mc_unconverged_vertices"), format!("{}", stats.unconverged));
+        out.emit("reference_mc_s", format!("{:.3}", t.elapsed().as_secs_f64()));
+        out.emit("reference_mc_samples", format!("{}", stats.samples));
+        out.emit("reference_mc_unconverged_vertices", format!("{}", stats.unconverged));
         refs.push(("mc", r));
     }
     for (name, reference) in &refs {
@@ -206,8 +207,8 @@ pub fn run(args: &RenderArgs) -> Result<Printed> {
     }
     if let [(_, exact), (_, mc)] = refs.as_slice() {
         let (l2, max) = errors(exact, mc);
-        out.emit(format!("vertex_rel_l2_exact_vs_mc"), format!("{l2:.5}"));
-        out.emit(format!("vertex_max_err_exact_vs_mc"), format!("{max:.5}"));
+        out.emit("vertex_rel_l2_exact_vs_mc", format!("{l2:.5}"));
+        out.emit("vertex_max_err_exact_vs_mc", format!("{max:.5}"));
     }
     Ok(out)
 }
