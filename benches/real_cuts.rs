@@ -73,9 +73,9 @@ fn frames(data: &mut Precomputed, per_object: usize) -> Vec<Frame> {
             let mut fields = Vec::new();
             for (other, l) in layouts.iter().enumerate() {
                 let Some(l) = l.filter(|_| other != o) else { continue };
-                let Some(samples) = l.lookup(positions[v]) else { continue };
+                let Some(mut samples) = l.lookup(positions[v]) else { continue };
                 let s = &spheres[other];
-                if FieldLayout::outside_count(&samples, |x| s[x.sphere as usize].1[x.point as usize]) == 0 {
+                if FieldLayout::drop_inside(&mut samples, |x| s[x.sphere as usize].1[x.point as usize]) == 0 {
                     continue;
                 }
                 let cuts = samples.iter().map(|x| s[x.sphere as usize].0[x.point as usize].clone()).collect();

@@ -131,10 +131,12 @@ fn visible_occluded_touching_and_far_vertices() {
     // All visible: a far corner sees the whole sky but a sliver the ball covers.
     assert!((b[ground][corner].x - 0.5).abs() < 0.02, "corner {}", b[ground][corner]);
     // On the ball's surface (it rests on the ground there) the ball covers the whole upper
-    // hemisphere: exactly 0. The field can only interpolate toward that from samples beside
-    // and below the contact: measured 15 % of the unoccluded value (31 % before inside samples
-    // counted as occluded). Contacts are the field representation's weak spot.
-    assert!(b[ground][touching].x < 0.2 * 0.5, "touching {}", b[ground][touching]);
+    // hemisphere: exactly 0. The field can only interpolate toward that from the samples beside
+    // and below the contact (those inside the ball are dropped): measured 31 % of the
+    // unoccluded value. Counting inside samples as occluded halves that but doubles the error
+    // of points just off a surface (tests/precompute.rs); contacts are the field
+    // representation's weak spot.
+    assert!(b[ground][touching].x < 0.35 * 0.5, "touching {}", b[ground][touching]);
     // Inside the ball's bounding sphere region (0.75 from its centre's foot, r = 0.5): shadowed
     // in part, within 5 % of the exact reference's radiance there.
     let exact = exact_direction(&frame, EYE, 1e-4);

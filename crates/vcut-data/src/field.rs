@@ -16,7 +16,6 @@
 //! returns `None`: the caller treats the object as fully visible there, which is what its
 //! bounding cone makes nearly true: at 10r it covers 0.25 % of the sphere). Inside `inner`·r the lookup
 //! clamps to the innermost sphere. Near a cube edge the bilinear texels clamp to the face.
-//! Samples inside the object count as fully occluded ([`FieldLayout::outside_count`]).
 
 use glam::Vec3;
 
@@ -195,14 +194,25 @@ impl FieldLayout {
         Some(out)
     }
 
-    /// How many samples with a weight lie outside the object (`inside(sample)` false). Samples
-    /// inside keep their weight: their cuts are fully occluded (value 0), the limit of
-    /// visibility at the surface, so a point near the surface blends toward it instead of
-    /// extrapolating from the samples farther out (on the teapot scene this cut the frame's
-    /// error by a tenth, most of it at contacts). 0 when every sample is inside: the point is
-    /// inside or at the surface, fully occluded.
-    pub fn outside_count(samples: &[FieldSample; 8], inside: impl Fn(&FieldSample) -> bool) -> usize {
-        samples.iter().filter(|x| x.weight > 0.0 && !inside(x)).count()
+    /// Drops the samples that lie inside the object (`inside(sample)`) and rescales the others'
+    /// weights to sum to 1: a point outside the object must not blend in visibility seen from
+    /// inside it. Returns how many samples keep a weight; 0 when all are inside (the point
+    /// itself is then inside or at the surface: fully occluded).
+    pub fn drop_inside(samples: &mut [FieldSample; 8], inside: impl Fn(&FieldSample) -> bool) -> usize {
+        let mut total = 0.0;
+        for x in samples.iter_mut() {
+            if x.weight > 0.0 && inside(x) {
+                x.weight = 0.0;
+            }
+            total += x.weight;
+        }
+        if total <= 0.0 {
+            return 0;
+        }
+        for x in samples.iter_mut() {
+            x.weight /= total;
+        }
+        samples.iter().filter(|x| x.weight > 0.0).count()
     }
 }
 
@@ -280,14 +290,15 @@ mod tests {
     }
 
     #[test]
-    fn inside_samples_are_counted_and_keep_their_weight() {
+    fn inside_samples_are_dropped_and_the_rest_renormalised() {
         let l = layout();
         let mid = l.center + l.direction(77) * 0.5 * (l.sphere_radius(0) + l.sphere_radius(1));
-        let got = l.lookup(mid).unwrap();
-        let outside = FieldLayout::outside_count(&got, |x| x.sphere == 0);
-        assert!(outside > 0 && outside <= 4);
-        assert_eq!(FieldLayout::outside_count(&got, |_| true), 0);
-        assert_eq!(FieldLayout::outside_count(&got, |_| false), got.iter().filter(|x| x.weight > 0.0).count());
+        let mut got = l.lookup(mid).unwrap();
+        let kept = FieldLayout::drop_inside(&mut got, |x| x.sphere == 0);
+        assert!(kept > 0 && kept <= 4);
+        let sum: f32 = got.iter().map(|x| x.weight).sum();
+        assert!((sum - 1.0).abs() < 1e-5 && got.iter().all(|x| x.sphere == 1 || x.weight == 0.0));
+        assert_eq!(FieldLayout::drop_inside(&mut got, |_| true), 0);
     }
 
     #[test]

@@ -6,9 +6,8 @@
 //! **Which fields a vertex uses.** Object j's field shadows a vertex of object o (o ≠ j) when
 //! j has a field and o or j is movable (static–static shadows are baked into the SVCs). Within
 //! 0.2r of j's centre the lookup clamps to the innermost sphere; beyond 10r j casts no shadow
-//! (its bounding cone there covers under 0.25 % of the sphere); samples inside j keep their
-//! weight as fully occluded (the limit of visibility at j's surface), and a vertex whose 8
-//! samples are all inside j is fully occluded.
+//! (its bounding cone there covers under 0.25 % of the sphere); samples inside j are dropped and
+//! the rest renormalised, and a vertex whose 8 samples are all inside j is fully occluded.
 //!
 //! **Where in a node the light is.** A merged node k holds v_k, the mean of V·max(0, n·ω) over
 //! its leaves, and the light tree the node's total radiance l_k. The paper evaluates
@@ -367,10 +366,10 @@ impl Frame {
             if j == o || (me.motion == Motion::Static && other.motion == Motion::Static) {
                 continue;
             }
-            let Some(samples) = layout.lookup(p - other.translation) else { continue };
-            let outside =
-                FieldLayout::outside_count(&samples, |x| other.field[x.sphere as usize].inside(x.point as usize));
-            keys.push(FieldKey { object: j as u32, samples: (outside > 0).then_some(samples) });
+            let Some(mut samples) = layout.lookup(p - other.translation) else { continue };
+            let kept =
+                FieldLayout::drop_inside(&mut samples, |x| other.field[x.sphere as usize].inside(x.point as usize));
+            keys.push(FieldKey { object: j as u32, samples: (kept > 0).then_some(samples) });
         }
         keys
     }
