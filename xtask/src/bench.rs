@@ -241,6 +241,7 @@ fn bench_scene(name: &str, preset: &str, data_dir: &Path, no_mc: bool, reuse: bo
         Some((errors(&shaded, &r).0, t.elapsed().as_secs_f64()))
     };
     let shade_bytes = frame.shade_bytes();
+    let merged_bytes = frame.merged_bytes();
     println!(
         "{name}: edit {edit:.1} ms, move {move_ms:.1} ms (index {move_ms_index:.1} ms), rel L2 vs exact {rel_l2_exact:.4}"
     );
@@ -263,6 +264,7 @@ fn bench_scene(name: &str, preset: &str, data_dir: &Path, no_mc: bool, reuse: bo
         "edit_vs_exact_reference": edit / exact_ms,
         "move_vs_exact_reference": move_ms / exact_ms,
         "shade_bytes": shade_bytes,
+        "merged_cut_bytes": merged_bytes,
         "rel_l2_exact": rel_l2_exact,
         "max_err_exact": max_exact,
         "rel_l2_mc": mc.map(|m| m.0),
@@ -393,6 +395,10 @@ pub fn run(args: &BenchArgs) -> Result<()> {
         let bound_ms = f(s, "shade_bytes") / (bandwidth * 1e9) * 1e3;
         s["shade_bandwidth_bound_ms"] = json!(bound_ms);
         s["edit_vs_bandwidth_bound"] = json!(f(s, "edit_ms") / bound_ms);
+        // The floor: streaming the merged cuts themselves once.
+        let stream_ms = f(s, "merged_cut_bytes") / (bandwidth * 1e9) * 1e3;
+        s["merged_cut_stream_ms"] = json!(stream_ms);
+        s["edit_vs_merged_cut_stream"] = json!(f(s, "edit_ms") / stream_ms);
     }
     let first = scenes.values().next();
     let raw = first.map(|s| f(s, "raw_rays_per_s")).unwrap_or(f64::NAN);

@@ -337,6 +337,16 @@ impl Frame {
             .sum()
     }
 
+    /// Bytes of every vertex's merged cut (height u8, value f32 and level-order index u32 per
+    /// node): streaming them is the floor under a shading pass.
+    pub fn merged_bytes(&self) -> usize {
+        self.objects
+            .iter()
+            .flat_map(|s| &s.merged)
+            .map(|m| m.heights.len() * (size_of::<u8>() + size_of::<f32>() + size_of::<u32>()))
+            .sum()
+    }
+
     /// The merged cut of vertex `v` of object `o`.
     pub fn merged(&self, o: usize, v: usize) -> &MergedCut {
         &self.objects[o].merged[v]
