@@ -90,9 +90,71 @@ const PAPER: [PaperRow; 2] = [
     },
 ];
 
-fn median(mut v: Vec<f64>) -> f64 {
+/// The middle value (the upper one of an even count); NaN for none.
+pub fn median(mut v: Vec<f64>) -> f64 {
     v.sort_by(f64::total_cmp);
     if v.is_empty() { f64::NAN } else { v[v.len() / 2] }
+}
+
+/// The first movable object of `frame`.
+pub fn movable_object(frame: &Frame, scene: &str) -> Result<usize> {
+    (0..frame.object_count())
+        .find(|&o| frame.object(o).3 == Motion::Movable)
+        .with_context(|| format!("scene {scene} has no movable object"))
+}
+
+/// Median time of a BRDF edit: `runs` shadings, each after switching object `o`'s Blinn-Phong
+/// exponent 70 ↔ 15; its material is restored after.
+pub fn edit_ms(frame: &mut Frame, o: usize, eye: Vec3, runs: usize) -> f64 {
+    let rest = *frame.object(o).2;
+    let ms = median(
+        (0..runs)
+            .map(|i| {
+                let exponent = if i % 2 == 0 { 70.0 } else { 15.0 };
+                frame.set_material(o, Material { exponent, ..rest });
+                let t = Instant::now();
+                std::hint::black_box(frame.shade(eye));
+                t.elapsed().as_secs_f64() * 1e3
+            })
+            .collect(),
+    );
+    frame.set_material(o, rest);
+    ms
+}
+
+/// What a move path measured.
+pub struct PathTiming {
+    /// Median time of one step: re-merge plus shade (ms).
+    pub move_ms: f64,
+    /// Merge time of every step (ms).
+    pub merge_ms: Vec<f64>,
+    /// Vertices re-merged per step, on average.
+    pub merged: usize,
+}
+
+/// Moves object `o` from rest along `steps` translations of 0.1 r along (1, 0, 0.5) with
+/// `algorithm`, shading after each, then back to rest.
+pub fn move_path(
+    frame: &mut Frame,
+    o: usize,
+    eye: Vec3,
+    algorithm: MergeAlgorithm,
+    steps: usize,
+) -> Result<PathTiming> {
+    let step = Vec3::new(1.0, 0.0, 0.5) * 0.1 * frame.object(o).1.bounds().radius;
+    frame.set_merge_algorithm(algorithm);
+    frame.translate(o, Vec3::ZERO)?;
+    let (mut times, mut merge_ms, mut merged) = (Vec::new(), Vec::new(), 0);
+    for i in 1..=steps {
+        let t = Instant::now();
+        merged += frame.translate(o, step * i as f32)?;
+        std::hint::black_box(frame.shade(eye));
+        times.push(t.elapsed().as_secs_f64() * 1e3);
+        merge_ms.push(frame.last_move().merge_s * 1e3);
+    }
+    frame.translate(o, Vec3::ZERO)?;
+    frame.set_merge_algorithm(MergeAlgorithm::Counter);
+    Ok(PathTiming { move_ms: median(times), merge_ms, merged: merged / steps.max(1) })
 }
 
 /// Read bandwidth in GB/s: the median of 5 parallel sums over 256 MB.
@@ -180,53 +242,24 @@ fn bench_scene(name: &str, preset: &str, data_dir: &Path, no_mc: bool, reuse: bo
     let scene = Scene::open(&format!("builtin:{name}"))?;
     let eye = scene.cameras.first().map(|c| c.position).context("the built-in scene has a camera")?;
     let mut data = Precomputed::open(&file)?;
-    let offset: f32 = data.recorded("svc_origin_offset").and_then(|v| v.parse().ok()).unwrap_or(1e-4);
+    let offset = data.svc_origin_offset();
     let t = Instant::now();
     let mut frame = Frame::new(&mut data, &scene.environment)?;
     let setup_s = t.elapsed().as_secs_f64();
-    let movable = (0..frame.object_count())
-        .find(|&o| frame.object(o).3 == Motion::Movable)
-        .with_context(|| format!("scene {name} has no movable object"))?;
+    let movable = movable_object(&frame, name)?;
     let vertices: usize = (0..frame.object_count()).map(|o| frame.object(o).1.vertex_count()).sum();
 
     println!("== {name}: edit, move, references");
-    let rest_material = *frame.object(movable).2;
-    let edit_ms = |frame: &mut Frame| -> f64 {
-        median(
-            (0..11)
-                .map(|i| {
-                    let exponent = if i % 2 == 0 { 70.0 } else { 15.0 };
-                    frame.set_material(movable, Material { exponent, ..rest_material });
-                    let t = Instant::now();
-                    std::hint::black_box(frame.shade(eye));
-                    t.elapsed().as_secs_f64() * 1e3
-                })
-                .collect(),
-        )
-    };
-    let edit = edit_ms(&mut frame);
-    frame.set_material(movable, rest_material);
-    let radius = frame.object(movable).1.bounds().radius;
-    let step = Vec3::new(1.0, 0.0, 0.5) * 0.1 * radius;
-    let path = |frame: &mut Frame, algorithm: MergeAlgorithm| -> Result<(f64, f64, usize)> {
-        frame.set_merge_algorithm(algorithm);
-        frame.translate(movable, Vec3::ZERO)?;
-        let (mut times, mut merge_s, mut merged) = (Vec::new(), 0.0, 0);
-        for i in 1..=8 {
-            let t = Instant::now();
-            merged += frame.translate(movable, step * i as f32)?;
-            std::hint::black_box(frame.shade(eye));
-            times.push(t.elapsed().as_secs_f64() * 1e3);
-            merge_s += frame.last_move().merge_s;
-        }
-        Ok((median(times), merge_s, merged / 8))
-    };
-    let (move_ms, merge_s, merged_per_move) = path(&mut frame, MergeAlgorithm::Counter)?;
-    let (move_ms_index, merge_s_index, _) = path(&mut frame, MergeAlgorithm::Index)?;
-    let edit_index = edit_ms(&mut frame);
-    frame.set_material(movable, rest_material);
+    let edit = edit_ms(&mut frame, movable, eye, 11);
+    let counter = move_path(&mut frame, movable, eye, MergeAlgorithm::Counter, 8)?;
+    let index = move_path(&mut frame, movable, eye, MergeAlgorithm::Index, 8)?;
+    frame.set_merge_algorithm(MergeAlgorithm::Index);
+    let edit_index = edit_ms(&mut frame, movable, eye, 11);
     frame.set_merge_algorithm(MergeAlgorithm::Counter);
-    frame.translate(movable, Vec3::ZERO)?;
+    let (move_ms, move_ms_index) = (counter.move_ms, index.move_ms);
+    let merge_s: f64 = counter.merge_ms.iter().sum::<f64>() / 1e3;
+    let merge_s_index: f64 = index.merge_ms.iter().sum::<f64>() / 1e3;
+    let merged_per_move = counter.merged;
 
     let shaded = frame.shade(eye);
     let t = Instant::now();
@@ -290,40 +323,33 @@ fn table1(scenes: &serde_json::Map<String, Value>) -> (String, String) {
     );
     for (name, s) in scenes {
         let p = PAPER.iter().find(|p| p.scene == name);
-        let mb = |k: &str| f(s, k) / 1e6;
-        md.push_str(&format!(
-            "| {name} | {} | {} | {} | {:.1} / {:.1} | {:.1} / {:.1} | {:.0} / {:.0} | {} | {} | {} |\n",
-            s["preset"].as_str().unwrap_or("?"),
-            s["vertices"],
-            s["objects"],
-            mb("data_bytes_height"),
-            mb("data_bytes_index"),
+        let preset = s["preset"].as_str().unwrap_or("?");
+        let (vertices, objects) = (&s["vertices"], &s["objects"]);
+        let [data, data_index, edit, edit_index, mv, mv_index] = [
+            f(s, "data_bytes_height") / 1e6,
+            f(s, "data_bytes_index") / 1e6,
             f(s, "edit_ms"),
             f(s, "edit_ms_index"),
             f(s, "move_ms"),
             f(s, "move_ms_index"),
+        ];
+        md.push_str(&format!(
+            "| {name} | {preset} | {vertices} | {objects} | {data:.1} / {data_index:.1} | {edit:.1} / {edit_index:.1} | {mv:.0} / {mv_index:.0} | {} | {} | {} |\n",
             p.map(|p| format!("{} / {}", p.mb, p.baseline_mb)).unwrap_or_default(),
             p.map(|p| format!("{} / {}", p.edit_s, p.baseline_edit_s)).unwrap_or_default(),
             p.map(|p| format!("{} / {}", p.move_s, p.baseline_move_s)).unwrap_or_default(),
         ));
-        csv.push_str(&format!(
-            "{name},{},{},{},{:.3},{:.3},{:.3},{:.3},{:.3},{:.3},{}\n",
-            s["preset"].as_str().unwrap_or("?"),
-            s["vertices"],
-            s["objects"],
-            mb("data_bytes_height"),
-            mb("data_bytes_index"),
-            f(s, "edit_ms"),
-            f(s, "edit_ms_index"),
-            f(s, "move_ms"),
-            f(s, "move_ms_index"),
-            p.map(|p| {
+        let paper = p.map_or_else(
+            || ",,,,,,".into(),
+            |p| {
                 format!(
                     "{},{},{},{},{},{},{}",
                     p.vertices, p.objects, p.mb, p.baseline_mb, p.edit_s, p.move_s, p.baseline_move_s
                 )
-            })
-            .unwrap_or_else(|| ",,,,,,".into()),
+            },
+        );
+        csv.push_str(&format!(
+            "{name},{preset},{vertices},{objects},{data:.3},{data_index:.3},{edit:.3},{edit_index:.3},{mv:.3},{mv_index:.3},{paper}\n"
         ));
     }
     (md, csv)

@@ -45,11 +45,11 @@ enum Command {
     /// and the index baseline, errors against the references; the machine, the directions and
     /// the light-tree rebuild — into target/report/ (report.json, table1.md, table1.csv).
     Bench(bench::BenchArgs),
-    /// Run the main job on the built-in teapot scene under the built-in sky (for now: inspect
-    /// both, build the 32,768 directions (cached), the direction tree and the sky's light tree,
-    /// precompute the scene at the `fast` preset into target/vcuts/teapot-fast.vcuts, then
-    /// render it with the teapot moved and its BRDF edited into target/demo/teapot.png, against
-    /// the exact-direction reference).
+    /// Run the main job on the built-in teapot scene under the built-in sky: inspect both, build
+    /// the 32,768 directions (cached), the direction tree and the sky's light tree, precompute
+    /// the scene at the `fast` preset into target/vcuts/teapot-fast.vcuts (reused while it
+    /// matches), render it at rest and with the teapot moved and its BRDF edited, against the
+    /// exact-direction reference, and write target/demo/report.md.
     Demo,
 }
 

@@ -176,7 +176,7 @@ pub fn run(args: &RenderArgs) -> Result<Printed> {
     if !matches!(compare, "none" | "exact" | "mc" | "both") {
         bail!("--compare {compare}: expected exact, mc or both");
     }
-    let offset = data.recorded("svc_origin_offset").and_then(|v| v.parse().ok()).unwrap_or(1e-4);
+    let offset = data.svc_origin_offset();
     let stem = args.output.file_stem().and_then(|s| s.to_str()).unwrap_or("frame").to_string();
     let mut refs = Vec::new();
     if matches!(compare, "exact" | "both") {

@@ -56,6 +56,13 @@ impl Precomputed {
     }
 
     /// The direction tree, rebuilt from the stored directions and checked against the stored
+    /// The SVC rays' origin offset along the normal, as a fraction of each object's bounding
+    /// radius (the `svc_origin_offset` parameter; 1e-4 if the file does not record it): references
+    /// cast their rays from the same points.
+    pub fn svc_origin_offset(&self) -> f32 {
+        self.recorded("svc_origin_offset").and_then(|v| v.parse().ok()).unwrap_or(1e-4)
+    }
+
     /// A value recorded in the `params` section (`key = value` lines; quotes removed).
     pub fn recorded(&self, key: &str) -> Option<String> {
         self.params_text.lines().find_map(|l| {

@@ -44,7 +44,7 @@ fn main() -> Result<(), String> {
     };
     let eye = option("--eye").map(|e| vec3(&e)).transpose()?.unwrap_or(Vec3::new(0.0, 2.0, 6.0));
     let mut data = Precomputed::open(Path::new(file)).map_err(|e| e.to_string())?;
-    let offset: f32 = data.recorded("svc_origin_offset").and_then(|v| v.parse().ok()).unwrap_or(1e-4);
+    let offset = data.svc_origin_offset();
     let mut frame = Frame::new(&mut data, &env).map_err(|e| e.to_string())?;
     if let Some(m) = option("--move") {
         let (name, d) = m.split_once('=').ok_or("--move OBJECT=DX,DY,DZ")?;

@@ -99,6 +99,8 @@ struct ObjectState {
     name: String,
     mesh: Mesh,
     material: Material,
+    /// `x^exponent` of the material, tabled (`None` above the table's range).
+    pow: Option<brdf::PowTable>,
     motion: Motion,
     translation: Vec3,
     svc: Vec<CutArray>,
@@ -250,6 +252,7 @@ impl Frame {
                 name: stored.name.clone(),
                 mesh: stored.mesh.clone(),
                 material: stored.material,
+                pow: brdf::PowTable::new(stored.material.exponent),
                 motion: stored.motion,
                 translation: Vec3::ZERO,
                 svc,
@@ -498,7 +501,11 @@ impl Frame {
 
     /// Changes object `o`'s material (no merge).
     pub fn set_material(&mut self, o: usize, material: Material) {
-        self.objects[o].material = material;
+        let s = &mut self.objects[o];
+        if s.material.exponent != material.exponent {
+            s.pow = brdf::PowTable::new(material.exponent);
+        }
+        s.material = material;
     }
 
     /// Rebuilds the light tree for a new or rotated environment (no merge).
@@ -528,17 +535,10 @@ impl Frame {
     pub fn shade_cut(&self, o: usize, v: usize, cut: &MergedCut, eye: Vec3) -> Vec3 {
         let s = &self.objects[o];
         let list = ShadeList::new(cut, s.mesh.normals()[v], &self.nodes);
-        self.shade_vertex(s, v, &list, eye, brdf::PowTable::new(s.material.exponent).as_ref())
+        self.shade_vertex(s, v, &list, eye)
     }
 
-    fn shade_vertex(
-        &self,
-        s: &ObjectState,
-        v: usize,
-        list: &ShadeList,
-        eye: Vec3,
-        table: Option<&brdf::PowTable>,
-    ) -> Vec3 {
+    fn shade_vertex(&self, s: &ObjectState, v: usize, list: &ShadeList, eye: Vec3) -> Vec3 {
         let x = s.mesh.positions()[v] + s.translation;
         let n = s.mesh.normals()[v];
         let wo = (eye - x).normalize_or_zero();
@@ -546,7 +546,7 @@ impl Frame {
             return Vec3::ZERO;
         }
         let diffuse = Vec3::from(s.material.kd) / std::f32::consts::PI * list.diffuse;
-        let pow = table.map_or(brdf::Pow::Exact(s.material.exponent), brdf::Pow::Table);
+        let pow = s.pow.as_ref().map_or(brdf::Pow::Exact(s.material.exponent), brdf::Pow::Table);
         let lobe = brdf::Lobe::with_pow(&s.material, n, wo, pow);
         // One loop per lobe kind, so the match leaves the inner loop.
         diffuse
@@ -564,14 +564,7 @@ impl Frame {
     pub fn shade(&self, eye: Vec3) -> Vec<Vec<Vec3>> {
         self.objects
             .iter()
-            .map(|s| {
-                let table = brdf::PowTable::new(s.material.exponent);
-                s.lists
-                    .par_iter()
-                    .enumerate()
-                    .map(|(v, list)| self.shade_vertex(s, v, list, eye, table.as_ref()))
-                    .collect()
-            })
+            .map(|s| s.lists.par_iter().enumerate().map(|(v, list)| self.shade_vertex(s, v, list, eye)).collect())
             .collect()
     }
 }
