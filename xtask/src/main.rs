@@ -7,6 +7,7 @@ mod inspect;
 mod precompute;
 mod render;
 mod tradeoff;
+mod view;
 
 use anyhow::{Context, Result};
 use clap::{Parser, Subcommand};
@@ -51,6 +52,10 @@ enum Command {
     /// matches), render it at rest and with the teapot moved and its BRDF edited, against the
     /// exact-direction reference, and write target/demo/report.md.
     Demo,
+    /// Open the interactive viewer on a .vcuts file (or `--scene S` precomputed first, cached):
+    /// drag objects, edit BRDFs, rotate the environment, compare with the exact reference; with
+    /// --screenshot out.png render the same frame with no window on any wgpu adapter.
+    View(view::ViewArgs),
 }
 
 fn main() {
@@ -66,6 +71,7 @@ fn main() {
         }
         Command::Bench(args) => bench::run(&args),
         Command::Demo => demo(),
+        Command::View(args) => view::run(&args),
     };
     if let Err(e) = result {
         eprintln!("error: {e:#}");
@@ -87,23 +93,8 @@ fn demo() -> Result<()> {
         no_cache: false,
         env: Some("builtin:sky".into()),
     })?;
-    let file = std::path::PathBuf::from("target/vcuts/teapot-fast.vcuts");
-    // Cached: a readable file of this format from an earlier demo is used as it is.
-    let fast = vcut_precompute::PrecomputeParams::fast();
-    let cached = vcut_data::Precomputed::open(&file)
-        .map(|d| {
-            d.recorded("scene").as_deref() == Some("builtin:teapot")
-                && vcut_precompute::params::KEYS
-                    .iter()
-                    .all(|k| d.recorded(k).as_deref() == fast.get(k).as_deref().map(|v| v.trim_matches('"')))
-        })
-        .unwrap_or(false);
-    if cached {
-        println!("\n== precompute: cached in {} (delete it to precompute again)", file.display());
-    } else {
-        println!("\n== precompute builtin:teapot, preset fast (SVCs and fields into a .vcuts file)");
-        precompute::run(&precompute::PrecomputeArgs::new("builtin:teapot", "fast"))?;
-    }
+    println!("\n== precompute builtin:teapot, preset fast (cached after the first run)");
+    let file = precompute::cached_or_run("builtin:teapot", "fast")?;
     println!("\n== render at rest (Blinn-Phong exponent 15)");
     let rest = render::run(&render::RenderArgs::new(&file, std::path::Path::new("target/demo/teapot-rest.png")))?;
     println!("\n== render: the teapot moved, its Blinn-Phong exponent 15 -> 70, against the exact reference");

@@ -141,6 +141,41 @@ impl Progress for Bars {
     }
 }
 
+/// The file-name stem of a scene spec: `builtin:teapot` → `teapot`, `dir/x.toml` → `x`.
+fn scene_stem(scene: &str) -> String {
+    scene
+        .rsplit(['/', ':'])
+        .next()
+        .unwrap_or("scene")
+        .trim_end_matches(".toml")
+        .chars()
+        .filter(|c| c.is_alphanumeric() || *c == '-' || *c == '_')
+        .collect()
+}
+
+/// The default output of `scene` under `preset` (`target/vcuts/<scene>-<preset>.vcuts`),
+/// precomputed unless a readable file of this format there already holds this scene with
+/// exactly the preset's parameters.
+pub fn cached_or_run(scene: &str, preset: &str) -> Result<PathBuf> {
+    let params = PrecomputeParams::preset(preset).with_context(|| format!("--preset {preset}"))?;
+    let file = PathBuf::from(format!("target/vcuts/{}-{}.vcuts", scene_stem(scene), params.preset));
+    let cached = vcut_data::Precomputed::open(&file)
+        .map(|d| {
+            d.recorded("scene").as_deref() == Some(scene)
+                && vcut_precompute::params::KEYS
+                    .iter()
+                    .all(|k| d.recorded(k).as_deref() == params.get(k).as_deref().map(|v| v.trim_matches('"')))
+        })
+        .unwrap_or(false);
+    if cached {
+        println!("precompute: cached in {} (delete it to precompute again)", file.display());
+        Ok(file)
+    } else {
+        println!("precompute {scene}, preset {preset} (SVCs and fields into a .vcuts file)");
+        Ok(run(&PrecomputeArgs::new(scene, preset))?.0)
+    }
+}
+
 /// Runs `precompute`; returns the output path and the summary.
 pub fn run(args: &PrecomputeArgs) -> Result<(PathBuf, Summary)> {
     if let Some(t) = args.threads {
@@ -158,15 +193,7 @@ pub fn run(args: &PrecomputeArgs) -> Result<(PathBuf, Summary)> {
         }
         None => "scene".into(),
     };
-    let stem: String = args
-        .scene
-        .rsplit(['/', ':'])
-        .next()
-        .unwrap_or("scene")
-        .trim_end_matches(".toml")
-        .chars()
-        .filter(|c| c.is_alphanumeric() || *c == '-' || *c == '_')
-        .collect();
+    let stem = scene_stem(&args.scene);
     let output =
         args.output.clone().unwrap_or_else(|| PathBuf::from(format!("target/vcuts/{stem}-{}.vcuts", params.preset)));
     let partial = vcut_data::file::partial_path(&output);

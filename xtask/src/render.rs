@@ -88,38 +88,58 @@ impl Printed {
     }
 }
 
-/// Runs `render`; returns what it printed.
-pub fn run(args: &RenderArgs) -> Result<Printed> {
-    let mut out = Printed::default();
-    let mut data = Precomputed::open(&args.input)?;
+/// A `.vcuts` file opened for rendering.
+pub struct Opened {
+    /// The data.
+    pub data: Precomputed,
+    /// Its frame under `env`, every vertex merged.
+    pub frame: Frame,
+    /// The environment lighting it.
+    pub env: EnvMap,
+    /// The environment's name (a spec `--env` takes, or "scene").
+    pub env_name: String,
+    /// The scene it was precomputed from, when that opens here (for its cameras).
+    pub scene: Option<Scene>,
+    /// Seconds to read the data and merge every vertex.
+    pub setup_s: f64,
+}
+
+/// Opens `input` under environment `env` (default: the one recorded, else the scene's).
+pub fn open(input: &Path, env: Option<&str>) -> Result<Opened> {
+    let mut data = Precomputed::open(input)?;
     let source = data.recorded("scene").unwrap_or_default();
     let scene = Scene::open(&source).ok();
-    let env_spec = args.env.clone().or_else(|| data.recorded("environment").filter(|e| e != "scene"));
-    let env: EnvMap = match (&env_spec, &scene) {
-        (Some(e), _) => crate::inspect::load_envmap(e).with_context(|| format!("--env {e}"))?,
-        (None, Some(s)) => s.environment.clone(),
+    let env_spec = env.map(str::to_string).or_else(|| data.recorded("environment").filter(|e| e != "scene"));
+    let (env, env_name): (EnvMap, String) = match (&env_spec, &scene) {
+        (Some(e), _) => (crate::inspect::load_envmap(e).with_context(|| format!("--env {e}"))?, e.clone()),
+        (None, Some(s)) => (s.environment.clone(), "scene".into()),
         (None, None) => {
-            bail!("{}: its scene '{source}' does not open here; name an environment with --env", args.input.display())
+            bail!("{}: its scene '{source}' does not open here; name an environment with --env", input.display())
         }
     };
     let t = Instant::now();
-    let mut frame = Frame::new(&mut data, &env)?;
-    out.emit("setup_s", format!("{:.3}", t.elapsed().as_secs_f64()));
+    let frame = Frame::new(&mut data, &env)?;
+    Ok(Opened { data, frame, env, env_name, scene, setup_s: t.elapsed().as_secs_f64() })
+}
+
+/// Applies `--brdf NAME=SPEC` and `--move NAME=DX,DY,DZ` edits; returns the moves' merge
+/// milliseconds and the vertices they re-merged.
+pub fn apply_edits(frame: &mut Frame, brdfs: &[String], moves: &[String]) -> Result<(f64, usize)> {
     let object = |frame: &Frame, name: &str| {
         frame.object_index(name).with_context(|| {
             let names: Vec<&str> = (0..frame.object_count()).map(|o| frame.object(o).0).collect();
             format!("no object '{name}' (objects: {})", names.join(", "))
         })
     };
-    for b in &args.brdfs {
+    for b in brdfs {
         let Some((name, spec)) = b.split_once('=') else { bail!("--brdf {b}: expected NAME=SPEC") };
-        let o = object(&frame, name)?;
+        let o = object(frame, name)?;
         let m = parse_spec(*frame.object(o).2, spec).map_err(|e| anyhow::anyhow!("--brdf {b}: {e}"))?;
         frame.set_material(o, m);
     }
     let mut move_ms = 0.0;
     let mut moved = 0;
-    for m in &args.moves {
+    for m in moves {
         let Some((name, v)) = m.split_once('=') else { bail!("--move {m}: expected NAME=DX,DY,DZ") };
         let c: Vec<f32> = v
             .split(',')
@@ -127,18 +147,22 @@ pub fn run(args: &RenderArgs) -> Result<Printed> {
             .collect::<Result<_, _>>()
             .with_context(|| format!("--move {m}"))?;
         let [dx, dy, dz] = c.as_slice() else { bail!("--move {m}: expected three numbers") };
-        let o = object(&frame, name)?;
+        let o = object(frame, name)?;
         let t = Instant::now();
         moved += frame.translate(o, Vec3::new(*dx, *dy, *dz))?;
         move_ms += t.elapsed().as_secs_f64() * 1e3;
     }
-    out.emit("move_merge_ms", format!("{move_ms:.2}"));
-    out.emit("move_merged_vertices", format!("{moved}"));
-    let camera = match (&scene, &args.camera) {
+    Ok((move_ms, moved))
+}
+
+/// The camera called `name` of `scene`, else the scene's first, else one framing every object.
+pub fn camera(scene: Option<&Scene>, name: Option<&str>, frame: &Frame) -> Result<Camera> {
+    Ok(match (scene, name) {
         (Some(s), Some(name)) => {
-            s.cameras.iter().find(|c| &c.name == name).cloned().with_context(|| format!("no camera '{name}'"))?
+            s.cameras.iter().find(|c| c.name == name).cloned().with_context(|| format!("no camera '{name}'"))?
         }
         (Some(s), None) if !s.cameras.is_empty() => s.cameras[0].clone(),
+        (None, Some(name)) => bail!("no camera '{name}': the data's scene does not open here"),
         _ => {
             let b = vcut_scene::Bounds::of_points((0..frame.object_count()).flat_map(|o| frame.positions(o)));
             Camera {
@@ -149,7 +173,18 @@ pub fn run(args: &RenderArgs) -> Result<Printed> {
                 fov_y_deg: 40.0,
             }
         }
-    };
+    })
+}
+
+/// Runs `render`; returns what it printed.
+pub fn run(args: &RenderArgs) -> Result<Printed> {
+    let mut out = Printed::default();
+    let Opened { data, mut frame, env, scene, setup_s, .. } = open(&args.input, args.env.as_deref())?;
+    out.emit("setup_s", format!("{setup_s:.3}"));
+    let (move_ms, moved) = apply_edits(&mut frame, &args.brdfs, &args.moves)?;
+    out.emit("move_merge_ms", format!("{move_ms:.2}"));
+    out.emit("move_merged_vertices", format!("{moved}"));
+    let camera = camera(scene.as_ref(), args.camera.as_deref(), &frame)?;
     let t = Instant::now();
     let radiance = frame.shade(camera.position);
     out.emit("shade_ms", format!("{:.2}", t.elapsed().as_secs_f64() * 1e3));

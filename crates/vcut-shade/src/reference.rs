@@ -35,35 +35,49 @@ fn moved_occluder(frame: &Frame) -> Occluder {
 /// Outgoing radiance toward `eye` of every vertex, by casting every leaf direction.
 /// `origin_offset` is the SVCs' (a fraction of each object's bounding radius).
 pub fn exact_direction(frame: &Frame, eye: Vec3, origin_offset: f32) -> Vec<Vec<Vec3>> {
-    let occ = moved_occluder(frame);
-    let tree = frame.tree();
-    let leaves = tree.leaf_directions();
-    let light = frame.light().leaves();
+    let reference = ExactReference::new(frame, origin_offset);
     (0..frame.object_count())
         .map(|o| {
-            let (_, mesh, material, _, _) = frame.object(o);
-            let offset = origin_offset * mesh.bounds().radius.max(f32::MIN_POSITIVE);
             let positions = frame.positions(o);
-            positions
-                .par_iter()
-                .zip(mesh.normals().par_iter())
-                .map(|(&x, &n)| {
-                    let wo = (eye - x).normalize_or_zero();
-                    let origin = x + n * offset;
-                    let mut b = Vec3::ZERO;
-                    for (l, &d) in leaves.iter().enumerate() {
-                        let c = n.dot(d);
-                        if c <= 0.0 || occ.occluded(origin, d, f32::INFINITY) {
-                            continue;
-                        }
-                        let li = light[l];
-                        b += c * brdf::eval(material, n, d, wo) * Vec3::new(li[0] as f32, li[1] as f32, li[2] as f32);
-                    }
-                    b
-                })
-                .collect()
+            (0..positions.len()).into_par_iter().map(|v| reference.vertex(frame, o, v, positions[v], eye)).collect()
         })
         .collect()
+}
+
+/// The exact-direction reference one vertex at a time (for progressive display): the moved
+/// geometry is built once, then any vertex can be shaded.
+pub struct ExactReference {
+    occ: Occluder,
+    origin_offset: f32,
+}
+
+impl ExactReference {
+    /// The reference of `frame` at its current translations; `origin_offset` as the SVCs'.
+    pub fn new(frame: &Frame, origin_offset: f32) -> ExactReference {
+        ExactReference { occ: moved_occluder(frame), origin_offset }
+    }
+
+    /// Outgoing radiance toward `eye` of vertex `v` of object `o`, at world position `x` (its
+    /// current position, as `frame.positions(o)[v]`).
+    pub fn vertex(&self, frame: &Frame, o: usize, v: usize, x: Vec3, eye: Vec3) -> Vec3 {
+        let (_, mesh, material, _, _) = frame.object(o);
+        let offset = self.origin_offset * mesh.bounds().radius.max(f32::MIN_POSITIVE);
+        let n = mesh.normals()[v];
+        let leaves = frame.tree().leaf_directions();
+        let light = frame.light().leaves();
+        let wo = (eye - x).normalize_or_zero();
+        let origin = x + n * offset;
+        let mut b = Vec3::ZERO;
+        for (l, &d) in leaves.iter().enumerate() {
+            let c = n.dot(d);
+            if c <= 0.0 || self.occ.occluded(origin, d, f32::INFINITY) {
+                continue;
+            }
+            let li = light[l];
+            b += c * brdf::eval(material, n, d, wo) * Vec3::new(li[0] as f32, li[1] as f32, li[2] as f32);
+        }
+        b
+    }
 }
 
 /// Relative L2 error of `got` against `reference` over all vertices and channels, and the

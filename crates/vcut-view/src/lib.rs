@@ -1,0 +1,26 @@
+//! The interactive viewer of visibility-cut frames, and its headless twin.
+//!
+//! - [`session::Session`]: what is shown — the frame (merged cuts, per-object BRDFs, the
+//!   light tree), the orbit camera, the display mode (precomputed cuts / exact reference
+//!   computed progressively / their difference as a heat map), and the cost of every edit.
+//!   Every edit the window offers is a method here, so tests drive the same code as a person.
+//! - [`render`]: a wgpu device on any adapter (lavapipe on a CPU-only machine), the scene
+//!   renderer — the environment map as background (bilinear lat-long lookup as
+//!   `vcut_envmap::Layout::bilinear`), meshes with interpolated per-vertex colours, and the CPU
+//!   renderer's display transform (exposure, ACES filmic in Narkowicz's fit, sRGB) — and
+//!   [`render::screenshot`], the same frame rendered with no window and read back.
+//! - [`app::run_window`]: winit 0.30 + egui 0.37 around them.
+//!
+//! Shading stays on the CPU (the merge and the BRDF sums of `vcut-shade`); the GPU
+//! interpolates the per-vertex radiance over the triangles and draws the background, as
+//! `vcut_shade::image::rasterize` does on the CPU.
+
+pub mod app;
+pub mod camera;
+pub mod render;
+pub mod session;
+
+pub use app::{ViewOptions, run_window};
+pub use camera::OrbitCamera;
+pub use render::{Gpu, SceneRenderer, ViewError, screenshot};
+pub use session::{Display, Mode, Session, Timings};

@@ -1,0 +1,531 @@
+//! The GPU side: a wgpu device (any adapter, lavapipe included), the scene renderer
+//! (environment background + meshes with per-vertex colours, the CPU renderer's display
+//! transform), and headless rendering to an image.
+
+use crate::camera::OrbitCamera;
+use crate::session::{Display, Session};
+use glam::Mat3;
+use std::time::Instant;
+use vcut_envmap::{EnvMap, Layout};
+
+/// Why the viewer could not run.
+#[derive(Debug, thiserror::Error)]
+pub enum ViewError {
+    /// No wgpu adapter at all.
+    #[error(
+        "no GPU adapter found ({0}). On a machine without a GPU install a CPU Vulkan driver \
+         (Debian/Ubuntu: `apt-get install mesa-vulkan-drivers libvulkan1`), or select a backend \
+         with WGPU_BACKEND=vulkan|gl"
+    )]
+    NoAdapter(String),
+    /// The adapter refused a device.
+    #[error("the GPU adapter '{adapter}' refused a device: {reason}")]
+    Device {
+        /// The adapter.
+        adapter: String,
+        /// Why.
+        reason: String,
+    },
+    /// No window system to open a window on.
+    #[error(
+        "cannot open a window ({0}): no display. Run under a desktop session or Xvfb \
+         (`Xvfb :99 & DISPLAY=:99 cargo xtask view …`), or render without a window with \
+         `cargo xtask view FILE --screenshot out.png`"
+    )]
+    NoDisplay(String),
+    /// A window or surface error.
+    #[error("window: {0}")]
+    Window(String),
+    /// Reading the rendered image back failed.
+    #[error("reading the image back from the GPU: {0}")]
+    Readback(String),
+    /// Writing an image.
+    #[error(transparent)]
+    Image(#[from] vcut_shade::image::ImageError),
+}
+
+/// A wgpu device and queue.
+pub struct Gpu {
+    /// The instance.
+    pub instance: wgpu::Instance,
+    /// The adapter.
+    pub adapter: wgpu::Adapter,
+    /// The device.
+    pub device: wgpu::Device,
+    /// Its queue.
+    pub queue: wgpu::Queue,
+}
+
+impl Gpu {
+    /// A device for rendering without a window: the default adapter, else the fallback
+    /// (software) one. Honours `WGPU_BACKEND`.
+    pub fn headless() -> Result<Gpu, ViewError> {
+        let instance = wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle_from_env());
+        Self::with_instance(instance, None)
+    }
+
+    /// A device on `instance` able to present to `surface` (if given).
+    pub fn with_instance(instance: wgpu::Instance, surface: Option<&wgpu::Surface<'_>>) -> Result<Gpu, ViewError> {
+        let mut errors = Vec::new();
+        let mut adapter = None;
+        for force_fallback_adapter in [false, true] {
+            let options = wgpu::RequestAdapterOptions {
+                power_preference: wgpu::PowerPreference::HighPerformance,
+                force_fallback_adapter,
+                compatible_surface: surface,
+                apply_limit_buckets: false,
+            };
+            match pollster::block_on(instance.request_adapter(&options)) {
+                Ok(a) => {
+                    adapter = Some(a);
+                    break;
+                }
+                Err(e) => errors.push(e.to_string()),
+            }
+        }
+        let adapter = adapter.ok_or_else(|| ViewError::NoAdapter(errors.join("; ")))?;
+        let desc = wgpu::DeviceDescriptor {
+            label: Some("vcut-view"),
+            required_limits: wgpu::Limits::downlevel_defaults().using_resolution(adapter.limits()),
+            ..Default::default()
+        };
+        let (device, queue) = pollster::block_on(adapter.request_device(&desc))
+            .map_err(|e| ViewError::Device { adapter: describe(&adapter), reason: e.to_string() })?;
+        Ok(Gpu { instance, adapter, device, queue })
+    }
+
+    /// "name (backend, device type)".
+    pub fn describe(&self) -> String {
+        describe(&self.adapter)
+    }
+}
+
+fn describe(adapter: &wgpu::Adapter) -> String {
+    let info = adapter.get_info();
+    format!("{} ({:?}, {:?})", info.name, info.backend, info.device_type)
+}
+
+#[repr(C)]
+#[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
+struct Uniforms {
+    view_proj: [[f32; 4]; 4],
+    inv_view_proj: [[f32; 4]; 4],
+    eye: [f32; 4],
+    env_x: [f32; 4],
+    env_y: [f32; 4],
+    env_z: [f32; 4],
+    params: [f32; 4],
+    flags: [u32; 4],
+    viewport: [f32; 4],
+}
+
+/// A region of the render target, in pixels from the top left.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Viewport {
+    /// Left edge.
+    pub x: f32,
+    /// Top edge.
+    pub y: f32,
+    /// Width.
+    pub width: f32,
+    /// Height.
+    pub height: f32,
+}
+
+impl Viewport {
+    /// The whole of a `width × height` target.
+    pub fn full(width: u32, height: u32) -> Viewport {
+        Viewport { x: 0.0, y: 0.0, width: width as f32, height: height as f32 }
+    }
+}
+
+/// Depth format of the scene pass.
+pub const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
+
+struct ObjectBuffers {
+    vertices: wgpu::Buffer,
+    indices: wgpu::Buffer,
+    index_count: u32,
+    vertex_count: usize,
+}
+
+/// Draws a [`Session`]'s frame: background, then meshes.
+pub struct SceneRenderer {
+    format: wgpu::TextureFormat,
+    uniforms: wgpu::Buffer,
+    layout: wgpu::BindGroupLayout,
+    bind_group: wgpu::BindGroup,
+    background: wgpu::RenderPipeline,
+    mesh: wgpu::RenderPipeline,
+    env_size: (u32, u32),
+    objects: Vec<ObjectBuffers>,
+    uploaded: Option<(u64, u64, u64)>,
+}
+
+/// The lat-long texels to draw `env` with (its rotation and intensity go in the uniforms):
+/// lat-long maps as they are, cube maps resampled, anything wider than `max_width` reduced.
+fn background_texels(env: &EnvMap, max_width: u32) -> (u32, u32, Vec<[f32; 4]>) {
+    let mut plain = env.clone();
+    plain.set_rotation(glam::Quat::IDENTITY);
+    plain.set_intensity(1.0);
+    let map = match env.layout() {
+        Layout::LatLong { width, .. } if width <= max_width => plain,
+        Layout::LatLong { .. } => plain.to_latlong(max_width, 2),
+        Layout::Cube { size, .. } => plain.to_latlong((4 * size).min(max_width), 2),
+    };
+    let Layout::LatLong { width, height } = map.layout() else { unreachable!("resampled to lat-long") };
+    let texels = map.texels().iter().map(|c| [c[0], c[1], c[2], 1.0]).collect();
+    (width, height, texels)
+}
+
+impl SceneRenderer {
+    /// A renderer drawing into targets of `format`.
+    pub fn new(gpu: &Gpu, format: wgpu::TextureFormat, env: &EnvMap) -> SceneRenderer {
+        let device = &gpu.device;
+        let shader = device.create_shader_module(wgpu::include_wgsl!("shaders/scene.wgsl"));
+        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("scene"),
+            entries: &[
+                wgpu::BindGroupLayoutEntry {
+                    binding: 0,
+                    visibility: wgpu::ShaderStages::VERTEX_FRAGMENT,
+                    ty: wgpu::BindingType::Buffer {
+                        ty: wgpu::BufferBindingType::Uniform,
+                        has_dynamic_offset: false,
+                        min_binding_size: None,
+                    },
+                    count: None,
+                },
+                wgpu::BindGroupLayoutEntry {
+                    binding: 1,
+                    visibility: wgpu::ShaderStages::FRAGMENT,
+                    ty: wgpu::BindingType::Texture {
+                        sample_type: wgpu::TextureSampleType::Float { filterable: false },
+                        view_dimension: wgpu::TextureViewDimension::D2,
+                        multisampled: false,
+                    },
+                    count: None,
+                },
+            ],
+        });
+        let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("scene"),
+            bind_group_layouts: &[Some(&layout)],
+            immediate_size: 0,
+        });
+        let target = [Some(wgpu::ColorTargetState { format, blend: None, write_mask: wgpu::ColorWrites::ALL })];
+        let pipeline =
+            |label: &str, vs: &str, fs: &str, buffers: &[Option<wgpu::VertexBufferLayout<'_>>], depth_write: bool| {
+                device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+                    label: Some(label),
+                    layout: Some(&pipeline_layout),
+                    vertex: wgpu::VertexState {
+                        module: &shader,
+                        entry_point: Some(vs),
+                        compilation_options: Default::default(),
+                        buffers,
+                    },
+                    primitive: wgpu::PrimitiveState { cull_mode: None, ..Default::default() },
+                    depth_stencil: Some(wgpu::DepthStencilState {
+                        format: DEPTH_FORMAT,
+                        depth_write_enabled: Some(depth_write),
+                        depth_compare: Some(if depth_write {
+                            wgpu::CompareFunction::Less
+                        } else {
+                            wgpu::CompareFunction::Always
+                        }),
+                        stencil: Default::default(),
+                        bias: Default::default(),
+                    }),
+                    multisample: Default::default(),
+                    fragment: Some(wgpu::FragmentState {
+                        module: &shader,
+                        entry_point: Some(fs),
+                        compilation_options: Default::default(),
+                        targets: &target,
+                    }),
+                    multiview_mask: None,
+                    cache: None,
+                })
+            };
+        let background = pipeline("background", "vs_background", "fs_background", &[], false);
+        let vertex_layout = wgpu::VertexBufferLayout {
+            array_stride: 24,
+            step_mode: wgpu::VertexStepMode::Vertex,
+            attributes: &wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3],
+        };
+        let mesh = pipeline("mesh", "vs_mesh", "fs_mesh", &[Some(vertex_layout)], true);
+        let uniforms = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("uniforms"),
+            size: std::mem::size_of::<Uniforms>() as u64,
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let (bind_group, env_size) = Self::env_bind_group(gpu, &layout, &uniforms, env);
+        SceneRenderer {
+            format,
+            uniforms,
+            layout,
+            bind_group,
+            background,
+            mesh,
+            env_size,
+            objects: Vec::new(),
+            uploaded: None,
+        }
+    }
+
+    fn env_bind_group(
+        gpu: &Gpu,
+        layout: &wgpu::BindGroupLayout,
+        uniforms: &wgpu::Buffer,
+        env: &EnvMap,
+    ) -> (wgpu::BindGroup, (u32, u32)) {
+        let max = gpu.device.limits().max_texture_dimension_2d.min(8192);
+        let (w, h, texels) = background_texels(env, max);
+        let size = wgpu::Extent3d { width: w, height: h, depth_or_array_layers: 1 };
+        let texture = gpu.device.create_texture(&wgpu::TextureDescriptor {
+            label: Some("environment"),
+            size,
+            mip_level_count: 1,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D2,
+            format: wgpu::TextureFormat::Rgba32Float,
+            usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
+            view_formats: &[],
+        });
+        gpu.queue.write_texture(
+            wgpu::TexelCopyTextureInfo {
+                texture: &texture,
+                mip_level: 0,
+                origin: wgpu::Origin3d::ZERO,
+                aspect: wgpu::TextureAspect::All,
+            },
+            bytemuck::cast_slice(&texels),
+            wgpu::TexelCopyBufferLayout { offset: 0, bytes_per_row: Some(16 * w), rows_per_image: Some(h) },
+            size,
+        );
+        let view = texture.create_view(&Default::default());
+        let bind_group = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("scene"),
+            layout,
+            entries: &[
+                wgpu::BindGroupEntry { binding: 0, resource: uniforms.as_entire_binding() },
+                wgpu::BindGroupEntry { binding: 1, resource: wgpu::BindingResource::TextureView(&view) },
+            ],
+        });
+        (bind_group, (w, h))
+    }
+
+    /// Uploads what changed in `session` since the last call (environment texels, vertex
+    /// positions, colours); returns the milliseconds spent.
+    pub fn upload(&mut self, gpu: &Gpu, session: &Session) -> f64 {
+        let start = Instant::now();
+        let versions = (session.env_version(), session.geometry_version(), session.colour_version());
+        if self.uploaded.is_some_and(|u| u.0 != versions.0) {
+            let (bg, size) = Self::env_bind_group(gpu, &self.layout, &self.uniforms, session.env());
+            self.bind_group = bg;
+            self.env_size = size;
+        }
+        if self.uploaded.is_some_and(|u| u.1 == versions.1 && u.2 == versions.2) {
+            return 0.0;
+        }
+        let frame = session.frame();
+        if self.objects.len() != frame.object_count() {
+            self.objects = (0..frame.object_count())
+                .map(|o| {
+                    let (_, mesh, _, _, _) = frame.object(o);
+                    let indices: Vec<u32> = mesh.triangles().iter().flatten().copied().collect();
+                    let vertex_count = mesh.vertex_count();
+                    ObjectBuffers {
+                        vertices: gpu.device.create_buffer(&wgpu::BufferDescriptor {
+                            label: Some("vertices"),
+                            size: (vertex_count.max(1) * 24) as u64,
+                            usage: wgpu::BufferUsages::VERTEX | wgpu::BufferUsages::COPY_DST,
+                            mapped_at_creation: false,
+                        }),
+                        indices: {
+                            let buffer = gpu.device.create_buffer(&wgpu::BufferDescriptor {
+                                label: Some("indices"),
+                                size: (indices.len().max(1) * 4).next_multiple_of(4) as u64,
+                                usage: wgpu::BufferUsages::INDEX | wgpu::BufferUsages::COPY_DST,
+                                mapped_at_creation: false,
+                            });
+                            gpu.queue.write_buffer(&buffer, 0, bytemuck::cast_slice(&indices));
+                            buffer
+                        },
+                        index_count: indices.len() as u32,
+                        vertex_count,
+                    }
+                })
+                .collect();
+        }
+        let (colours, _) = session.colours();
+        for (o, buffers) in self.objects.iter().enumerate() {
+            let positions = frame.positions(o);
+            let data: Vec<[f32; 6]> = positions
+                .iter()
+                .zip(&colours[o])
+                .map(|(p, c)| [p.x, p.y, p.z, c.x, c.y, c.z])
+                .take(buffers.vertex_count)
+                .collect();
+            gpu.queue.write_buffer(&buffers.vertices, 0, bytemuck::cast_slice(&data));
+        }
+        self.uploaded = Some(versions);
+        start.elapsed().as_secs_f64() * 1e3
+    }
+
+    /// Records the scene pass into `target` (with `depth` of the same size): the whole target
+    /// cleared to black, the frame drawn in `viewport` (a region of the target, in pixels).
+    #[allow(clippy::too_many_arguments)]
+    pub fn draw(
+        &self,
+        gpu: &Gpu,
+        encoder: &mut wgpu::CommandEncoder,
+        target: &wgpu::TextureView,
+        depth: &wgpu::TextureView,
+        session: &Session,
+        camera: &OrbitCamera,
+        viewport: Viewport,
+    ) {
+        let (width, height) = (viewport.width.max(1.0), viewport.height.max(1.0));
+        let vp = camera.view_projection(width / height);
+        let env = session.env();
+        let map_from_world = Mat3::from_quat(env.rotation().inverse());
+        let display = session.display();
+        let u = Uniforms {
+            view_proj: vp.to_cols_array_2d(),
+            inv_view_proj: vp.inverse().to_cols_array_2d(),
+            eye: camera.eye().extend(1.0).to_array(),
+            env_x: map_from_world.x_axis.extend(0.0).to_array(),
+            env_y: map_from_world.y_axis.extend(0.0).to_array(),
+            env_z: map_from_world.z_axis.extend(0.0).to_array(),
+            params: [session.exposure_in_use(), env.intensity(), width, height],
+            flags: [
+                u32::from(display == Display::Radiance),
+                u32::from(!self.format.is_srgb()),
+                self.env_size.0,
+                self.env_size.1,
+            ],
+            viewport: [viewport.x, viewport.y, width, height],
+        };
+        gpu.queue.write_buffer(&self.uniforms, 0, bytemuck::bytes_of(&u));
+        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("scene"),
+            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                view: target,
+                depth_slice: None,
+                resolve_target: None,
+                ops: wgpu::Operations { load: wgpu::LoadOp::Clear(wgpu::Color::BLACK), store: wgpu::StoreOp::Store },
+            })],
+            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                view: depth,
+                depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Clear(1.0), store: wgpu::StoreOp::Store }),
+                stencil_ops: None,
+            }),
+            timestamp_writes: None,
+            occlusion_query_set: None,
+            multiview_mask: None,
+        });
+        pass.set_viewport(viewport.x, viewport.y, width, height, 0.0, 1.0);
+        pass.set_bind_group(0, &self.bind_group, &[]);
+        pass.set_pipeline(&self.background);
+        pass.draw(0..3, 0..1);
+        pass.set_pipeline(&self.mesh);
+        for o in &self.objects {
+            if o.index_count == 0 {
+                continue;
+            }
+            pass.set_vertex_buffer(0, o.vertices.slice(..));
+            pass.set_index_buffer(o.indices.slice(..), wgpu::IndexFormat::Uint32);
+            pass.draw_indexed(0..o.index_count, 0, 0..1);
+        }
+    }
+}
+
+/// A depth texture view for a `width × height` target.
+pub fn depth_view(gpu: &Gpu, width: u32, height: u32) -> wgpu::TextureView {
+    gpu.device
+        .create_texture(&wgpu::TextureDescriptor {
+            label: Some("depth"),
+            size: wgpu::Extent3d { width: width.max(1), height: height.max(1), depth_or_array_layers: 1 },
+            mip_level_count: 1,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D2,
+            format: DEPTH_FORMAT,
+            usage: wgpu::TextureUsages::RENDER_ATTACHMENT,
+            view_formats: &[],
+        })
+        .create_view(&Default::default())
+}
+
+/// Renders `session`'s frame with no window into a `width × height` RGBA8 image (sRGB-encoded
+/// by the shader, exactly as the CPU renderer's PNG).
+pub fn screenshot(gpu: &Gpu, session: &Session, width: u32, height: u32) -> Result<image::RgbaImage, ViewError> {
+    let (width, height) = (width.max(1), height.max(1));
+    let format = wgpu::TextureFormat::Rgba8Unorm;
+    let mut renderer = SceneRenderer::new(gpu, format, session.env());
+    renderer.upload(gpu, session);
+    let texture = gpu.device.create_texture(&wgpu::TextureDescriptor {
+        label: Some("screenshot"),
+        size: wgpu::Extent3d { width, height, depth_or_array_layers: 1 },
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format,
+        usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
+        view_formats: &[],
+    });
+    let view = texture.create_view(&Default::default());
+    let depth = depth_view(gpu, width, height);
+    let row = (4 * width).next_multiple_of(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT);
+    let readback = gpu.device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("readback"),
+        size: u64::from(row) * u64::from(height),
+        usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
+    });
+    let mut encoder = gpu.device.create_command_encoder(&Default::default());
+    renderer.draw(gpu, &mut encoder, &view, &depth, session, &session.camera, Viewport::full(width, height));
+    encoder.copy_texture_to_buffer(
+        wgpu::TexelCopyTextureInfo {
+            texture: &texture,
+            mip_level: 0,
+            origin: wgpu::Origin3d::ZERO,
+            aspect: wgpu::TextureAspect::All,
+        },
+        wgpu::TexelCopyBufferInfo {
+            buffer: &readback,
+            layout: wgpu::TexelCopyBufferLayout { offset: 0, bytes_per_row: Some(row), rows_per_image: Some(height) },
+        },
+        wgpu::Extent3d { width, height, depth_or_array_layers: 1 },
+    );
+    gpu.queue.submit([encoder.finish()]);
+    let (tx, rx) = std::sync::mpsc::channel();
+    readback.map_async(wgpu::MapMode::Read, .., move |r| {
+        let _ = tx.send(r);
+    });
+    gpu.device.poll(wgpu::PollType::wait_indefinitely()).map_err(|e| ViewError::Readback(e.to_string()))?;
+    rx.recv().map_err(|e| ViewError::Readback(e.to_string()))?.map_err(|e| ViewError::Readback(e.to_string()))?;
+    let data = readback.get_mapped_range(..).map_err(|e| ViewError::Readback(e.to_string()))?;
+    let mut pixels = Vec::with_capacity((4 * width * height) as usize);
+    for y in 0..height as usize {
+        pixels.extend_from_slice(&data[y * row as usize..y * row as usize + 4 * width as usize]);
+    }
+    drop(data);
+    readback.unmap();
+    image::RgbaImage::from_raw(width, height, pixels).ok_or_else(|| ViewError::Readback("size mismatch".into()))
+}
+
+/// Writes an RGBA image as PNG under a temporary name, then renames it (never half-written).
+pub fn write_png(image: &image::RgbaImage, path: &std::path::Path) -> Result<(), ViewError> {
+    let fail = |e: &dyn std::fmt::Display| {
+        ViewError::Image(vcut_shade::image::ImageError::Write { path: path.into(), reason: e.to_string() })
+    };
+    let tmp = vcut_envmap::io::temp_name(path);
+    if let Err(e) = image.save_with_format(&tmp, image::ImageFormat::Png) {
+        let _ = std::fs::remove_file(&tmp);
+        return Err(fail(&e));
+    }
+    std::fs::rename(&tmp, path).map_err(|e| fail(&e))
+}

@@ -1,0 +1,454 @@
+//! What the viewer shows, apart from any window: the frame (merged cuts, materials, lighting),
+//! the camera, the display mode, the progressive exact reference, and the cost of every edit.
+//! Every edit a person makes in the window is a method here, so tests drive the same code.
+
+use crate::camera::{OrbitCamera, ray_triangle};
+use glam::Vec3;
+use rayon::prelude::*;
+use std::time::{Duration, Instant};
+use vcut_envmap::EnvMap;
+use vcut_scene::{Material, Motion};
+use vcut_shade::Frame;
+use vcut_shade::image::{auto_exposure, rasterize};
+use vcut_shade::reference::ExactReference;
+
+/// What the image shows.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Mode {
+    /// Shading from the merged visibility cuts (the interactive path).
+    Cuts,
+    /// The exact-direction reference (every leaf direction cast), computed progressively;
+    /// vertices not reached yet show the cuts' value.
+    Exact,
+    /// Per-vertex relative difference between the cuts and the reference as a heat map.
+    Difference,
+    /// Screen-space directional occlusion (not available yet: issue 10).
+    Ssdo,
+}
+
+impl Mode {
+    /// Every mode, in menu order.
+    pub const ALL: [Mode; 4] = [Mode::Cuts, Mode::Exact, Mode::Difference, Mode::Ssdo];
+
+    /// Menu label.
+    pub fn label(self) -> &'static str {
+        match self {
+            Mode::Cuts => "precomputed cuts",
+            Mode::Exact => "exact reference",
+            Mode::Difference => "difference (heat map)",
+            Mode::Ssdo => "SSDO (not yet)",
+        }
+    }
+
+    /// Whether the mode can be chosen.
+    pub fn available(self) -> bool {
+        self != Mode::Ssdo
+    }
+}
+
+/// How vertex colours are to be displayed.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Display {
+    /// Linear radiance: exposure, tone mapping, sRGB.
+    Radiance,
+    /// Display colours already (the heat map): sRGB-encoded values shown as they are.
+    Colour,
+}
+
+/// The heat map's scale: relative errors at or above this show as the hottest colour.
+pub const HEAT_MAX: f32 = 0.2;
+
+/// The heat map colour (sRGB, 0..1) of a relative error `e` (0 black-blue … `HEAT_MAX` red).
+pub fn heat(e: f32) -> Vec3 {
+    const STOPS: [[f32; 3]; 5] =
+        [[0.05, 0.05, 0.25], [0.1, 0.35, 0.85], [0.1, 0.8, 0.6], [0.95, 0.85, 0.1], [0.9, 0.1, 0.1]];
+    let x = if e.is_finite() { (e / HEAT_MAX).clamp(0.0, 1.0) } else { 1.0 } * (STOPS.len() - 1) as f32;
+    let i = (x.floor() as usize).min(STOPS.len() - 2);
+    let f = x - i as f32;
+    Vec3::from(STOPS[i]).lerp(Vec3::from(STOPS[i + 1]), f)
+}
+
+/// The cost of the last edits, in milliseconds.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct Timings {
+    /// Last object move: re-merge of the vertices whose field inputs changed.
+    pub merge_ms: f64,
+    /// Vertices re-merged by the last move.
+    pub merged_vertices: usize,
+    /// Last shading pass (all vertices toward the eye).
+    pub shade_ms: f64,
+    /// Last light-tree rebuild (environment change or rotation).
+    pub light_ms: f64,
+    /// Last upload of vertex data to the GPU (set by the renderer's caller).
+    pub upload_ms: f64,
+    /// Last GPU frame, encode to present (set by the renderer's caller).
+    pub draw_ms: f64,
+}
+
+/// The exact reference, filled in a few vertices at a time.
+struct Progressive {
+    exact: ExactReference,
+    eye: Vec3,
+    values: Vec<Vec<Option<Vec3>>>,
+    /// Next (object, vertex) to compute.
+    cursor: (usize, usize),
+    done: usize,
+    total: usize,
+}
+
+/// Everything the viewer shows.
+pub struct Session {
+    frame: Frame,
+    env: EnvMap,
+    env_name: String,
+    env_rotation_deg: f32,
+    env_version: u64,
+    /// Display exposure (a factor before tone mapping); `None`: automatic.
+    pub exposure: Option<f32>,
+    /// The camera.
+    pub camera: OrbitCamera,
+    mode: Mode,
+    origin_offset: f32,
+    radiance: Vec<Vec<Vec3>>,
+    shaded_eye: Option<Vec3>,
+    auto_exposure: f32,
+    reference: Option<Progressive>,
+    geometry_version: u64,
+    colour_version: u64,
+    /// The cost of the last edits.
+    pub timings: Timings,
+    /// The selected object.
+    pub selected: Option<usize>,
+}
+
+impl Session {
+    /// A session on `frame` (built from data whose SVC rays started `origin_offset` off the
+    /// surface, as `Precomputed::svc_origin_offset`), lit by `env` called `env_name`.
+    pub fn new(frame: Frame, env: EnvMap, env_name: &str, origin_offset: f32, camera: OrbitCamera) -> Session {
+        let selected = (0..frame.object_count()).find(|&o| frame.object(o).3 == Motion::Movable);
+        let mut s = Session {
+            frame,
+            env_rotation_deg: 0.0,
+            env,
+            env_name: env_name.into(),
+            env_version: 0,
+            exposure: None,
+            camera,
+            mode: Mode::Cuts,
+            origin_offset,
+            radiance: Vec::new(),
+            shaded_eye: None,
+            auto_exposure: 1.0,
+            reference: None,
+            geometry_version: 0,
+            colour_version: 0,
+            timings: Timings::default(),
+            selected,
+        };
+        s.update();
+        s
+    }
+
+    /// The frame (merged cuts, materials, lighting).
+    pub fn frame(&self) -> &Frame {
+        &self.frame
+    }
+
+    /// The SVC rays' origin offset the exact reference uses (fraction of each object's radius).
+    pub fn origin_offset(&self) -> f32 {
+        self.origin_offset
+    }
+
+    /// The environment as lit and drawn (rotation and intensity applied).
+    pub fn env(&self) -> &EnvMap {
+        &self.env
+    }
+
+    /// The environment's name.
+    pub fn env_name(&self) -> &str {
+        &self.env_name
+    }
+
+    /// Changes whenever the environment's texels change (a new map), not on rotation.
+    pub fn env_version(&self) -> u64 {
+        self.env_version
+    }
+
+    /// Changes whenever any vertex position changes.
+    pub fn geometry_version(&self) -> u64 {
+        self.geometry_version
+    }
+
+    /// Changes whenever any displayed vertex colour may have changed.
+    pub fn colour_version(&self) -> u64 {
+        self.colour_version
+    }
+
+    /// The environment's rotation about +Y, degrees.
+    pub fn env_rotation_deg(&self) -> f32 {
+        self.env_rotation_deg
+    }
+
+    /// The display mode.
+    pub fn mode(&self) -> Mode {
+        self.mode
+    }
+
+    /// Chooses the display mode (an unavailable one is refused with the reason).
+    pub fn set_mode(&mut self, mode: Mode) -> Result<(), String> {
+        if !mode.available() {
+            return Err(format!("{} is not implemented yet (issue 10)", mode.label()));
+        }
+        if mode != self.mode {
+            self.mode = mode;
+            self.colour_version += 1;
+        }
+        Ok(())
+    }
+
+    /// The exposure in use (the set one, or automatic: the log-average luminance of the
+    /// covered pixels of the cuts' shading to middle grey 0.18, as `vcut_shade::image::auto_exposure`,
+    /// measured on a 160 × 90 raster).
+    pub fn exposure_in_use(&self) -> f32 {
+        self.exposure.unwrap_or(self.auto_exposure)
+    }
+
+    fn invalidate_shading(&mut self) {
+        self.shaded_eye = None;
+        self.reference = None;
+        self.colour_version += 1;
+    }
+
+    /// Moves object `o` to `translation` from its rest position (re-merging what changed).
+    /// Static objects have no visibility field and cannot move.
+    pub fn translate(&mut self, o: usize, translation: Vec3) -> Result<(), String> {
+        if o >= self.frame.object_count() {
+            return Err(format!("no object {o}"));
+        }
+        let (name, _, _, motion, current) = self.frame.object(o);
+        if motion != Motion::Movable {
+            return Err(format!("'{name}' is static: it was precomputed without a visibility field"));
+        }
+        if !translation.is_finite() {
+            return Err(format!("translation {translation} is not finite"));
+        }
+        if current == translation {
+            return Ok(());
+        }
+        let start = Instant::now();
+        let merged = self.frame.translate(o, translation).map_err(|e| e.to_string())?;
+        self.timings.merge_ms = start.elapsed().as_secs_f64() * 1e3;
+        self.timings.merged_vertices = merged;
+        self.geometry_version += 1;
+        self.invalidate_shading();
+        self.update();
+        Ok(())
+    }
+
+    /// Changes object `o`'s BRDF (shading only, no merge).
+    pub fn set_material(&mut self, o: usize, material: Material) {
+        if o < self.frame.object_count() && *self.frame.object(o).2 != material {
+            self.frame.set_material(o, material);
+            self.invalidate_shading();
+            self.update();
+        }
+    }
+
+    /// Switches to a new environment map `env` called `name` (its rotation is kept).
+    pub fn set_environment(&mut self, name: &str, mut env: EnvMap) {
+        env.set_rotation_y_degrees(self.env_rotation_deg);
+        self.env = env;
+        self.env_name = name.into();
+        self.env_version += 1;
+        self.relight();
+    }
+
+    /// Rotates the environment about +Y (rebuilds the light tree, no merge).
+    pub fn set_env_rotation(&mut self, degrees: f32) {
+        if degrees.is_finite() && degrees != self.env_rotation_deg {
+            self.env_rotation_deg = degrees;
+            self.env.set_rotation_y_degrees(degrees);
+            self.relight();
+        }
+    }
+
+    fn relight(&mut self) {
+        let start = Instant::now();
+        self.frame.set_environment(&self.env);
+        self.timings.light_ms = start.elapsed().as_secs_f64() * 1e3;
+        self.invalidate_shading();
+        self.update();
+    }
+
+    /// Re-shades if the camera moved or anything was edited since the last shading.
+    pub fn update(&mut self) {
+        let eye = self.camera.eye();
+        if self.shaded_eye == Some(eye) {
+            return;
+        }
+        let start = Instant::now();
+        self.radiance = self.frame.shade(eye);
+        self.timings.shade_ms = start.elapsed().as_secs_f64() * 1e3;
+        self.shaded_eye = Some(eye);
+        // As `cargo xtask render` chooses it (over the covered pixels, not the vertices: hidden
+        // and back-facing vertices would drag the average down), on a small raster.
+        let small = rasterize(&self.frame, &self.radiance, &self.camera.camera(), 160, 90, None);
+        self.auto_exposure = auto_exposure(&small);
+        self.reference = None;
+        self.colour_version += 1;
+    }
+
+    /// Per-vertex radiance from the cuts (as of the last [`Session::update`]).
+    pub fn radiance(&self) -> &[Vec<Vec3>] {
+        &self.radiance
+    }
+
+    /// Share of vertices the exact reference has reached (1 when complete; 0 before it starts).
+    pub fn reference_progress(&self) -> f64 {
+        self.reference.as_ref().map_or(0.0, |r| r.done as f64 / r.total.max(1) as f64)
+    }
+
+    /// Advances the exact reference for about `budget` (only in the modes that show it).
+    /// Returns whether there is more to do.
+    pub fn step_reference(&mut self, budget: Duration) -> bool {
+        if !matches!(self.mode, Mode::Exact | Mode::Difference) {
+            return false;
+        }
+        self.update();
+        let eye = self.camera.eye();
+        if self.reference.as_ref().is_none_or(|r| r.eye != eye) {
+            let values: Vec<Vec<Option<Vec3>>> = self.radiance.iter().map(|r| vec![None; r.len()]).collect();
+            let total = values.iter().map(Vec::len).sum();
+            self.reference = Some(Progressive {
+                exact: ExactReference::new(&self.frame, self.origin_offset),
+                eye,
+                values,
+                cursor: (0, 0),
+                done: 0,
+                total,
+            });
+        }
+        let start = Instant::now();
+        let frame = &self.frame;
+        let Some(r) = self.reference.as_mut() else { return false };
+        let chunk = 64 * rayon::current_num_threads().max(1);
+        while r.done < r.total && start.elapsed() < budget {
+            let (o, v0) = r.cursor;
+            if v0 >= r.values[o].len() {
+                r.cursor = (o + 1, 0);
+                continue;
+            }
+            let v1 = (v0 + chunk).min(r.values[o].len());
+            let positions = frame.positions(o);
+            let exact = &r.exact;
+            let got: Vec<Vec3> =
+                (v0..v1).into_par_iter().map(|v| exact.vertex(frame, o, v, positions[v], eye)).collect();
+            for (v, b) in (v0..v1).zip(got) {
+                r.values[o][v] = Some(b);
+            }
+            r.done += v1 - v0;
+            r.cursor = (o, v1);
+        }
+        self.colour_version += 1;
+        r.done < r.total
+    }
+
+    /// Relative L2 difference between the cuts and the reference over the vertices the
+    /// reference has reached (`None` before any).
+    pub fn reference_error(&self) -> Option<f64> {
+        let r = self.reference.as_ref()?;
+        let pairs = r
+            .values
+            .iter()
+            .zip(&self.radiance)
+            .flat_map(|(refs, got)| refs.iter().zip(got).filter_map(|(e, &g)| e.map(|e| (g, e))));
+        let (mut num, mut den, mut n) = (0.0f64, 0.0f64, 0usize);
+        for (g, e) in pairs {
+            num += f64::from((g - e).length_squared());
+            den += f64::from(e.length_squared());
+            n += 1;
+        }
+        (n > 0).then(|| if den > 0.0 { (num / den).sqrt() } else { num.sqrt() })
+    }
+
+    /// How the current mode's colours are displayed.
+    pub fn display(&self) -> Display {
+        if self.mode == Mode::Difference { Display::Colour } else { Display::Radiance }
+    }
+
+    /// The vertex colours to draw and how to display them.
+    pub fn colours(&self) -> (Vec<Vec<Vec3>>, Display) {
+        match (self.mode, &self.reference) {
+            (Mode::Exact, Some(r)) => {
+                let c = r
+                    .values
+                    .iter()
+                    .zip(&self.radiance)
+                    .map(|(refs, got)| refs.iter().zip(got).map(|(e, &g)| e.unwrap_or(g)).collect())
+                    .collect();
+                (c, Display::Radiance)
+            }
+            (Mode::Difference, r) => {
+                // Relative to the mean reference luminance, so dark regions do not dominate.
+                let luminance = |c: Vec3| 0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z;
+                let (mut sum, mut n) = (0.0f64, 0usize);
+                if let Some(r) = r {
+                    for e in r.values.iter().flatten().flatten() {
+                        sum += f64::from(luminance(*e));
+                        n += 1;
+                    }
+                }
+                let mean = if n > 0 { (sum / n as f64) as f32 } else { 0.0 };
+                let c = self
+                    .radiance
+                    .iter()
+                    .enumerate()
+                    .map(|(o, got)| {
+                        got.iter()
+                            .enumerate()
+                            .map(|(v, &g)| match r.as_ref().and_then(|r| r.values[o][v]) {
+                                Some(e) if mean > 0.0 => heat(luminance((g - e).abs()) / mean),
+                                Some(_) => heat(0.0),
+                                None => Vec3::splat(0.35),
+                            })
+                            .collect()
+                    })
+                    .collect();
+                (c, Display::Colour)
+            }
+            _ => (self.radiance.clone(), Display::Radiance),
+        }
+    }
+
+    /// The object and distance hit first by the ray (`origin`, `dir`), at current positions.
+    pub fn pick(&self, origin: Vec3, dir: Vec3) -> Option<(usize, f32)> {
+        let mut best: Option<(usize, f32)> = None;
+        for o in 0..self.frame.object_count() {
+            let p = self.frame.positions(o);
+            let (_, mesh, _, _, _) = self.frame.object(o);
+            for t in mesh.triangles() {
+                let [a, b, c] = t.map(|i| p[i as usize]);
+                if let Some(d) = ray_triangle(origin, dir, a, b, c)
+                    && best.is_none_or(|(_, bd)| d < bd)
+                {
+                    best = Some((o, d));
+                }
+            }
+        }
+        best
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn heat_runs_from_cold_to_hot_and_saturates() {
+        assert_eq!(heat(0.0), Vec3::new(0.05, 0.05, 0.25));
+        assert_eq!(heat(HEAT_MAX), Vec3::new(0.9, 0.1, 0.1));
+        assert_eq!(heat(10.0), heat(HEAT_MAX));
+        assert_eq!(heat(f32::NAN), heat(HEAT_MAX));
+        assert!(heat(HEAT_MAX * 0.5).y > 0.5, "the middle is bright: {}", heat(HEAT_MAX * 0.5));
+    }
+}

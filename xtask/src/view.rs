@@ -1,0 +1,169 @@
+//! `cargo xtask view`: the interactive viewer (`vcut-view`) on a `.vcuts` file, or on a scene
+//! precomputed first; `--screenshot` renders the same frame with no window.
+
+use anyhow::{Context, Result, bail};
+use std::path::PathBuf;
+use std::time::{Duration, Instant};
+use vcut_view::{Gpu, Mode, OrbitCamera, Session, ViewOptions};
+
+/// Arguments of `view`.
+#[derive(clap::Args, Clone)]
+pub struct ViewArgs {
+    /// The precomputed file (from `cargo xtask precompute`); default: `--scene` precomputed.
+    pub input: Option<PathBuf>,
+    /// Precompute this scene first (cached in target/vcuts/ like the demo's) and view it.
+    #[arg(long, conflicts_with = "input")]
+    pub scene: Option<String>,
+    /// Preset for `--scene`.
+    #[arg(long, default_value = "fast")]
+    pub preset: String,
+    /// Environment map (default: the data's).
+    #[arg(long)]
+    pub env: Option<String>,
+    /// Start from this scene camera (default: the scene's first).
+    #[arg(long)]
+    pub camera: Option<String>,
+    /// Move an object first: NAME=dx,dy,dz (repeatable).
+    #[arg(long = "move", value_name = "NAME=DX,DY,DZ")]
+    pub moves: Vec<String>,
+    /// Edit a BRDF first: NAME=MODEL[:KEY=VALUE,...] (repeatable).
+    #[arg(long = "brdf", value_name = "NAME=SPEC")]
+    pub brdfs: Vec<String>,
+    /// Environment rotation about +Y, degrees.
+    #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
+    pub env_rotation: f32,
+    /// Exposure before tone mapping (default: automatic).
+    #[arg(long)]
+    pub exposure: Option<f32>,
+    /// What to show: cuts, exact (the exact-direction reference) or difference (heat map).
+    #[arg(long, default_value = "cuts")]
+    pub mode: String,
+    /// Render one frame with no window into this PNG and exit.
+    #[arg(long)]
+    pub screenshot: Option<PathBuf>,
+    /// Screenshot width.
+    #[arg(long, default_value_t = 1280)]
+    pub width: u32,
+    /// Screenshot height.
+    #[arg(long, default_value_t = 720)]
+    pub height: u32,
+    /// Close the window after this many frames (scripted runs).
+    #[arg(long)]
+    pub frames: Option<u64>,
+    /// Re-merge at every mouse move while dragging if a move costs less than this (ms).
+    #[arg(long, default_value_t = 120.0)]
+    pub live_move_ms: f64,
+}
+
+/// Environment maps the panel offers: the built-ins, the data's own, and the shared assets'.
+fn env_choices(current: &str) -> Vec<String> {
+    let mut v: Vec<String> = ["builtin:sky", "builtin:studio", "builtin:constant"].map(String::from).to_vec();
+    if !v.iter().any(|e| e == current) {
+        v.insert(0, current.to_string());
+    }
+    if let Some(dir) = vcut_scene::assets::dir().map(|d| d.join("envmaps"))
+        && let Ok(entries) = std::fs::read_dir(&dir)
+    {
+        let mut files: Vec<String> = entries
+            .flatten()
+            .map(|e| e.path())
+            .filter(|p| p.extension().is_some_and(|x| x == "hdr" || x == "exr"))
+            .map(|p| p.display().to_string())
+            .collect();
+        files.sort();
+        v.extend(files);
+    }
+    v
+}
+
+fn parse_mode(s: &str) -> Result<Mode> {
+    Ok(match s {
+        "cuts" => Mode::Cuts,
+        "exact" => Mode::Exact,
+        "difference" | "diff" => Mode::Difference,
+        "ssdo" => bail!("--mode ssdo: screen-space directional occlusion is not implemented yet (issue 10)"),
+        _ => bail!("--mode {s}: expected cuts, exact or difference"),
+    })
+}
+
+/// Runs `view`.
+pub fn run(args: &ViewArgs) -> Result<()> {
+    let mode = parse_mode(&args.mode)?;
+    let input = match (&args.input, &args.scene) {
+        (Some(p), _) => p.clone(),
+        (None, scene) => crate::precompute::cached_or_run(scene.as_deref().unwrap_or("builtin:teapot"), &args.preset)?,
+    };
+    let opened = crate::render::open(&input, args.env.as_deref())?;
+    let crate::render::Opened { data, mut frame, env, env_name, scene, setup_s } = opened;
+    crate::render::apply_edits(&mut frame, &args.brdfs, &args.moves)?;
+    let camera = crate::render::camera(scene.as_ref(), args.camera.as_deref(), &frame)?;
+    let summary = vec![
+        ("file".to_string(), input.display().to_string()),
+        ("preset".into(), data.recorded("preset").unwrap_or_else(|| "?".into())),
+        ("directions".into(), data.recorded("directions").unwrap_or_else(|| "?".into())),
+        (
+            "data size".into(),
+            std::fs::metadata(&input).map_or("?".into(), |m| format!("{:.1} MB", m.len() as f64 / 1e6)),
+        ),
+        (
+            "vertices".into(),
+            format!("{}", (0..frame.object_count()).map(|o| frame.object(o).1.vertex_count()).sum::<usize>()),
+        ),
+        ("objects".into(), format!("{}", frame.object_count())),
+        ("setup".into(), format!("{setup_s:.2} s")),
+    ];
+    let offset = data.svc_origin_offset();
+    let mut session = Session::new(frame, env.clone(), &env_name, offset, OrbitCamera::from_camera(&camera));
+    session.exposure = args.exposure;
+    if args.env_rotation != 0.0 {
+        session.set_env_rotation(args.env_rotation);
+    }
+    session.set_mode(mode).map_err(anyhow::Error::msg)?;
+
+    if let Some(path) = &args.screenshot {
+        let t = Instant::now();
+        while session.step_reference(Duration::from_secs(3600)) {}
+        let reference_s = t.elapsed().as_secs_f64();
+        let t = Instant::now();
+        let gpu = Gpu::headless()?;
+        println!("adapter={}", gpu.describe());
+        println!("gpu_setup_ms={:.1}", t.elapsed().as_secs_f64() * 1e3);
+        let t = Instant::now();
+        let image = vcut_view::screenshot(&gpu, &session, args.width, args.height)?;
+        println!("screenshot_ms={:.1}", t.elapsed().as_secs_f64() * 1e3);
+        if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
+            std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
+        }
+        vcut_view::render::write_png(&image, path)?;
+        println!("mode={}", args.mode);
+        println!("exposure={:.4}", session.exposure_in_use());
+        println!("shade_ms={:.2}", session.timings.shade_ms);
+        if matches!(mode, Mode::Exact | Mode::Difference) {
+            println!("reference_s={reference_s:.3}");
+            if let Some(e) = session.reference_error() {
+                println!("vertex_rel_l2_vs_exact={e:.5}");
+            }
+        }
+        println!("screenshot={}", path.display());
+        return Ok(());
+    }
+
+    let base_env = env;
+    let base_name = env_name.clone();
+    let options = ViewOptions {
+        title: format!("vcuts viewer — {}", input.display()),
+        summary,
+        envs: env_choices(&env_name),
+        load_env: Box::new(move |name| {
+            if name == base_name {
+                Ok(base_env.clone())
+            } else {
+                crate::inspect::load_envmap(name).map_err(|e| format!("{e:#}"))
+            }
+        }),
+        live_move_ms: args.live_move_ms,
+        max_frames: args.frames,
+    };
+    vcut_view::run_window(session, options)?;
+    Ok(())
+}
