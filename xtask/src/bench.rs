@@ -43,6 +43,9 @@ pub struct BenchArgs {
     /// Skip the trade-off sweeps.
     #[arg(long)]
     pub no_tradeoff: bool,
+    /// Skip the screen-space section (SSAO / SSDO against the ray-traced reference).
+    #[arg(long)]
+    pub no_ssdo: bool,
     /// Reuse a scene's data file from an earlier run (and the precompute figures kept beside
     /// it) instead of precomputing again: to re-time frames after a change to shading.
     #[arg(long)]
@@ -452,6 +455,15 @@ pub fn run(args: &BenchArgs) -> Result<()> {
         plots(&points, &args.out)?;
         report["tradeoff"] =
             json!({ "scene": "teapot", "base_preset": base, "points": crate::tradeoff::json(&points) });
+    }
+    if !args.no_ssdo {
+        println!("== screen space: SSAO, SSDO, SSDO peeled against the ray-traced reference");
+        let mut names = args.scenes.clone();
+        if !args.quick && !names.iter().any(|n| n == "plant") {
+            names.push("plant".into());
+        }
+        let (eval, rays, runs) = if args.quick { ((320, 180), 64, 3) } else { ((640, 360), 256, 5) };
+        report["ssdo"] = crate::ssdo::bench(&names, (1280, 720), eval, rays, runs)?;
     }
     report["bench_s"] = json!(started.elapsed().as_secs_f64());
     let (md, csv) = table1(report["scenes"].as_object().context("scenes")?);

@@ -6,6 +6,7 @@ mod directions;
 mod inspect;
 mod precompute;
 mod render;
+mod ssdo;
 mod tradeoff;
 mod view;
 

@@ -50,6 +50,11 @@ pub struct RenderArgs {
     /// Also write the scene at its current positions as a PLY mesh with outgoing radiance.
     #[arg(long)]
     pub export_ply: Option<PathBuf>,
+    /// What to draw: `cuts` (the precomputed visibility cuts) or a screen-space method on the
+    /// same geometry and lighting with no precomputation — `ssao`, `ssdo` (directional
+    /// occlusion + one indirect bounce), `ssdo-peeled` (with a second depth layer).
+    #[arg(long, default_value = "cuts")]
+    pub mode: String,
     /// Compare with references: `exact` (all leaf directions cast, no clustering), `mc` (Monte
     /// Carlo over every texel of the map, to 1 % standard error per vertex) or `both`.
     #[arg(long)]
@@ -72,6 +77,7 @@ impl RenderArgs {
             exr: None,
             export_ply: None,
             compare: None,
+            mode: "cuts".into(),
         }
     }
 }
@@ -163,17 +169,19 @@ pub fn camera(scene: Option<&Scene>, name: Option<&str>, frame: &Frame) -> Resul
         }
         (Some(s), None) if !s.cameras.is_empty() => s.cameras[0].clone(),
         (None, Some(name)) => bail!("no camera '{name}': the data's scene does not open here"),
-        _ => {
-            let b = vcut_scene::Bounds::of_points((0..frame.object_count()).flat_map(|o| frame.positions(o)));
-            Camera {
-                name: "auto".into(),
-                position: b.center + Vec3::new(0.6, 0.5, 1.0).normalize() * b.radius * 2.5,
-                target: b.center,
-                up: Vec3::Y,
-                fov_y_deg: 40.0,
-            }
-        }
+        _ => auto_camera(vcut_scene::Bounds::of_points((0..frame.object_count()).flat_map(|o| frame.positions(o)))),
     })
+}
+
+/// A camera framing bounds `b` from above and to the front right.
+pub fn auto_camera(b: vcut_scene::Bounds) -> Camera {
+    Camera {
+        name: "auto".into(),
+        position: b.center + Vec3::new(0.6, 0.5, 1.0).normalize() * b.radius * 2.5,
+        target: b.center,
+        up: Vec3::Y,
+        fov_y_deg: 40.0,
+    }
 }
 
 /// Runs `render`; returns what it printed.
@@ -185,6 +193,9 @@ pub fn run(args: &RenderArgs) -> Result<Printed> {
     out.emit("move_merge_ms", format!("{move_ms:.2}"));
     out.emit("move_merged_vertices", format!("{moved}"));
     let camera = camera(scene.as_ref(), args.camera.as_deref(), &frame)?;
+    if args.mode != "cuts" {
+        return screen_space(args, &frame, &env, &camera, out);
+    }
     let t = Instant::now();
     let radiance = frame.shade(camera.position);
     out.emit("shade_ms", format!("{:.2}", t.elapsed().as_secs_f64() * 1e3));
@@ -244,6 +255,45 @@ pub fn run(args: &RenderArgs) -> Result<Printed> {
         let (l2, max) = errors(exact, mc);
         out.emit("vertex_rel_l2_exact_vs_mc", format!("{l2:.5}"));
         out.emit("vertex_max_err_exact_vs_mc", format!("{max:.5}"));
+    }
+    Ok(out)
+}
+
+/// `render --mode ssao|ssdo|ssdo-peeled`: the screen-space image, and with `--compare` the
+/// ray-traced reference of direct light with visibility plus one diffuse bounce.
+fn screen_space(args: &RenderArgs, frame: &Frame, env: &EnvMap, camera: &Camera, mut out: Printed) -> Result<Printed> {
+    let objects = crate::ssdo::objects(frame);
+    let t = Instant::now();
+    let light = crate::ssdo::lighting(env, &objects);
+    out.emit("lighting_ms", format!("{:.2}", t.elapsed().as_secs_f64() * 1e3));
+    let f = crate::ssdo::frame(&objects, &light, camera, (args.width, args.height), &args.mode)?;
+    out.emit("gbuffer_ms", format!("{:.2}", f.gbuffer_ms));
+    out.emit(format!("{}_ms", args.mode.replace('-', "_")), format!("{:.2}", f.pass_ms));
+    let image = crate::ssdo::image(&f.output);
+    if let Some(dir) = args.output.parent().filter(|d| !d.as_os_str().is_empty()) {
+        std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
+    }
+    let exposure = args.exposure.unwrap_or_else(|| auto_exposure(&image));
+    write_png(&image, &args.output, exposure)?;
+    out.emit("png", format!("{}", args.output.display()));
+    out.emit("exposure", format!("{exposure:.4}"));
+    if let Some(p) = &args.exr {
+        write_exr(&image, p)?;
+        out.emit("exr", format!("{}", p.display()));
+    }
+    if let Some(c) = &args.compare {
+        if c != "raytraced" {
+            bail!("--compare {c}: a screen-space mode compares with `raytraced`");
+        }
+        let t = Instant::now();
+        let r = vcut_ssdo::reference(&objects, &f.gbuffer, &light, &Default::default());
+        out.emit("reference_raytraced_s", format!("{:.3}", t.elapsed().as_secs_f64()));
+        let e = vcut_ssdo::rel_l2(&f.output.total(), &r.total(), &f.output.covered);
+        out.emit("pixel_rel_l2_vs_raytraced", format!("{e:.5}"));
+        let stem = args.output.file_stem().and_then(|s| s.to_str()).unwrap_or("frame").to_string();
+        let ref_path = args.output.with_file_name(format!("{stem}-raytraced.png"));
+        write_png(&crate::ssdo::image(&r), &ref_path, exposure)?;
+        out.emit("reference_raytraced_png", format!("{}", ref_path.display()));
     }
     Ok(out)
 }

@@ -35,7 +35,8 @@ pub struct ViewArgs {
     /// Exposure before tone mapping (default: automatic).
     #[arg(long)]
     pub exposure: Option<f32>,
-    /// What to show: cuts, exact (the exact-direction reference) or difference (heat map).
+    /// What to show: cuts, exact (the exact-direction reference), difference (heat map), or
+    /// the screen-space methods ssao and ssdo (WGSL passes, no precomputation).
     #[arg(long, default_value = "cuts")]
     pub mode: String,
     /// Render one frame with no window into this PNG and exit.
@@ -81,8 +82,9 @@ fn parse_mode(s: &str) -> Result<Mode> {
         "cuts" => Mode::Cuts,
         "exact" => Mode::Exact,
         "difference" | "diff" => Mode::Difference,
-        "ssdo" => bail!("--mode ssdo: screen-space directional occlusion is not implemented yet (issue 10)"),
-        _ => bail!("--mode {s}: expected cuts, exact or difference"),
+        "ssao" => Mode::Ssao,
+        "ssdo" => Mode::Ssdo,
+        _ => bail!("--mode {s}: expected cuts, exact, difference, ssao or ssdo"),
     })
 }
 
@@ -129,7 +131,7 @@ pub fn run(args: &ViewArgs) -> Result<()> {
         println!("adapter={}", gpu.describe());
         println!("gpu_setup_ms={:.1}", t.elapsed().as_secs_f64() * 1e3);
         let t = Instant::now();
-        let image = vcut_view::screenshot(&gpu, &session, args.width, args.height)?;
+        let image = vcut_view::screenshot(&gpu, &mut session, args.width, args.height)?;
         println!("screenshot_ms={:.1}", t.elapsed().as_secs_f64() * 1e3);
         if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
             std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;

@@ -176,6 +176,16 @@ impl Occluder {
         !self.bvh.ray_traverse_miss(ray, |r, id| self.tris[self.bvh.primitive_indices[id] as usize].intersect(r))
     }
 
+    /// The first triangle on `origin + t·dir`, `0 < t < tmax` (`dir` unit): its index (over the
+    /// meshes given to [`Occluder::new`], in order, then their triangles) and its distance.
+    pub fn closest_hit(&self, origin: Vec3, dir: Vec3, tmax: f32) -> Option<(usize, f32)> {
+        let mut hit = RayHit::none();
+        let ray = Ray::new(origin.into(), dir.into(), 0.0, tmax);
+        self.bvh
+            .ray_traverse(ray, &mut hit, |r, id| self.tris[self.bvh.primitive_indices[id] as usize].intersect(r))
+            .then(|| (self.bvh.primitive_indices[hit.primitive_id as usize] as usize, hit.t))
+    }
+
     /// Whether `p` lies inside a closed surface of the occluder: of 15 rays in fixed directions
     /// (a spherical Fibonacci set, so none runs along the axis-aligned symmetry planes where
     /// tessellations put their edges), at least 12 first hit a triangle from behind (against its

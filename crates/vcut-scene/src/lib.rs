@@ -78,6 +78,16 @@ pub struct Camera {
     pub fov_y_deg: f32,
 }
 
+impl Camera {
+    /// The view-projection matrix (right-handed, depth in [0, 1], near 0.01, far 10⁴) for an
+    /// image of `aspect` = width / height: what every renderer of the workspace uses.
+    pub fn view_projection(&self, aspect: f32) -> glam::Mat4 {
+        let view = glam::camera::rh::view::look_at_mat4(self.position, self.target, self.up);
+        let proj = glam::camera::rh::proj::directx::perspective(self.fov_y_deg.to_radians(), aspect, 0.01, 1.0e4);
+        proj * view
+    }
+}
+
 /// Objects, lighting and cameras.
 #[derive(Debug, Clone)]
 pub struct Scene {

@@ -46,9 +46,7 @@ fn write_err(path: &Path, e: impl std::fmt::Display) -> ImageError {
 
 /// The camera's view-projection matrix for an image of `aspect` = width / height.
 pub fn view_projection(camera: &Camera, aspect: f32) -> Mat4 {
-    let view = glam::camera::rh::view::look_at_mat4(camera.position, camera.target, camera.up);
-    let proj = glam::camera::rh::proj::directx::perspective(camera.fov_y_deg.to_radians(), aspect, 0.01, 1.0e4);
-    proj * view
+    camera.view_projection(aspect)
 }
 
 /// Rasterises every object of `frame` with per-vertex `radiance` (as from `Frame::shade`) seen

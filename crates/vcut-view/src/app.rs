@@ -54,6 +54,8 @@ struct WindowState {
     egui_ctx: egui::Context,
     egui_state: egui_winit::State,
     egui_renderer: egui_wgpu::Renderer,
+    /// The screen-space passes, compiled on first use.
+    ssdo: Option<crate::ssdo::GpuSsdo>,
 }
 
 struct App {
@@ -68,6 +70,8 @@ struct App {
     status: String,
     last_frame: Instant,
     frame_ms: f64,
+    /// Last screen-space frame (lighting set-up + passes), ms.
+    screen_ms: f64,
     /// Where the scene is drawn (right of the panel), physical pixels.
     viewport: Viewport,
 }
@@ -88,6 +92,7 @@ pub fn run_window(session: Session, options: ViewOptions) -> Result<(), ViewErro
         status: String::new(),
         last_frame: Instant::now(),
         frame_ms: 0.0,
+        screen_ms: 0.0,
         viewport: Viewport::full(1, 1),
     };
     event_loop.run_app(&mut app).map_err(|e| ViewError::Window(e.to_string()))?;
@@ -129,7 +134,7 @@ impl App {
         );
         let egui_renderer = egui_wgpu::Renderer::new(&gpu.device, config.format, Default::default());
         self.status = format!("adapter: {}", gpu.describe());
-        Ok(WindowState { window, surface, config, gpu, scene, depth, egui_ctx, egui_state, egui_renderer })
+        Ok(WindowState { window, surface, config, gpu, scene, depth, egui_ctx, egui_state, egui_renderer, ssdo: None })
     }
 
     /// The cursor position `(x, y)` relative to the scene's viewport, and the viewport's size.
@@ -253,14 +258,34 @@ impl App {
         let mut actions = PanelActions::default();
         let mut panel_points = 0.0;
         let output = ctx.run_ui(raw, |ui| {
-            panel_points = panel(ui, &mut self.session, &self.options, &self.status, self.frame_ms, &mut actions);
+            panel_points = panel(
+                ui,
+                &mut self.session,
+                &self.options,
+                &self.status,
+                (self.frame_ms, self.screen_ms),
+                &mut actions,
+            );
         });
         let size = (state.config.width, state.config.height);
         let left = (panel_points * output.pixels_per_point).round().clamp(0.0, size.0 as f32 - 1.0);
         self.viewport = Viewport { x: left, y: 0.0, width: size.0 as f32 - left, height: size.1 as f32 };
         let view = texture.texture.create_view(&Default::default());
+        // The screen-space modes: their passes run first, then their image is displayed.
+        let mut screen = None;
+        if self.session.mode().screen_space() {
+            let passes = state.ssdo.get_or_insert_with(|| crate::ssdo::GpuSsdo::new(&state.gpu));
+            let size = (self.viewport.width as u32, self.viewport.height as u32);
+            let start = Instant::now();
+            match crate::ssdo::SsdoFrame::of_session(&state.gpu, passes, &mut self.session, size) {
+                Ok(f) => screen = f,
+                Err(e) => self.status = e.to_string(),
+            }
+            self.screen_ms = start.elapsed().as_secs_f64() * 1e3;
+        }
+        let image = screen.as_ref().map(|f| f.output());
         let mut encoder = state.gpu.device.create_command_encoder(&Default::default());
-        state.scene.draw(
+        state.scene.draw_with(
             &state.gpu,
             &mut encoder,
             &view,
@@ -268,6 +293,7 @@ impl App {
             &self.session,
             &self.session.camera,
             self.viewport,
+            image.as_ref(),
         );
         state.egui_state.handle_platform_output(&state.window, output.platform_output);
         let primitives = ctx.tessellate(output.shapes, output.pixels_per_point);
@@ -337,7 +363,7 @@ fn panel(
     session: &mut Session,
     options: &ViewOptions,
     status: &str,
-    frame_ms: f64,
+    (frame_ms, screen_ms): (f64, f64),
     actions: &mut PanelActions,
 ) -> f32 {
     let response = egui::Panel::left("controls").default_size(300.0).show(ui, |ui| {
@@ -418,6 +444,7 @@ fn panel(
                     ("light tree", format!("{:.1} ms", t.light_ms)),
                     ("upload", format!("{:.1} ms", t.upload_ms)),
                     ("draw", format!("{:.1} ms", t.draw_ms)),
+                    ("screen space", format!("{screen_ms:.1} ms")),
                     ("frame", format!("{frame_ms:.0} ms")),
                 ] {
                     ui.label(k);

@@ -19,6 +19,7 @@ pub mod app;
 pub mod camera;
 pub mod render;
 pub mod session;
+pub mod ssdo;
 
 pub use app::{ViewOptions, run_window};
 pub use camera::OrbitCamera;

@@ -157,6 +157,8 @@ pub struct SceneRenderer {
     bind_group: wgpu::BindGroup,
     background: wgpu::RenderPipeline,
     mesh: wgpu::RenderPipeline,
+    image_layout: wgpu::BindGroupLayout,
+    image: wgpu::RenderPipeline,
     env_size: (u32, u32),
     objects: Vec<ObjectBuffers>,
     uploaded: Option<(u64, u64, u64)>,
@@ -213,48 +215,71 @@ impl SceneRenderer {
             bind_group_layouts: &[Some(&layout)],
             immediate_size: 0,
         });
+        let image_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("image"),
+            entries: &[wgpu::BindGroupLayoutEntry {
+                binding: 0,
+                visibility: wgpu::ShaderStages::FRAGMENT,
+                ty: wgpu::BindingType::Texture {
+                    sample_type: wgpu::TextureSampleType::Float { filterable: false },
+                    view_dimension: wgpu::TextureViewDimension::D2,
+                    multisampled: false,
+                },
+                count: None,
+            }],
+        });
+        let image_pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("image"),
+            bind_group_layouts: &[Some(&layout), Some(&image_layout)],
+            immediate_size: 0,
+        });
         let target = [Some(wgpu::ColorTargetState { format, blend: None, write_mask: wgpu::ColorWrites::ALL })];
-        let pipeline =
-            |label: &str, vs: &str, fs: &str, buffers: &[Option<wgpu::VertexBufferLayout<'_>>], depth_write: bool| {
-                device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-                    label: Some(label),
-                    layout: Some(&pipeline_layout),
-                    vertex: wgpu::VertexState {
-                        module: &shader,
-                        entry_point: Some(vs),
-                        compilation_options: Default::default(),
-                        buffers,
-                    },
-                    primitive: wgpu::PrimitiveState { cull_mode: None, ..Default::default() },
-                    depth_stencil: Some(wgpu::DepthStencilState {
-                        format: DEPTH_FORMAT,
-                        depth_write_enabled: Some(depth_write),
-                        depth_compare: Some(if depth_write {
-                            wgpu::CompareFunction::Less
-                        } else {
-                            wgpu::CompareFunction::Always
-                        }),
-                        stencil: Default::default(),
-                        bias: Default::default(),
+        let pipeline = |label: &str,
+                        layout: &wgpu::PipelineLayout,
+                        vs: &str,
+                        fs: &str,
+                        buffers: &[Option<wgpu::VertexBufferLayout<'_>>],
+                        depth_write: bool| {
+            device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+                label: Some(label),
+                layout: Some(layout),
+                vertex: wgpu::VertexState {
+                    module: &shader,
+                    entry_point: Some(vs),
+                    compilation_options: Default::default(),
+                    buffers,
+                },
+                primitive: wgpu::PrimitiveState { cull_mode: None, ..Default::default() },
+                depth_stencil: Some(wgpu::DepthStencilState {
+                    format: DEPTH_FORMAT,
+                    depth_write_enabled: Some(depth_write),
+                    depth_compare: Some(if depth_write {
+                        wgpu::CompareFunction::Less
+                    } else {
+                        wgpu::CompareFunction::Always
                     }),
-                    multisample: Default::default(),
-                    fragment: Some(wgpu::FragmentState {
-                        module: &shader,
-                        entry_point: Some(fs),
-                        compilation_options: Default::default(),
-                        targets: &target,
-                    }),
-                    multiview_mask: None,
-                    cache: None,
-                })
-            };
-        let background = pipeline("background", "vs_background", "fs_background", &[], false);
+                    stencil: Default::default(),
+                    bias: Default::default(),
+                }),
+                multisample: Default::default(),
+                fragment: Some(wgpu::FragmentState {
+                    module: &shader,
+                    entry_point: Some(fs),
+                    compilation_options: Default::default(),
+                    targets: &target,
+                }),
+                multiview_mask: None,
+                cache: None,
+            })
+        };
+        let background = pipeline("background", &pipeline_layout, "vs_background", "fs_background", &[], false);
+        let image = pipeline("image", &image_pipeline_layout, "vs_background", "fs_image", &[], false);
         let vertex_layout = wgpu::VertexBufferLayout {
             array_stride: 24,
             step_mode: wgpu::VertexStepMode::Vertex,
             attributes: &wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3],
         };
-        let mesh = pipeline("mesh", "vs_mesh", "fs_mesh", &[Some(vertex_layout)], true);
+        let mesh = pipeline("mesh", &pipeline_layout, "vs_mesh", "fs_mesh", &[Some(vertex_layout)], true);
         let uniforms = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("uniforms"),
             size: std::mem::size_of::<Uniforms>() as u64,
@@ -269,6 +294,8 @@ impl SceneRenderer {
             bind_group,
             background,
             mesh,
+            image_layout,
+            image,
             env_size,
             objects: Vec::new(),
             uploaded: None,
@@ -388,6 +415,23 @@ impl SceneRenderer {
         camera: &OrbitCamera,
         viewport: Viewport,
     ) {
+        self.draw_with(gpu, encoder, target, depth, session, camera, viewport, None);
+    }
+
+    /// [`SceneRenderer::draw`], or with `image` (a linear Rgba32Float texture of the viewport's
+    /// size, w = covered) displayed instead of the meshes: the screen-space modes.
+    #[allow(clippy::too_many_arguments)]
+    pub fn draw_with(
+        &self,
+        gpu: &Gpu,
+        encoder: &mut wgpu::CommandEncoder,
+        target: &wgpu::TextureView,
+        depth: &wgpu::TextureView,
+        session: &Session,
+        camera: &OrbitCamera,
+        viewport: Viewport,
+        image: Option<&wgpu::TextureView>,
+    ) {
         let (width, height) = (viewport.width.max(1.0), viewport.height.max(1.0));
         let vp = camera.view_projection(width / height);
         let env = session.env();
@@ -429,6 +473,17 @@ impl SceneRenderer {
         });
         pass.set_viewport(viewport.x, viewport.y, width, height, 0.0, 1.0);
         pass.set_bind_group(0, &self.bind_group, &[]);
+        if let Some(image) = image {
+            let group = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("image"),
+                layout: &self.image_layout,
+                entries: &[wgpu::BindGroupEntry { binding: 0, resource: wgpu::BindingResource::TextureView(image) }],
+            });
+            pass.set_pipeline(&self.image);
+            pass.set_bind_group(1, &group, &[]);
+            pass.draw(0..3, 0..1);
+            return;
+        }
         pass.set_pipeline(&self.background);
         pass.draw(0..3, 0..1);
         pass.set_pipeline(&self.mesh);
@@ -461,8 +516,14 @@ pub fn depth_view(gpu: &Gpu, width: u32, height: u32) -> wgpu::TextureView {
 
 /// Renders `session`'s frame with no window into a `width × height` RGBA8 image (sRGB-encoded
 /// by the shader, exactly as the CPU renderer's PNG).
-pub fn screenshot(gpu: &Gpu, session: &Session, width: u32, height: u32) -> Result<image::RgbaImage, ViewError> {
+pub fn screenshot(gpu: &Gpu, session: &mut Session, width: u32, height: u32) -> Result<image::RgbaImage, ViewError> {
     let (width, height) = (width.max(1), height.max(1));
+    let screen = if session.mode().screen_space() {
+        crate::ssdo::SsdoFrame::of_session(gpu, &crate::ssdo::GpuSsdo::new(gpu), session, (width, height))?
+    } else {
+        None
+    };
+    let session = &*session;
     let format = wgpu::TextureFormat::Rgba8Unorm;
     let mut renderer = SceneRenderer::new(gpu, format, session.env());
     renderer.upload(gpu, session);
@@ -486,7 +547,9 @@ pub fn screenshot(gpu: &Gpu, session: &Session, width: u32, height: u32) -> Resu
         mapped_at_creation: false,
     });
     let mut encoder = gpu.device.create_command_encoder(&Default::default());
-    renderer.draw(gpu, &mut encoder, &view, &depth, session, &session.camera, Viewport::full(width, height));
+    let image = screen.as_ref().map(|f| f.output());
+    let viewport = Viewport::full(width, height);
+    renderer.draw_with(gpu, &mut encoder, &view, &depth, session, &session.camera, viewport, image.as_ref());
     encoder.copy_texture_to_buffer(
         wgpu::TexelCopyTextureInfo {
             texture: &texture,

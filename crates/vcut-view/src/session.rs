@@ -22,13 +22,15 @@ pub enum Mode {
     Exact,
     /// Per-vertex relative difference between the cuts and the reference as a heat map.
     Difference,
-    /// Screen-space directional occlusion (not available yet: issue 10).
+    /// Screen-space ambient occlusion (no precomputation; WGSL passes, `vcut_view::ssdo`).
+    Ssao,
+    /// Screen-space directional occlusion with one indirect bounce (no precomputation).
     Ssdo,
 }
 
 impl Mode {
     /// Every mode, in menu order.
-    pub const ALL: [Mode; 4] = [Mode::Cuts, Mode::Exact, Mode::Difference, Mode::Ssdo];
+    pub const ALL: [Mode; 5] = [Mode::Cuts, Mode::Exact, Mode::Difference, Mode::Ssao, Mode::Ssdo];
 
     /// Menu label.
     pub fn label(self) -> &'static str {
@@ -36,13 +38,19 @@ impl Mode {
             Mode::Cuts => "precomputed cuts",
             Mode::Exact => "exact reference",
             Mode::Difference => "difference (heat map)",
-            Mode::Ssdo => "SSDO (not yet)",
+            Mode::Ssao => "SSAO (screen space)",
+            Mode::Ssdo => "SSDO + bounce (screen space)",
         }
     }
 
     /// Whether the mode can be chosen.
     pub fn available(self) -> bool {
-        self != Mode::Ssdo
+        true
+    }
+
+    /// Whether the image is computed per pixel in screen space (no cuts involved).
+    pub fn screen_space(self) -> bool {
+        matches!(self, Mode::Ssao | Mode::Ssdo)
     }
 }
 
@@ -113,6 +121,7 @@ pub struct Session {
     shaded_eye: Option<Vec3>,
     auto_exposure: f32,
     reference: Option<Progressive>,
+    screen: Option<(Vec<vcut_ssdo::Object>, vcut_ssdo::Lighting)>,
     geometry_version: u64,
     colour_version: u64,
     /// The cost of the last edits.
@@ -140,6 +149,7 @@ impl Session {
             shaded_eye: None,
             auto_exposure: 1.0,
             reference: None,
+            screen: None,
             geometry_version: 0,
             colour_version: 0,
             timings: Timings::default(),
@@ -197,7 +207,7 @@ impl Session {
     /// Chooses the display mode (an unavailable one is refused with the reason).
     pub fn set_mode(&mut self, mode: Mode) -> Result<(), String> {
         if !mode.available() {
-            return Err(format!("{} is not implemented yet (issue 10)", mode.label()));
+            return Err(format!("{} is not available", mode.label()));
         }
         if mode != self.mode {
             self.mode = mode;
@@ -216,6 +226,7 @@ impl Session {
     fn invalidate_shading(&mut self) {
         self.shaded_eye = None;
         self.reference = None;
+        self.screen = None;
         self.colour_version += 1;
     }
 
@@ -418,6 +429,26 @@ impl Session {
             }
             _ => (self.radiance.clone(), Display::Radiance),
         }
+    }
+
+    /// What the screen-space modes draw: every object at its position with its diffuse albedo,
+    /// and their lighting (the sun split off and shadow-mapped, the rest pre-filtered); built
+    /// on first use after any edit.
+    pub fn screen_space_inputs(&mut self) -> (&[vcut_ssdo::Object], &vcut_ssdo::Lighting, vcut_ssdo::Params) {
+        let frame = &self.frame;
+        let env = &self.env;
+        let (objects, light) = self.screen.get_or_insert_with(|| {
+            let objects: Vec<vcut_ssdo::Object> = (0..frame.object_count())
+                .map(|o| {
+                    let (_, mesh, material, _, translation) = frame.object(o);
+                    vcut_ssdo::Object::from_mesh(mesh, translation, Vec3::from(material.kd))
+                })
+                .collect();
+            let light = vcut_ssdo::Lighting::new(env, &objects, 16);
+            (objects, light)
+        });
+        let b = vcut_scene::Bounds::of_points(objects.iter().flat_map(|o| o.positions.iter().copied()));
+        (objects, light, vcut_ssdo::Params::for_scene(b.radius))
     }
 
     /// The object and distance hit first by the ray (`origin`, `dir`), at current positions.

@@ -106,14 +106,31 @@ fn env_radiance(world: vec3<f32>) -> vec3<f32> {
     return c * u.params.y;
 }
 
-@fragment
-fn fs_background(in: BgOut) -> @location(0) vec4<f32> {
-    let x = (in.pos.x - u.viewport.x) / u.viewport.z;
-    let y = (in.pos.y - u.viewport.y) / u.viewport.w;
+fn background(pos: vec4<f32>) -> vec4<f32> {
+    let x = (pos.x - u.viewport.x) / u.viewport.z;
+    let y = (pos.y - u.viewport.y) / u.viewport.w;
     let ndc = vec4<f32>(x * 2.0 - 1.0, 1.0 - y * 2.0, 1.0, 1.0);
     let far = u.inv_view_proj * ndc;
     let dir = far.xyz / far.w - u.eye.xyz;
     return vec4<f32>(display_radiance(env_radiance(dir)), 1.0);
+}
+
+@fragment
+fn fs_background(in: BgOut) -> @location(0) vec4<f32> {
+    return background(in.pos);
+}
+
+// A per-pixel linear image of the viewport (the screen-space methods' output; w: covered),
+// displayed over the background.
+@group(1) @binding(0) var image: texture_2d<f32>;
+
+@fragment
+fn fs_image(in: BgOut) -> @location(0) vec4<f32> {
+    let c = textureLoad(image, vec2<i32>(in.pos.xy - u.viewport.xy), 0);
+    if (c.w > 0.5) {
+        return vec4<f32>(display_radiance(c.xyz), 1.0);
+    }
+    return background(in.pos);
 }
 
 // ---- meshes ----
