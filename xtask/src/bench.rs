@@ -46,6 +46,10 @@ pub struct BenchArgs {
     /// Skip the screen-space section (SSAO / SSDO against the ray-traced reference).
     #[arg(long)]
     pub no_ssdo: bool,
+    /// Measure only the screen-space section, replacing it in OUT/report.json (the rest of an
+    /// earlier report is kept).
+    #[arg(long, conflicts_with_all = ["no_ssdo", "plot_only"])]
+    pub only_ssdo: bool,
     /// Reuse a scene's data file from an earlier run (and the precompute figures kept beside
     /// it) instead of precomputing again: to re-time frames after a change to shading.
     #[arg(long)]
@@ -386,6 +390,18 @@ pub fn run(args: &BenchArgs) -> Result<()> {
         let points = crate::tradeoff::parse_csv(&text).with_context(|| format!("{}", path.display()))?;
         return plots(&points, &args.out);
     }
+    if args.only_ssdo {
+        let path = args.out.join("report.json");
+        let mut report: serde_json::Value = match std::fs::read_to_string(&path) {
+            Ok(text) => serde_json::from_str(&text).with_context(|| format!("{}", path.display()))?,
+            Err(_) => json!({}),
+        };
+        report["ssdo"] = ssdo_section(args)?;
+        std::fs::create_dir_all(&args.out).with_context(|| format!("creating {}", args.out.display()))?;
+        write_atomic(&path, serde_json::to_string_pretty(&report)?.as_bytes())?;
+        println!("report={}", path.display());
+        return Ok(());
+    }
     let data_dir = args.out.join("data");
     std::fs::create_dir_all(&data_dir).with_context(|| format!("creating {}", data_dir.display()))?;
     let started = Instant::now();
@@ -457,13 +473,7 @@ pub fn run(args: &BenchArgs) -> Result<()> {
             json!({ "scene": "teapot", "base_preset": base, "points": crate::tradeoff::json(&points) });
     }
     if !args.no_ssdo {
-        println!("== screen space: SSAO, SSDO, SSDO peeled against the ray-traced reference");
-        let mut names = args.scenes.clone();
-        if !args.quick && !names.iter().any(|n| n == "plant") {
-            names.push("plant".into());
-        }
-        let (eval, rays, runs) = if args.quick { ((320, 180), 64, 3) } else { ((640, 360), 256, 5) };
-        report["ssdo"] = crate::ssdo::bench(&names, (1280, 720), eval, rays, runs)?;
+        report["ssdo"] = ssdo_section(args)?;
     }
     report["bench_s"] = json!(started.elapsed().as_secs_f64());
     let (md, csv) = table1(report["scenes"].as_object().context("scenes")?);
@@ -473,6 +483,17 @@ pub fn run(args: &BenchArgs) -> Result<()> {
     println!("\n{md}");
     println!("report={}", args.out.join("report.json").display());
     Ok(())
+}
+
+/// The `ssdo` section: the scenes asked for (and, in a full run, the plant).
+fn ssdo_section(args: &BenchArgs) -> Result<serde_json::Value> {
+    println!("== screen space: SSAO, SSDO, SSDO peeled against the ray-traced reference");
+    let mut names = args.scenes.clone();
+    if !args.quick && !names.iter().any(|n| n == "plant") {
+        names.push("plant".into());
+    }
+    let (eval, rays, runs) = if args.quick { ((320, 180), 64, 3) } else { ((640, 360), 256, 5) };
+    crate::ssdo::bench(&names, (1280, 720), eval, rays, runs)
 }
 
 #[cfg(test)]

@@ -111,8 +111,23 @@ pub fn bench(
                 continue;
             }
         };
-        let objects: Vec<Object> =
-            scene.objects.iter().map(|o| Object::from_mesh(&o.mesh, Vec3::ZERO, Vec3::from(o.material.kd))).collect();
+        // Screen space is diffuse only: an object with no diffuse albedo (a glTF material
+        // read as fully metallic, as the plant's textured one is) gets grey 0.5, and says so.
+        let mut grey = Vec::new();
+        let objects: Vec<Object> = scene
+            .objects
+            .iter()
+            .map(|o| {
+                let kd = Vec3::from(o.material.kd);
+                let albedo = if kd.max_element() < 0.01 {
+                    grey.push(o.name.clone());
+                    Vec3::splat(0.5)
+                } else {
+                    kd
+                };
+                Object::from_mesh(&o.mesh, Vec3::ZERO, albedo)
+            })
+            .collect();
         let camera = scene.cameras.first().cloned().unwrap_or_else(|| {
             crate::render::auto_camera(vcut_scene::Bounds::of_points(
                 objects.iter().flat_map(|o| o.positions.iter().copied()),
@@ -151,6 +166,9 @@ pub fn bench(
         entry.insert("cost_ratio_vs_ssao_cpu".into(), json!(ms["ssdo"] / ms["ssao"]));
         entry.insert("reference_s".into(), json!(reference_s));
         entry.insert("vertices".into(), json!(objects.iter().map(|o| o.positions.len()).sum::<usize>()));
+        if !grey.is_empty() {
+            entry.insert("grey_albedo_objects".into(), json!(grey));
+        }
         println!("ssdo {name}: {}", serde_json::Value::Object(entry.clone()));
         out.insert(name.clone(), serde_json::Value::Object(entry));
     }

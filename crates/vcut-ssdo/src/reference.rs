@@ -151,7 +151,8 @@ fn barycentric(p: Vec3, a: Vec3, b: Vec3, c: Vec3) -> Vec3 {
     Vec3::new(1.0 - v - w, v, w).clamp(Vec3::ZERO, Vec3::ONE)
 }
 
-/// Relative L2 error of `got` against `reference` over the pixels covered in both.
+/// Relative L2 error of `got` against `reference` over the pixels covered in both (NaN when
+/// the reference is black there: no relative error exists).
 pub fn rel_l2(got: &[Vec3], reference: &[Vec3], covered: &[bool]) -> f64 {
     let (mut num, mut den) = (0.0f64, 0.0f64);
     for ((g, r), &c) in got.iter().zip(reference).zip(covered) {
@@ -160,5 +161,5 @@ pub fn rel_l2(got: &[Vec3], reference: &[Vec3], covered: &[bool]) -> f64 {
             den += f64::from(r.length_squared());
         }
     }
-    if den > 0.0 { (num / den).sqrt() } else { num.sqrt() }
+    if den > 0.0 { (num / den).sqrt() } else { f64::NAN }
 }

@@ -44,6 +44,9 @@ enum Drag {
     Object { o: usize, grab: Vec3, start: Vec3, vertical: bool, pending: Option<Vec3> },
 }
 
+/// What a screen-space frame was made from: the session's colour version and the viewport size.
+type ScreenKey = (u64, (u32, u32));
+
 struct WindowState {
     window: Arc<Window>,
     surface: wgpu::Surface<'static>,
@@ -56,6 +59,9 @@ struct WindowState {
     egui_renderer: egui_wgpu::Renderer,
     /// The screen-space passes, compiled on first use.
     ssdo: Option<crate::ssdo::GpuSsdo>,
+    /// The last screen-space frame and what it was made from (the session's colour version and
+    /// the viewport size): redrawn only when either changes.
+    screen: Option<(ScreenKey, crate::ssdo::SsdoFrame)>,
 }
 
 struct App {
@@ -134,7 +140,19 @@ impl App {
         );
         let egui_renderer = egui_wgpu::Renderer::new(&gpu.device, config.format, Default::default());
         self.status = format!("adapter: {}", gpu.describe());
-        Ok(WindowState { window, surface, config, gpu, scene, depth, egui_ctx, egui_state, egui_renderer, ssdo: None })
+        Ok(WindowState {
+            window,
+            surface,
+            config,
+            gpu,
+            scene,
+            depth,
+            egui_ctx,
+            egui_state,
+            egui_renderer,
+            ssdo: None,
+            screen: None,
+        })
     }
 
     /// The cursor position `(x, y)` relative to the scene's viewport, and the viewport's size.
@@ -272,18 +290,22 @@ impl App {
         self.viewport = Viewport { x: left, y: 0.0, width: size.0 as f32 - left, height: size.1 as f32 };
         let view = texture.texture.create_view(&Default::default());
         // The screen-space modes: their passes run first, then their image is displayed.
-        let mut screen = None;
         if self.session.mode().screen_space() {
-            let passes = state.ssdo.get_or_insert_with(|| crate::ssdo::GpuSsdo::new(&state.gpu));
             let size = (self.viewport.width as u32, self.viewport.height as u32);
-            let start = Instant::now();
-            match crate::ssdo::SsdoFrame::of_session(&state.gpu, passes, &mut self.session, size) {
-                Ok(f) => screen = f,
-                Err(e) => self.status = e.to_string(),
+            let key = (self.session.colour_version(), size);
+            if state.screen.as_ref().is_none_or(|(k, _)| *k != key) {
+                let passes = state.ssdo.get_or_insert_with(|| crate::ssdo::GpuSsdo::new(&state.gpu));
+                let start = Instant::now();
+                match crate::ssdo::SsdoFrame::of_session(&state.gpu, passes, &mut self.session, size) {
+                    Ok(f) => state.screen = f.map(|f| ((self.session.colour_version(), size), f)),
+                    Err(e) => self.status = e.to_string(),
+                }
+                self.screen_ms = start.elapsed().as_secs_f64() * 1e3;
             }
-            self.screen_ms = start.elapsed().as_secs_f64() * 1e3;
+        } else {
+            state.screen = None;
         }
-        let image = screen.as_ref().map(|f| f.output());
+        let image = state.screen.as_ref().map(|(_, f)| f.output());
         let mut encoder = state.gpu.device.create_command_encoder(&Default::default());
         state.scene.draw_with(
             &state.gpu,

@@ -307,13 +307,10 @@ impl GpuSsdo {
                 entries: &entries,
             })
         };
-        // Group 0: the uniforms (the composite pass reads none: its layout is empty).
-        let u_group = |p: &wgpu::RenderPipeline, b: &wgpu::Buffer| {
-            if std::ptr::eq(p, &self.composite) {
-                bind_group(gpu, p, 0, &[])
-            } else {
-                bind_group(gpu, p, 0, &[b.as_entire_binding()])
-            }
+        // Group 0: the uniforms (`None`: the pass reads none and its derived layout is empty).
+        let u_group = |p: &wgpu::RenderPipeline, b: Option<&wgpu::Buffer>| match b {
+            Some(b) => bind_group(gpu, p, 0, &[b.as_entire_binding()]),
+            None => bind_group(gpu, p, 0, &[]),
         };
         let (env_v, sun_v, ind_v) = (view(&env), view(&sun_t), view(&indirect));
         let (cone_v, irr_v, shadow_v) = (view(&cone_t), view(&irr_t), view(&shadow));
@@ -338,7 +335,7 @@ impl GpuSsdo {
                 depth: Some(view(&depth1)),
                 draw: Some(Draw {
                     pipeline: self.gbuffer.clone(),
-                    groups: vec![u_group(&self.gbuffer, &u_main)],
+                    groups: vec![u_group(&self.gbuffer, Some(&u_main))],
                     meshes: meshes.iter().map(|(a, b, n)| (a.clone(), b.clone(), *n)).collect(),
                     fullscreen: false,
                 }),
@@ -349,7 +346,7 @@ impl GpuSsdo {
                 depth: Some(view(&depth2)),
                 draw: peel.then(|| Draw {
                     pipeline: self.gbuffer_second.clone(),
-                    groups: vec![u_group(&self.gbuffer_second, &u_main), g_group(&self.gbuffer_second, &[0])],
+                    groups: vec![u_group(&self.gbuffer_second, Some(&u_main)), g_group(&self.gbuffer_second, &[0])],
                     meshes: meshes.iter().map(|(a, b, n)| (a.clone(), b.clone(), *n)).collect(),
                     fullscreen: false,
                 }),
@@ -359,45 +356,47 @@ impl GpuSsdo {
                 depth: Some(view(&shadow)),
                 draw: sun.is_some().then(|| Draw {
                     pipeline: self.shadow.clone(),
-                    groups: vec![u_group(&self.shadow, &u_main)],
+                    groups: vec![u_group(&self.shadow, Some(&u_main))],
                     meshes: meshes.iter().map(|(a, b, n)| (a.clone(), b.clone(), *n)).collect(),
                     fullscreen: false,
                 }),
             },
         ];
-        let fullscreen =
-            |pipeline: &wgpu::RenderPipeline, u: &wgpu::Buffer, g: &[u32], inputs: &[(u32, &wgpu::TextureView)]| Draw {
-                pipeline: pipeline.clone(),
-                groups: vec![u_group(pipeline, u), g_group(pipeline, g), group2(pipeline, inputs)],
-                meshes: Vec::new(),
-                fullscreen: true,
-            };
+        let fullscreen = |pipeline: &wgpu::RenderPipeline,
+                          u: Option<&wgpu::Buffer>,
+                          g: &[u32],
+                          inputs: &[(u32, &wgpu::TextureView)]| Draw {
+            pipeline: pipeline.clone(),
+            groups: vec![u_group(pipeline, u), g_group(pipeline, g), group2(pipeline, inputs)],
+            meshes: Vec::new(),
+            fullscreen: true,
+        };
         let all = [0, 1, 2, 3, 4];
         commands.push(Pass {
             targets: vec![view(&env), view(&sun_t)],
             depth: None,
-            draw: Some(fullscreen(&self.sample, &u_main, &all, &[(0, &cone_v), (1, &irr_v), (3, &shadow_v)])),
+            draw: Some(fullscreen(&self.sample, Some(&u_main), &all, &[(0, &cone_v), (1, &irr_v), (3, &shadow_v)])),
         });
         let bounce = method == Method::Ssdo && params.indirect;
         commands.push(Pass {
             targets: vec![view(&indirect)],
             depth: None,
-            draw: bounce.then(|| fullscreen(&self.indirect, &u_main, &all, &[(0, &env_v), (1, &sun_v)])),
+            draw: bounce.then(|| fullscreen(&self.indirect, Some(&u_main), &all, &[(0, &env_v), (1, &sun_v)])),
         });
         commands.push(Pass {
             targets: blur_h.iter().map(view).collect(),
             depth: None,
-            draw: Some(fullscreen(&self.blur, &u_h, &[0, 1], &[(0, &env_v), (1, &ind_v)])),
+            draw: Some(fullscreen(&self.blur, Some(&u_h), &[0, 1], &[(0, &env_v), (1, &ind_v)])),
         });
         commands.push(Pass {
             targets: blur_v.iter().map(view).collect(),
             depth: None,
-            draw: Some(fullscreen(&self.blur, &u_v, &[0, 1], &[(0, &bh[0]), (1, &bh[1])])),
+            draw: Some(fullscreen(&self.blur, Some(&u_v), &[0, 1], &[(0, &bh[0]), (1, &bh[1])])),
         });
         commands.push(Pass {
             targets: vec![view(&out)],
             depth: None,
-            draw: Some(fullscreen(&self.composite, &u_main, &[0], &[(0, &bv[0]), (1, &bv[1]), (2, &sun_v)])),
+            draw: Some(fullscreen(&self.composite, None, &[0], &[(0, &bv[0]), (1, &bv[1]), (2, &sun_v)])),
         });
         let mut resources = g1;
         resources.extend(g2);
