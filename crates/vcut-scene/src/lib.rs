@@ -29,6 +29,7 @@ pub mod desc;
 pub mod loaders;
 pub mod material;
 pub mod mesh;
+pub mod raster;
 pub mod scenes;
 pub mod shapes;
 pub mod teapot;

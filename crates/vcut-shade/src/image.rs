@@ -13,6 +13,7 @@ use std::io::Write;
 use std::path::{Path, PathBuf};
 use vcut_envmap::EnvMap;
 use vcut_scene::Camera;
+use vcut_scene::raster::{raster_triangle, to_screen};
 
 /// A linear RGB image, row-major from the top.
 #[derive(Debug, Clone, PartialEq)]
@@ -69,52 +70,20 @@ pub fn rasterize(
         let clip: Vec<Vec4> = frame.positions(o).iter().map(|p| vp * p.extend(1.0)).collect();
         for t in mesh.triangles() {
             let c = t.map(|i| clip[i as usize]);
-            // Triangles reaching behind the near plane are skipped (scenes are viewed from outside).
-            if c.iter().any(|v| v.w <= 0.01) {
-                continue;
-            }
-            let s = c.map(|v| {
-                let n = v.truncate() / v.w;
-                Vec3::new((n.x * 0.5 + 0.5) * w as f32, (0.5 - n.y * 0.5) * h as f32, n.z)
-            });
-            let area = (s[1].x - s[0].x) * (s[2].y - s[0].y) - (s[2].x - s[0].x) * (s[1].y - s[0].y);
-            if area.abs() < 1e-12 {
-                continue;
-            }
+            let Some(s) = to_screen(c, w, h) else { continue };
             let inv_w = c.map(|v| 1.0 / v.w);
             let attr = t.map(|i| rad[i as usize]);
-            let (x0, x1) = (
-                s.iter().map(|v| v.x).fold(f32::INFINITY, f32::min),
-                s.iter().map(|v| v.x).fold(f32::NEG_INFINITY, f32::max),
-            );
-            let (y0, y1) = (
-                s.iter().map(|v| v.y).fold(f32::INFINITY, f32::min),
-                s.iter().map(|v| v.y).fold(f32::NEG_INFINITY, f32::max),
-            );
-            let (px0, px1) = ((x0.floor().max(0.0)) as usize, (x1.ceil().min(w as f32 - 1.0)).max(0.0) as usize);
-            let (py0, py1) = ((y0.floor().max(0.0)) as usize, (y1.ceil().min(h as f32 - 1.0)).max(0.0) as usize);
-            for py in py0..=py1.min(h - 1) {
-                for px in px0..=px1.min(w - 1) {
-                    let (x, y) = (px as f32 + 0.5, py as f32 + 0.5);
-                    let e = |a: Vec3, b: Vec3| (b.x - a.x) * (y - a.y) - (x - a.x) * (b.y - a.y);
-                    let b0 = e(s[1], s[2]) / area;
-                    let b1 = e(s[2], s[0]) / area;
-                    let b2 = e(s[0], s[1]) / area;
-                    if b0 < 0.0 || b1 < 0.0 || b2 < 0.0 {
-                        continue;
-                    }
-                    let z = b0 * s[0].z + b1 * s[1].z + b2 * s[2].z;
-                    let k = py * w + px;
-                    if z >= depth[k] {
-                        continue;
-                    }
-                    depth[k] = z;
-                    // Perspective-correct: interpolate attribute/w and 1/w.
-                    let q = b0 * inv_w[0] + b1 * inv_w[1] + b2 * inv_w[2];
-                    rgb[k] = (attr[0] * (b0 * inv_w[0]) + attr[1] * (b1 * inv_w[1]) + attr[2] * (b2 * inv_w[2])) / q;
-                    covered[k] = true;
+            raster_triangle(s, w, h, |k, b0, b1, b2| {
+                let z = b0 * s[0].z + b1 * s[1].z + b2 * s[2].z;
+                if z >= depth[k] {
+                    return;
                 }
-            }
+                depth[k] = z;
+                // Perspective-correct: interpolate attribute/w and 1/w.
+                let q = b0 * inv_w[0] + b1 * inv_w[1] + b2 * inv_w[2];
+                rgb[k] = (attr[0] * (b0 * inv_w[0]) + attr[1] * (b1 * inv_w[1]) + attr[2] * (b2 * inv_w[2])) / q;
+                covered[k] = true;
+            });
         }
     }
     if let Some(env) = background {

@@ -2,6 +2,7 @@
 //! peeling in one pass: a 2-deep k-buffer), each with position, normal, albedo and view depth.
 
 use glam::{Mat4, Vec3, Vec4};
+use vcut_scene::raster::{raster_triangle, to_screen};
 use vcut_scene::{Camera, Mesh};
 
 /// One object as SSDO sees it: world-space triangles with vertex normals and a diffuse albedo.
@@ -65,37 +66,6 @@ pub struct GBuffer {
 /// coplanar triangles), not as a second one.
 const SAME_LAYER: f32 = 1e-4;
 
-/// Calls `f(pixel index, b0, b1, b2)` for every pixel centre inside the screen-space triangle
-/// `s` (x, y in pixels) of a `w × h` image, with its barycentric coordinates.
-pub fn raster_triangle(s: [Vec3; 3], w: usize, h: usize, mut f: impl FnMut(usize, f32, f32, f32)) {
-    let area = (s[1].x - s[0].x) * (s[2].y - s[0].y) - (s[2].x - s[0].x) * (s[1].y - s[0].y);
-    if area.is_nan() || area.abs() < 1e-12 {
-        return;
-    }
-    let min = |i: usize| s.iter().map(|v| v[i]).fold(f32::INFINITY, f32::min);
-    let max = |i: usize| s.iter().map(|v| v[i]).fold(f32::NEG_INFINITY, f32::max);
-    let (x0, x1, y0, y1) = (min(0), max(0), min(1), max(1));
-    if x1 < 0.0 || y1 < 0.0 || x0 > w as f32 || y0 > h as f32 {
-        return;
-    }
-    let px0 = x0.floor().max(0.0) as usize;
-    let px1 = (x1.ceil().max(0.0) as usize).min(w.saturating_sub(1));
-    let py0 = y0.floor().max(0.0) as usize;
-    let py1 = (y1.ceil().max(0.0) as usize).min(h.saturating_sub(1));
-    for py in py0..=py1 {
-        for px in px0..=px1 {
-            let (x, y) = (px as f32 + 0.5, py as f32 + 0.5);
-            let e = |a: Vec3, b: Vec3| (b.x - a.x) * (y - a.y) - (x - a.x) * (b.y - a.y);
-            let b0 = e(s[1], s[2]) / area;
-            let b1 = e(s[2], s[0]) / area;
-            let b2 = e(s[0], s[1]) / area;
-            if b0 >= 0.0 && b1 >= 0.0 && b2 >= 0.0 {
-                f(py * w + px, b0, b1, b2);
-            }
-        }
-    }
-}
-
 impl GBuffer {
     /// Rasterises `objects` seen by `camera` into a `width × height` G-buffer.
     pub fn new(objects: &[Object], camera: &Camera, width: usize, height: usize) -> GBuffer {
@@ -107,13 +77,7 @@ impl GBuffer {
             let clip: Vec<Vec4> = obj.positions.iter().map(|p| view_proj * p.extend(1.0)).collect();
             for t in &obj.triangles {
                 let c = t.map(|i| clip[i as usize]);
-                if c.iter().any(|v| v.w <= 0.01) {
-                    continue;
-                }
-                let s = c.map(|v| {
-                    let n = v.truncate() / v.w;
-                    Vec3::new((n.x * 0.5 + 0.5) * w as f32, (0.5 - n.y * 0.5) * h as f32, n.z)
-                });
+                let Some(s) = to_screen(c, w, h) else { continue };
                 let inv_w = c.map(|v| 1.0 / v.w);
                 let pos = t.map(|i| obj.positions[i as usize]);
                 let nrm = t.map(|i| obj.normals[i as usize]);

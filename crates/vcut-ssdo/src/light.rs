@@ -2,10 +2,11 @@
 //! shadowed by a shadow map, as the paper does), and the rest of the environment pre-filtered
 //! to the samples' cone (for SSDO) and cosine-convolved to irradiance (for SSAO).
 
-use crate::gbuffer::{Object, raster_triangle};
+use crate::gbuffer::Object;
 use glam::{Mat4, Vec3};
 use rayon::prelude::*;
 use vcut_envmap::{EnvMap, luminance};
+use vcut_scene::raster::raster_triangle;
 
 /// A distant light of small extent.
 #[derive(Debug, Clone, Copy, PartialEq)]

@@ -2,10 +2,11 @@
 //! a ground with two balls under the sky (sun shadow-mapped), SSAO, SSDO, and SSDO peeled.
 //! Without a wgpu adapter this says it was skipped, unless `VCUT_REQUIRE_GPU=1`.
 
+mod common;
+use common::gpu;
 use glam::Vec3;
 use vcut_scene::Camera;
 use vcut_ssdo::{GBuffer, Lighting, Method, Object, Params, SampleSets, rel_l2, render};
-use vcut_view::Gpu;
 use vcut_view::ssdo::GpuSsdo;
 
 fn ground(half: f32, n: u32, albedo: Vec3) -> Object {
@@ -28,17 +29,6 @@ fn ground(half: f32, n: u32, albedo: Vec3) -> Object {
         }
     }
     Object { normals: vec![Vec3::Y; positions.len()], positions, triangles, albedo }
-}
-
-fn gpu() -> Option<Gpu> {
-    match Gpu::headless() {
-        Ok(g) => Some(g),
-        Err(e) if std::env::var("VCUT_REQUIRE_GPU").is_ok_and(|v| v == "1") => panic!("VCUT_REQUIRE_GPU=1: {e}"),
-        Err(e) => {
-            eprintln!("skipped: {e}");
-            None
-        }
-    }
 }
 
 #[test]

@@ -4,6 +4,8 @@
 //! Without a wgpu adapter the GPU test says it was skipped, unless `VCUT_REQUIRE_GPU=1` (as
 //! `.ci/run` sets it), where a missing adapter fails.
 
+mod common;
+use common::gpu;
 use glam::Vec3;
 use std::path::Path;
 use std::sync::atomic::AtomicBool;
@@ -17,7 +19,7 @@ use vcut_scene::{Camera, Scene, SceneDesc};
 use vcut_shade::Frame;
 use vcut_shade::image::{rasterize, tone_map};
 use vcut_shade::reference::exact_direction;
-use vcut_view::{Display, Gpu, Mode, OrbitCamera, Session};
+use vcut_view::{Display, Mode, OrbitCamera, Session};
 
 const BALL_ABOVE_GROUND: &str = r#"
 [[object]]
@@ -175,17 +177,6 @@ fn cpu_image(s: &Session, width: u32, height: u32) -> Vec<u8> {
     let image = rasterize(s.frame(), s.radiance(), &s.camera.camera(), width, height, Some(s.env()));
     let e = s.exposure_in_use();
     image.rgb.iter().flat_map(|c| [tone_map(c.x, e), tone_map(c.y, e), tone_map(c.z, e)]).collect()
-}
-
-fn gpu() -> Option<Gpu> {
-    match Gpu::headless() {
-        Ok(g) => Some(g),
-        Err(e) if std::env::var("VCUT_REQUIRE_GPU").is_ok_and(|v| v == "1") => panic!("VCUT_REQUIRE_GPU=1: {e}"),
-        Err(e) => {
-            eprintln!("skipped: {e}");
-            None
-        }
-    }
 }
 
 #[test]
