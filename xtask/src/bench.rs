@@ -50,6 +50,12 @@ pub struct BenchArgs {
     /// earlier report is kept).
     #[arg(long, conflicts_with_all = ["no_ssdo", "plot_only"])]
     pub only_ssdo: bool,
+    /// Skip the plant-leaf section (LVC + PRT against the path-traced reference).
+    #[arg(long)]
+    pub no_leaves: bool,
+    /// Measure only the plant-leaf section, replacing it in OUT/report.json.
+    #[arg(long, conflicts_with_all = ["no_leaves", "plot_only", "only_ssdo"])]
+    pub only_leaves: bool,
     /// Reuse a scene's data file from an earlier run (and the precompute figures kept beside
     /// it) instead of precomputing again: to re-time frames after a change to shading.
     #[arg(long)]
@@ -390,13 +396,17 @@ pub fn run(args: &BenchArgs) -> Result<()> {
         let points = crate::tradeoff::parse_csv(&text).with_context(|| format!("{}", path.display()))?;
         return plots(&points, &args.out);
     }
-    if args.only_ssdo {
+    if args.only_ssdo || args.only_leaves {
         let path = args.out.join("report.json");
         let mut report: serde_json::Value = match std::fs::read_to_string(&path) {
             Ok(text) => serde_json::from_str(&text).with_context(|| format!("{}", path.display()))?,
             Err(_) => json!({}),
         };
-        report["ssdo"] = ssdo_section(args)?;
+        if args.only_ssdo {
+            report["ssdo"] = ssdo_section(args)?;
+        } else {
+            report["leaves"] = crate::leaves::bench(args.quick, &args.out.join("leaves"))?;
+        }
         std::fs::create_dir_all(&args.out).with_context(|| format!("creating {}", args.out.display()))?;
         write_atomic(&path, serde_json::to_string_pretty(&report)?.as_bytes())?;
         println!("report={}", path.display());
@@ -474,6 +484,9 @@ pub fn run(args: &BenchArgs) -> Result<()> {
     }
     if !args.no_ssdo {
         report["ssdo"] = ssdo_section(args)?;
+    }
+    if !args.no_leaves {
+        report["leaves"] = crate::leaves::bench(args.quick, &args.out.join("leaves"))?;
     }
     report["bench_s"] = json!(started.elapsed().as_secs_f64());
     let (md, csv) = table1(report["scenes"].as_object().context("scenes")?);

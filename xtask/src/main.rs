@@ -4,6 +4,7 @@
 mod bench;
 mod directions;
 mod inspect;
+mod leaves;
 mod precompute;
 mod render;
 mod ssdo;
@@ -57,6 +58,11 @@ enum Command {
     /// drag objects, edit BRDFs, rotate the environment, compare with the exact reference; with
     /// --screenshot out.png render the same frame with no window on any wgpu adapter.
     View(view::ViewArgs),
+    /// Plant leaves (Wang et al. 2005): build the procedural plant (or load one), precompute the
+    /// sun's light-visibility convolution (RLE) and the SH transfer, shade a frame in two passes,
+    /// and compare it and the SH-only rendering with the path-traced reference: images and
+    /// key=value figures. Leaf parameters, the sun direction or the time of day are settable.
+    Leaves(leaves::LeavesArgs),
 }
 
 fn main() {
@@ -73,6 +79,7 @@ fn main() {
         Command::Bench(args) => bench::run(&args),
         Command::Demo => demo(),
         Command::View(args) => view::run(&args),
+        Command::Leaves(args) => leaves::run(&args),
     };
     if let Err(e) = result {
         eprintln!("error: {e:#}");

@@ -39,6 +39,7 @@
 pub mod io;
 pub mod layout;
 pub mod procedural;
+pub mod sun;
 
 pub use io::{EnvMapError, InvalidTexels, LoadReport, load, load_bytes, load_cube_faces};
 pub use layout::{CubeHandedness, Layout};

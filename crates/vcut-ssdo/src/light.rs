@@ -5,82 +5,9 @@
 use crate::gbuffer::Object;
 use glam::{Mat4, Vec3};
 use rayon::prelude::*;
-use vcut_envmap::{EnvMap, luminance};
+use vcut_envmap::EnvMap;
+pub use vcut_envmap::sun::{Sun, split_sun};
 use vcut_scene::raster::raster_triangle;
-
-/// A distant light of small extent.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Sun {
-    /// Unit direction toward the sun (world).
-    pub dir: Vec3,
-    /// Irradiance at normal incidence, ∫ over the disk of L dω (RGB).
-    pub irradiance: Vec3,
-}
-
-/// Half-angle around the brightest texel searched for the sun's texels.
-const SUN_SEARCH_DEG: f32 = 4.0;
-/// A texel belongs to the sun when its luminance exceeds this multiple of the map's median.
-const SUN_OVER_MEDIAN: f32 = 50.0;
-/// A sun holding less than this share of the map's power is left in the map.
-const SUN_MIN_SHARE: f64 = 0.02;
-
-/// Splits `env` into a sun (texels near the brightest one that exceed 50× the median luminance,
-/// when they hold at least 2 % of the power) and the rest, where the sun's texels take the mean
-/// of the ring just outside them. Without such a sun the map comes back whole.
-pub fn split_sun(env: &EnvMap) -> (Option<Sun>, EnvMap) {
-    let layout = env.layout();
-    let texels = env.texels();
-    let mut dirs = vec![Vec3::ZERO; texels.len()];
-    let mut omega = vec![0.0f64; texels.len()];
-    layout.for_each_patch(1, |t, d, w| {
-        dirs[t] = d;
-        omega[t] = w;
-    });
-    let lum: Vec<f32> = texels.iter().map(|&c| luminance(c)).collect();
-    let Some((peak, _)) = lum.iter().enumerate().max_by(|a, b| a.1.total_cmp(b.1)) else {
-        return (None, env.clone());
-    };
-    let mut sorted = lum.clone();
-    sorted.sort_by(f32::total_cmp);
-    let median = sorted[sorted.len() / 2];
-    let cos_search = SUN_SEARCH_DEG.to_radians().cos();
-    let cos_ring = (2.0 * SUN_SEARCH_DEG).to_radians().cos();
-    let near: Vec<usize> = (0..texels.len()).filter(|&t| dirs[t].dot(dirs[peak]) >= cos_ring).collect();
-    let is_sun =
-        |t: usize| dirs[t].dot(dirs[peak]) >= cos_search && lum[t] > SUN_OVER_MEDIAN * median.max(f32::MIN_POSITIVE);
-    let sun_texels: Vec<usize> = near.iter().copied().filter(|&t| is_sun(t)).collect();
-    let ring: Vec<usize> = near.iter().copied().filter(|&t| !is_sun(t)).collect();
-    let (mut fill, mut fill_w) = (glam::DVec3::ZERO, 0.0);
-    for &t in &ring {
-        fill += glam::DVec3::from(texels[t].map(f64::from)) * omega[t];
-        fill_w += omega[t];
-    }
-    let fill = if fill_w > 0.0 { fill / fill_w } else { glam::DVec3::ZERO };
-    let (mut power, mut centroid) = (glam::DVec3::ZERO, glam::DVec3::ZERO);
-    for &t in &sun_texels {
-        let excess = (glam::DVec3::from(texels[t].map(f64::from)) - fill).max(glam::DVec3::ZERO) * omega[t];
-        power += excess;
-        centroid += dirs[t].as_dvec3() * (excess.x * 0.2126 + excess.y * 0.7152 + excess.z * 0.0722);
-    }
-    let total: f64 = lum.iter().zip(&omega).map(|(&l, &w)| f64::from(l) * w).sum();
-    let sun_lum = power.x * 0.2126 + power.y * 0.7152 + power.z * 0.0722;
-    if sun_texels.is_empty() || total <= 0.0 || sun_lum < SUN_MIN_SHARE * total {
-        return (None, env.clone());
-    }
-    let mut rest = texels.to_vec();
-    for &t in &sun_texels {
-        rest[t] = fill.as_vec3().to_array();
-    }
-    let Ok((mut residual, _)) =
-        EnvMap::new(layout, rest, format!("{} (sun removed)", env.source()), Default::default())
-    else {
-        return (None, env.clone());
-    };
-    residual.set_rotation(env.rotation());
-    residual.set_intensity(env.intensity());
-    let dir = env.rotation() * centroid.as_vec3().normalize_or(dirs[peak]);
-    (Some(Sun { dir, irradiance: power.as_vec3() * env.intensity() }), residual)
-}
 
 /// A function on the sphere tabulated over an octahedral map (`size × size` texels),
 /// looked up bilinearly in f32: cheap enough for every sample of every pixel.
@@ -298,26 +225,6 @@ pub fn map_coords(view: Mat4, half: f32, size: usize, p: Vec3) -> Vec3 {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use vcut_envmap::procedural::PreethamSky;
-
-    #[test]
-    fn the_sky_sun_is_found_with_its_power_and_direction() {
-        let sky = PreethamSky::default();
-        let map = sky.bake(512);
-        let (sun, rest) = split_sun(&map);
-        let sun = sun.expect("a 10^5 sun is found");
-        assert!(sun.dir.dot(sky.sun_dir.normalize()) > 0.9995, "{} vs {}", sun.dir, sky.sun_dir);
-        let total = map.total_power();
-        let left = rest.total_power();
-        // What left the map is the sun's power, within 1 %.
-        for c in 0..3 {
-            let taken = total[c] - left[c];
-            assert!((taken - f64::from(sun.irradiance[c])).abs() < 0.01 * taken, "channel {c}");
-        }
-        assert!(left[1] < 0.8 * total[1], "the sun held a large share: {} of {}", left[1], total[1]);
-        // A constant map has no sun.
-        assert!(split_sun(&EnvMap::constant([1.0; 3])).0.is_none());
-    }
 
     #[test]
     fn octahedral_coordinates_round_trip_and_tables_interpolate() {

@@ -1,0 +1,290 @@
+//! The path-traced reference the two passes are measured against: the same BSDF (diffuse
+//! reflection and gloss per side, diffuse transmission), the sun as a disk sampled at every path
+//! vertex (next-event estimation with a shadow ray), the environment without its sun (full
+//! resolution, bilinear) sampled both by its luminance and by the BSDF, combined by multiple
+//! importance sampling (balance heuristic), `depth` scatterings.
+//!
+//! Like [`crate::shade`], each side of a vertex is shaded toward the eye, mirrored into that side's
+//! hemisphere when the eye is on the other side.
+
+use crate::material::Scatter;
+use crate::scene::LeafScene;
+use crate::shade::{SunLight, TwoSided};
+use glam::Vec3;
+use rayon::prelude::*;
+use std::f32::consts::PI;
+use vcut_envmap::EnvMap;
+use vcut_sphere::rng::SplitMix64;
+
+/// Parameters of the reference.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ReferenceParams {
+    /// Paths per vertex side.
+    pub paths: u32,
+    /// Scatterings after the first surface (3 = direct + up to three bounces).
+    pub depth: u32,
+    /// Angular diameter of the sun disk, degrees.
+    pub sun_diameter_deg: f32,
+    /// Seed.
+    pub seed: u64,
+}
+
+impl Default for ReferenceParams {
+    fn default() -> ReferenceParams {
+        ReferenceParams { paths: 256, depth: 3, sun_diameter_deg: 0.53, seed: 11 }
+    }
+}
+
+/// Importance sampling of the environment by luminance × solid angle over a lat-long resampling
+/// (uniform in solid angle within a texel).
+struct EnvSampler {
+    width: usize,
+    height: usize,
+    cdf: Vec<f64>,
+    /// Per texel, probability / solid angle (the pdf in solid angle there).
+    density: Vec<f32>,
+}
+
+impl EnvSampler {
+    fn new(env: &EnvMap) -> EnvSampler {
+        use vcut_envmap::layout::latlong_solid_angle;
+        let ll = env.to_latlong(512, 2);
+        let (width, height) = (512usize, 256usize);
+        let mut weight = vec![0.0f64; width * height];
+        let mut omega = vec![0.0f64; width * height];
+        for y in 0..height {
+            for x in 0..width {
+                let t = y * width + x;
+                let (u0, v0) = (x as f64 / width as f64, y as f64 / height as f64);
+                omega[t] = latlong_solid_angle(u0, u0 + 1.0 / width as f64, v0, v0 + 1.0 / height as f64);
+                let c = ll.texels()[t];
+                weight[t] = f64::from(0.2126 * c[0] + 0.7152 * c[1] + 0.0722 * c[2]).max(0.0) * omega[t];
+            }
+        }
+        let total: f64 = weight.iter().sum();
+        if total <= 0.0 {
+            weight.iter_mut().zip(&omega).for_each(|(w, o)| *w = *o);
+        }
+        let total: f64 = weight.iter().sum();
+        let mut acc = 0.0;
+        let cdf = weight
+            .iter()
+            .map(|w| {
+                acc += w / total;
+                acc
+            })
+            .collect();
+        let density = weight.iter().zip(&omega).map(|(w, o)| (w / total / o.max(1e-30)) as f32).collect();
+        EnvSampler { width, height, cdf, density }
+    }
+
+    fn sample(&self, rng: &mut SplitMix64) -> (Vec3, f32) {
+        use vcut_envmap::layout::latlong_dir;
+        let u = rng.next_f64();
+        let t = self.cdf.partition_point(|&c| c < u).min(self.cdf.len() - 1);
+        let (x, y) = (t % self.width, t / self.width);
+        let uu = (x as f64 + rng.next_f64()) / self.width as f64;
+        let (c0, c1) = (
+            (std::f64::consts::PI * y as f64 / self.height as f64).cos(),
+            (std::f64::consts::PI * (y + 1) as f64 / self.height as f64).cos(),
+        );
+        let c = c0 + (c1 - c0) * rng.next_f64();
+        let v = c.clamp(-1.0, 1.0).acos() / std::f64::consts::PI;
+        (latlong_dir(uu, v).normalize(), self.density[t])
+    }
+
+    fn pdf(&self, d: Vec3) -> f32 {
+        let (u, v) = vcut_envmap::layout::latlong_uv(d);
+        let x = ((u * self.width as f64) as usize).min(self.width - 1);
+        let y = ((v * self.height as f64) as usize).min(self.height - 1);
+        self.density[y * self.width + x]
+    }
+}
+
+struct Tracer<'a> {
+    scene: &'a LeafScene,
+    env: &'a EnvMap,
+    sampler: EnvSampler,
+    sun: Option<SunLight>,
+    sun_cos: f32,
+    eps: f32,
+}
+
+/// Direction mirrored into the hemisphere of `n` when it lies outside it.
+fn into_side(d: Vec3, n: Vec3) -> Vec3 {
+    let c = d.dot(n);
+    if c > 0.0 { d } else { (d - 2.0 * c * n).normalize_or(n) }
+}
+
+impl Tracer<'_> {
+    /// A point inside the sun's disk, uniformly over its solid angle.
+    fn sun_sample(&self, sun: &SunLight, rng: &mut SplitMix64) -> Vec3 {
+        let (u1, u2) = (rng.next_f64() as f32, rng.next_f64() as f32);
+        let cos = 1.0 - u1 * (1.0 - self.sun_cos);
+        let sin = (1.0 - cos * cos).max(0.0).sqrt();
+        let phi = 2.0 * PI * u2;
+        let (a, b) = sun.dir.any_orthonormal_pair();
+        (sun.dir * cos + (a * phi.cos() + b * phi.sin()) * sin).normalize()
+    }
+
+    /// Radiance leaving point `p` (normal `n`, scattering `s`) in unit direction `wo`.
+    fn radiance(&self, p: Vec3, n: Vec3, s: &Scatter, wo: Vec3, depth: u32, rng: &mut SplitMix64) -> Vec3 {
+        let mut out = Vec3::ZERO;
+        // The sun, sampled over its disk.
+        if let Some(sun) = self.sun {
+            let l = self.sun_sample(&sun, rng);
+            let f = s.eval(n, l, wo);
+            if f != Vec3::ZERO {
+                let side = if n.dot(l) >= 0.0 { n } else { -n };
+                if !self.scene.occluder().occluded(p + side * self.eps, l, f32::INFINITY) {
+                    out += f * n.dot(l).abs() * sun.irradiance;
+                }
+            }
+        }
+        let out_side = if n.dot(wo) >= 0.0 { n } else { -n };
+        let p_same = if s.translucent() { 0.5 } else { 1.0 };
+        let bsdf_pdf = |d: Vec3| {
+            let c = d.dot(out_side);
+            (if c >= 0.0 { p_same } else { 1.0 - p_same }) * c.abs() / PI
+        };
+        // The environment by its luminance (MIS weight against the BSDF's pdf).
+        let (d, pdf_env) = self.sampler.sample(rng);
+        let f = s.eval(n, d, wo);
+        if f != Vec3::ZERO && pdf_env > 0.0 {
+            let side = if n.dot(d) >= 0.0 { n } else { -n };
+            if !self.scene.occluder().occluded(p + side * self.eps, d, f32::INFINITY) {
+                out += f * n.dot(d).abs() * self.env.radiance(d) / (pdf_env + bsdf_pdf(d));
+            }
+        }
+        // One BSDF-sampled direction: the outgoing side with probability ½ (1 when opaque), then
+        // cosine-weighted within it.
+        let same = (rng.next_f64() as f32) < p_same;
+        let hemi = if same { out_side } else { -out_side };
+        let (u1, u2) = (rng.next_f64() as f32, rng.next_f64() as f32);
+        let (r, phi) = (u1.sqrt(), 2.0 * PI * u2);
+        let (a, b) = hemi.any_orthonormal_pair();
+        let d = (a * (r * phi.cos()) + b * (r * phi.sin()) + hemi * (1.0 - u1).max(0.0).sqrt()).normalize();
+        let cos = d.dot(hemi).max(1e-6);
+        let pdf = (if same { p_same } else { 1.0 - p_same }) * cos / PI;
+        let f = s.eval(n, d, wo);
+        if f == Vec3::ZERO {
+            return out;
+        }
+        let throughput = f * cos / pdf;
+        let origin = p + hemi * self.eps;
+        match self.scene.occluder().closest_hit(origin, d, f32::INFINITY) {
+            None => out += f * cos * self.env.radiance(d) / (pdf + self.sampler.pdf(d)),
+            Some((tri, dist)) if depth > 0 => {
+                let q = origin + d * dist;
+                let b = self.scene.barycentric(tri, q);
+                let nq = self.scene.hit_normal(tri, b);
+                let sq = interpolate(self.scene, tri, b);
+                out += throughput * self.radiance(q, nq, &sq, -d, depth - 1, rng);
+            }
+            Some(_) => {}
+        }
+        out
+    }
+}
+
+/// The scattering at a point of triangle `tri` (barycentric `b`): vertex values interpolated.
+fn interpolate(scene: &LeafScene, tri: usize, b: [f32; 3]) -> Scatter {
+    let t = scene.triangles()[tri].map(|i| &scene.scatter()[i as usize]);
+    let mut s = *t[0];
+    s.r = [0, 1].map(|k| t[0].r[k] * b[0] + t[1].r[k] * b[1] + t[2].r[k] * b[2]);
+    s.t = t[0].t * b[0] + t[1].t * b[1] + t[2].t * b[2];
+    for k in 0..2 {
+        s.gloss[k].rho_s = t[0].gloss[k].rho_s * b[0] + t[1].gloss[k].rho_s * b[1] + t[2].gloss[k].rho_s * b[2];
+        s.gloss[k].roughness =
+            t[0].gloss[k].roughness * b[0] + t[1].gloss[k].roughness * b[1] + t[2].gloss[k].roughness * b[2];
+    }
+    s
+}
+
+/// A reference: per listed vertex, both sides' radiance, and the two independent halves of the
+/// paths it averages (their difference measures the reference's own noise).
+#[derive(Debug, Clone)]
+pub struct Reference {
+    /// Mean over all paths.
+    pub radiance: Vec<TwoSided>,
+    /// Means over the first and the second half of the paths.
+    pub halves: [Vec<TwoSided>; 2],
+}
+
+impl Reference {
+    /// The reference's own relative L2 noise: |A − B| / (2 |mean|) over the two halves (the
+    /// standard deviation of the full mean, as a share of it). An error measured against it is
+    /// meaningful down to about this level.
+    pub fn noise(&self) -> f64 {
+        rel_l2(&self.halves[0], &self.halves[1]) * 0.5 * rel_norm(&self.halves[1], &self.radiance)
+    }
+}
+
+/// |a| / |b| over both sides of every vertex.
+fn rel_norm(a: &[TwoSided], b: &[TwoSided]) -> f64 {
+    let norm =
+        |x: &[TwoSided]| x.iter().flat_map(|v| v.iter()).map(|c| f64::from(c.length_squared())).sum::<f64>().sqrt();
+    norm(a) / norm(b).max(f64::MIN_POSITIVE)
+}
+
+/// The reference radiance of both sides of each of `vertices`, toward `eye`, under
+/// `env_without_sun` and `sun`.
+pub fn reference(
+    scene: &LeafScene,
+    env_without_sun: &EnvMap,
+    sun: Option<SunLight>,
+    eye: Vec3,
+    vertices: &[usize],
+    params: &ReferenceParams,
+) -> Reference {
+    let tracer = Tracer {
+        scene,
+        env: env_without_sun,
+        sampler: EnvSampler::new(env_without_sun),
+        sun,
+        sun_cos: (params.sun_diameter_deg * 0.5).to_radians().cos(),
+        eps: scene.ray_offset(),
+    };
+    let half = params.paths.max(2) / 2;
+    let per_vertex: Vec<[TwoSided; 2]> = vertices
+        .par_iter()
+        .map(|&v| {
+            let mut rng = SplitMix64::new(params.seed ^ (v as u64).wrapping_mul(0xA076_1D64_78BD_642F));
+            let (p, n) = (scene.positions()[v], scene.normals()[v]);
+            let s = &scene.scatter()[v];
+            let view = (eye - p).normalize_or(n);
+            let mut out = [[Vec3::ZERO; 2]; 2];
+            for side in 0..2 {
+                if side == 1 && !s.translucent() {
+                    continue;
+                }
+                let ns = if side == 0 { n } else { -n };
+                let wo = into_side(view, ns);
+                for h in out.iter_mut() {
+                    let mut sum = Vec3::ZERO;
+                    for _ in 0..half {
+                        sum += tracer.radiance(p, n, s, wo, params.depth, &mut rng);
+                    }
+                    h[side] = sum / half as f32;
+                }
+            }
+            out
+        })
+        .collect();
+    let halves = [0, 1].map(|h| per_vertex.iter().map(|x| x[h]).collect::<Vec<_>>());
+    let radiance = per_vertex.iter().map(|x| [(x[0][0] + x[1][0]) * 0.5, (x[0][1] + x[1][1]) * 0.5]).collect();
+    Reference { radiance, halves }
+}
+
+/// Relative L2 error of `got` against `reference` over the listed vertices' both sides (RGB):
+/// √(Σ|a − b|² / Σ|b|²); NaN when the reference is black.
+pub fn rel_l2(got: &[TwoSided], reference: &[TwoSided]) -> f64 {
+    let (mut num, mut den) = (0.0f64, 0.0f64);
+    for (a, b) in got.iter().zip(reference) {
+        for side in 0..2 {
+            num += f64::from((a[side] - b[side]).length_squared());
+            den += f64::from(b[side].length_squared());
+        }
+    }
+    if den > 0.0 { (num / den).sqrt() } else { f64::NAN }
+}

@@ -1,0 +1,194 @@
+//! Run-length encoding of byte maps, lossless, in the PackBits family with one addition for LVC
+//! maps, whose bytes are mostly 0 (in shadow) and 255 (lit): a run of either of those two costs a
+//! single byte. A control byte `c` and its six low bits `n = c & 63`:
+//!
+//! | `c` | meaning |
+//! |---|---|
+//! | `0x00–0x3F` | n + 1 zeros (1–64) |
+//! | `0x40–0x7F` | n + 1 bytes 255 (1–64) |
+//! | `0x80–0xBF` | n + 1 literal bytes follow (1–64) |
+//! | `0xC0–0xFF` | the next byte, repeated n + 3 times (3–66) |
+//!
+//! A map of alternating shadow and light costs one byte per run: the ratio is the mean run length.
+//! A zero or 255 alone (or two) inside a literal span stays in it (a control of its own would
+//! split the span and cost as much again).
+
+/// Why a byte stream does not decode.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, thiserror::Error)]
+pub enum RleError {
+    /// The stream ended inside a control's bytes.
+    #[error("run-length data truncated at byte {at}")]
+    Truncated {
+        /// Offset of the control whose bytes are missing.
+        at: usize,
+    },
+    /// The stream decodes to a different length than expected.
+    #[error("run-length data decodes to {got} bytes, expected {expected}")]
+    Length {
+        /// Bytes the stream holds (at least; decoding stops at the first byte too many).
+        got: usize,
+        /// Bytes expected.
+        expected: usize,
+    },
+}
+
+const SPAN: usize = 64;
+const MIN_RUN: usize = 3;
+const MAX_RUN: usize = 66;
+
+/// An encoder fed one byte at a time (so a map can be encoded while it is computed).
+#[derive(Debug, Clone, Default)]
+pub struct Encoder {
+    out: Vec<u8>,
+    literal: Vec<u8>,
+    run_byte: u8,
+    run_len: usize,
+}
+
+impl Encoder {
+    /// An empty encoder.
+    pub fn new() -> Encoder {
+        Encoder::default()
+    }
+
+    fn flush_literal(&mut self) {
+        for chunk in self.literal.chunks(SPAN) {
+            self.out.push(0x80 | (chunk.len() - 1) as u8);
+            self.out.extend_from_slice(chunk);
+        }
+        self.literal.clear();
+    }
+
+    fn flush_run(&mut self) {
+        let (b, mut n) = (self.run_byte, self.run_len);
+        self.run_len = 0;
+        if (b == 0 || b == 255) && (n >= MIN_RUN || self.literal.is_empty()) {
+            self.flush_literal();
+            let base = if b == 0 { 0x00 } else { 0x40 };
+            while n > 0 {
+                let k = n.min(SPAN);
+                self.out.push(base | (k - 1) as u8);
+                n -= k;
+            }
+        } else if n >= MIN_RUN {
+            self.flush_literal();
+            self.out.push(0xC0 | (n - MIN_RUN) as u8);
+            self.out.push(b);
+        } else {
+            self.literal.extend(std::iter::repeat_n(b, n));
+            if self.literal.len() >= SPAN {
+                let full = self.literal.len() / SPAN * SPAN;
+                let rest = self.literal.split_off(full);
+                self.flush_literal();
+                self.literal = rest;
+            }
+        }
+    }
+
+    /// Appends one byte.
+    #[inline]
+    pub fn push(&mut self, b: u8) {
+        let cap = if b == 0 || b == 255 { SPAN } else { MAX_RUN };
+        if self.run_len > 0 && b == self.run_byte && self.run_len < cap {
+            self.run_len += 1;
+            return;
+        }
+        if self.run_len > 0 {
+            self.flush_run();
+        }
+        self.run_byte = b;
+        self.run_len = 1;
+    }
+
+    /// The encoded stream.
+    pub fn finish(mut self) -> Vec<u8> {
+        if self.run_len > 0 {
+            self.flush_run();
+        }
+        self.flush_literal();
+        self.out
+    }
+}
+
+/// Encodes `bytes`.
+pub fn encode(bytes: &[u8]) -> Vec<u8> {
+    let mut e = Encoder::new();
+    for &b in bytes {
+        e.push(b);
+    }
+    e.finish()
+}
+
+/// Decodes `data` into `out`, which it must fill exactly.
+pub fn decode(data: &[u8], out: &mut [u8]) -> Result<(), RleError> {
+    let (mut i, mut o) = (0usize, 0usize);
+    let expected = out.len();
+    while i < data.len() {
+        let c = data[i];
+        let n = usize::from(c & 63);
+        let (len, used) = match c >> 6 {
+            0 | 1 => (n + 1, 1),
+            2 => (n + 1, 1 + n + 1),
+            _ => (n + MIN_RUN, 2),
+        };
+        if i + used > data.len() {
+            return Err(RleError::Truncated { at: i });
+        }
+        let dst = out.get_mut(o..o + len).ok_or(RleError::Length { got: o + len, expected })?;
+        match c >> 6 {
+            0 => dst.fill(0),
+            1 => dst.fill(255),
+            2 => dst.copy_from_slice(&data[i + 1..i + used]),
+            _ => dst.fill(data[i + 1]),
+        }
+        i += used;
+        o += len;
+    }
+    if o != expected {
+        return Err(RleError::Length { got: o, expected });
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use proptest::prelude::*;
+
+    proptest! {
+        #[test]
+        fn decode_inverts_encode(bytes in proptest::collection::vec(prop_oneof![Just(0u8), Just(255u8), any::<u8>()], 0..2000)) {
+            let e = encode(&bytes);
+            let mut out = vec![0u8; bytes.len()];
+            decode(&e, &mut out).unwrap();
+            prop_assert_eq!(out, bytes.clone());
+            // Never worse than one control byte per 64 literals.
+            prop_assert!(e.len() <= bytes.len() + bytes.len().div_ceil(64));
+        }
+
+        #[test]
+        fn garbage_is_an_error_not_a_panic(data in proptest::collection::vec(any::<u8>(), 0..300), n in 0usize..600) {
+            let mut out = vec![0u8; n];
+            let _ = decode(&data, &mut out);
+        }
+    }
+
+    #[test]
+    fn shadow_and_light_cost_a_byte_per_run_and_damage_is_named() {
+        // Alternating runs of 10: one byte each.
+        let bytes: Vec<u8> = (0..10_000).map(|i| if (i / 10) % 2 == 0 { 0 } else { 255 }).collect();
+        assert_eq!(encode(&bytes).len(), 1000);
+        let mut bytes = vec![255u8; 10_000];
+        bytes[5000..5100].fill(7);
+        let e = encode(&bytes);
+        assert!(e.len() < 200, "{}", e.len());
+        let mut out = vec![0u8; 10_000];
+        let mut cut = e.clone();
+        cut.truncate(cut.iter().position(|&c| c >> 6 == 3).unwrap() + 1);
+        assert!(matches!(decode(&cut, &mut out[..]), Err(RleError::Truncated { .. }) | Err(RleError::Length { .. })));
+        assert_eq!(decode(&[0xC0], &mut out[..3]), Err(RleError::Truncated { at: 0 }));
+        assert!(matches!(decode(&e, &mut out[..9_999]), Err(RleError::Length { .. })));
+        let mut longer = vec![0u8; 10_001];
+        assert_eq!(decode(&e, &mut longer), Err(RleError::Length { got: 10_000, expected: 10_001 }));
+    }
+}

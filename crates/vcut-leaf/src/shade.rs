@@ -1,0 +1,297 @@
+//! Two-pass shading (the paper's eq. 9): the direct sun from the decoded LVC map of the current
+//! sun direction, plus everything else — the environment, direct and bounced, and the bounced part
+//! of the sunlight — through the PRT transfer vectors. Per vertex both sides are shaded toward the
+//! eye, so an image can show whichever side faces it.
+//!
+//! For comparison, [`SunMethod::ShOnly`] sends the sun through the SH transfer too (no LVC): the
+//! low-frequency rendering whose lost shadow detail the paper's Fig. 8 shows.
+
+use crate::lvc::{Content, Lvc};
+use crate::prt::Transfer;
+use crate::rle::RleError;
+use crate::scene::LeafScene;
+use crate::sh::{COEFFS, ShRgb, dot_each, dot_rgb, project_delta, project_env};
+use glam::{Vec3, Vec3A};
+use rayon::prelude::*;
+use std::f32::consts::PI;
+use vcut_envmap::EnvMap;
+use vcut_envmap::sun::split_sun;
+
+/// A distant disk light.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SunLight {
+    /// Unit direction toward the sun.
+    pub dir: Vec3,
+    /// Irradiance at normal incidence (∫ over the disk of L dω), RGB.
+    pub irradiance: Vec3,
+}
+
+/// The lighting of a frame: the environment without its sun in SH, and the sun.
+#[derive(Debug, Clone)]
+pub struct Lighting {
+    /// SH coefficients of the environment (sun removed).
+    pub env: ShRgb,
+    /// The sun, if any.
+    pub sun: Option<SunLight>,
+    /// The sun's SH coefficients (a δ of its irradiance).
+    pub sun_sh: ShRgb,
+}
+
+impl Lighting {
+    /// Lighting from a map without a sun in it and a separate sun.
+    pub fn new(env_without_sun: &EnvMap, sun: Option<SunLight>) -> Lighting {
+        let env = project_env(env_without_sun);
+        let sun_sh = sun.map_or([Vec3::ZERO; COEFFS], |s| project_delta(s.dir, s.irradiance));
+        Lighting { env, sun, sun_sh }
+    }
+
+    /// Lighting from a map with a sun in it: the sun is split off (its power kept) and treated
+    /// as the disk light; a map without a sun is all environment.
+    pub fn from_map(env: &EnvMap) -> (Lighting, EnvMap) {
+        let (sun, rest) = split_sun(env);
+        let sun = sun.map(|s| SunLight { dir: s.dir, irradiance: s.irradiance });
+        (Lighting::new(&rest, sun), rest)
+    }
+
+    /// The same lighting with the sun moved to unit direction `dir` (its irradiance kept).
+    pub fn with_sun_dir(&self, dir: Vec3) -> Lighting {
+        let sun = self.sun.map(|s| SunLight { dir: dir.normalize(), ..s });
+        let sun_sh = sun.map_or([Vec3::ZERO; COEFFS], |s| project_delta(s.dir, s.irradiance));
+        Lighting { env: self.env, sun, sun_sh }
+    }
+}
+
+/// The glossy reflection of SH lighting (the paper's BRDF vector b(v)), per surface: the lobe
+/// taken as a Phong lobe around the mirror direction of exponent n = (2/m² − 2)/4 (Beckmann's
+/// Blinn–Phong equivalent, moved from the half vector to the mirror direction), whose SH
+/// convolution weights g_l = (n+1)∫₀¹ μⁿ P_l(μ) dμ filter the light, scaled by the gloss's
+/// directional albedo A(n·v, m) (tabulated by importance sampling the Beckmann distribution) and
+/// by the share of the side's sky left unoccluded.
+struct GlossTables {
+    /// A(μ_v, m): rows of m, columns of μ_v.
+    albedo: Vec<f32>,
+    /// g_l per m row.
+    bands: Vec<[f32; 5]>,
+}
+
+const GLOSS_MU: usize = 32;
+const GLOSS_M: usize = 24;
+
+fn gloss_m(k: usize) -> f32 {
+    0.02 + (1.0 - 0.02) * k as f32 / (GLOSS_M - 1) as f32
+}
+
+impl GlossTables {
+    fn get() -> &'static GlossTables {
+        static TABLES: std::sync::OnceLock<GlossTables> = std::sync::OnceLock::new();
+        TABLES.get_or_init(GlossTables::build)
+    }
+
+    fn build() -> GlossTables {
+        use crate::material::{CUTICLE_IOR, fresnel_dielectric};
+        let mut albedo = Vec::with_capacity(GLOSS_M * GLOSS_MU);
+        let mut bands = Vec::with_capacity(GLOSS_M);
+        let strata = 24;
+        for k in 0..GLOSS_M {
+            let m = gloss_m(k);
+            for j in 0..GLOSS_MU {
+                let nv = ((j as f32 + 0.5) / GLOSS_MU as f32).max(1e-3);
+                let v = Vec3::new((1.0 - nv * nv).sqrt(), nv, 0.0);
+                let mut sum = 0.0f64;
+                for a in 0..strata {
+                    for b in 0..strata {
+                        let (u1, u2) = ((a as f32 + 0.5) / strata as f32, (b as f32 + 0.5) / strata as f32);
+                        let tan2 = -m * m * (1.0 - u1).ln();
+                        let ch = 1.0 / (1.0 + tan2).sqrt();
+                        let sh = (1.0 - ch * ch).max(0.0).sqrt();
+                        let phi = 2.0 * PI * u2;
+                        let h = Vec3::new(sh * phi.cos(), ch, sh * phi.sin());
+                        let vh = v.dot(h);
+                        let l = 2.0 * vh * h - v;
+                        if l.y <= 0.0 || vh <= 0.0 {
+                            continue;
+                        }
+                        let g = (2.0 * ch * nv / vh).min(2.0 * ch * l.y / vh).min(1.0);
+                        sum += f64::from(g * fresnel_dielectric(vh, CUTICLE_IOR) * vh / (ch * nv));
+                    }
+                }
+                albedo.push((sum / (strata * strata) as f64) as f32);
+            }
+            let n = ((2.0 / (m * m) - 2.0) / 4.0).max(0.0);
+            let mom = |k: f32| (n + 1.0) / (n + k + 1.0);
+            bands.push([
+                1.0,
+                mom(1.0),
+                (3.0 * mom(2.0) - 1.0) / 2.0,
+                (5.0 * mom(3.0) - 3.0 * mom(1.0)) / 2.0,
+                (35.0 * mom(4.0) - 30.0 * mom(2.0) + 3.0) / 8.0,
+            ]);
+        }
+        GlossTables { albedo, bands }
+    }
+
+    /// Directional albedo and band weights for roughness `m` and cosine `nv`.
+    fn lookup(&self, m: f32, nv: f32) -> (f32, [f32; 5]) {
+        let x = ((m - 0.02) / (1.0 - 0.02) * (GLOSS_M - 1) as f32).clamp(0.0, (GLOSS_M - 1) as f32);
+        let k0 = x.floor() as usize;
+        let k1 = (k0 + 1).min(GLOSS_M - 1);
+        let f = x - k0 as f32;
+        let y = (nv * GLOSS_MU as f32 - 0.5).clamp(0.0, (GLOSS_MU - 1) as f32);
+        let j0 = y.floor() as usize;
+        let j1 = (j0 + 1).min(GLOSS_MU - 1);
+        let g = y - j0 as f32;
+        let at = |k: usize| self.albedo[k * GLOSS_MU + j0] * (1.0 - g) + self.albedo[k * GLOSS_MU + j1] * g;
+        let albedo = at(k0) * (1.0 - f) + at(k1) * f;
+        let mut bands = [0.0; 5];
+        for (l, b) in bands.iter_mut().enumerate() {
+            *b = self.bands[k0][l] * (1.0 - f) + self.bands[k1][l] * f;
+        }
+        (albedo, bands)
+    }
+}
+
+/// How the sun's direct light is computed.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum SunMethod {
+    /// From the LVC map (the paper's two passes).
+    Lvc,
+    /// Through the SH transfer like the environment (what SH alone can do).
+    ShOnly,
+}
+
+/// What the two passes read: the LVC maps and the transfer vectors of one scene.
+#[derive(Debug, Clone)]
+pub struct LeafData {
+    /// The sun's light-visibility convolution maps.
+    pub lvc: Lvc,
+    /// The SH transfer vectors.
+    pub transfer: Transfer,
+}
+
+/// Shades frames, keeping the decoded map of the last sun direction.
+#[derive(Debug, Default)]
+pub struct Shader {
+    map: Vec<u8>,
+    map_sun: Option<usize>,
+}
+
+/// Per vertex, the radiance leaving side 0 and side 1 toward the eye.
+pub type TwoSided = [Vec3; 2];
+
+impl Shader {
+    /// A shader with no map decoded yet.
+    pub fn new() -> Shader {
+        Shader::default()
+    }
+
+    /// Decodes the map of `lighting`'s sun direction unless it is the one already decoded;
+    /// returns whether it decoded.
+    pub fn prepare(&mut self, lvc: &Lvc, lighting: &Lighting) -> Result<bool, RleError> {
+        let Some(sun) = lighting.sun else { return Ok(false) };
+        let j = lvc.sun_index(sun.dir);
+        if self.map_sun == Some(j) {
+            return Ok(false);
+        }
+        self.map.resize(lvc.vertex_count(), 0);
+        self.map_sun = None;
+        lvc.decode(j, &mut self.map)?;
+        self.map_sun = Some(j);
+        Ok(true)
+    }
+
+    /// Shades every vertex of `scene` seen from `eye` into `out`. With [`SunMethod::Lvc`], call
+    /// [`Shader::prepare`] first (a frame whose map is missing gets no direct sun).
+    pub fn shade(
+        &self,
+        scene: &LeafScene,
+        data: &LeafData,
+        lighting: &Lighting,
+        method: SunMethod,
+        eye: Vec3,
+        out: &mut Vec<TwoSided>,
+    ) {
+        let (transfer, lvc) = (&data.transfer, Some(&data.lvc));
+        let n = scene.vertex_count();
+        out.resize(n, [Vec3::ZERO; 2]);
+        // Light through the direct transfer, and through the indirect one.
+        let mut through_direct = [Vec3A::ZERO; COEFFS];
+        let mut through_indirect = [Vec3A::ZERO; COEFFS];
+        for i in 0..COEFFS {
+            through_indirect[i] = Vec3A::from(lighting.env[i] + lighting.sun_sh[i]);
+            through_direct[i] = match method {
+                SunMethod::Lvc => Vec3A::from(lighting.env[i]),
+                SunMethod::ShOnly => through_indirect[i],
+            };
+        }
+        let map = match (method, lvc, lighting.sun) {
+            (SunMethod::Lvc, Some(lvc), Some(sun)) if self.map_sun == Some(lvc.sun_index(sun.dir)) => {
+                Some((&self.map[..], lvc.params().content))
+            }
+            _ => None,
+        };
+        let sun = lighting.sun.filter(|_| map.is_some());
+        let tables = GlossTables::get();
+        let sky_share = 1.0 / (PI * crate::sh::basis(Vec3::Y)[0]);
+        out.par_iter_mut().enumerate().with_min_len(1024).for_each(|(v, o)| {
+            let s = &scene.scatter()[v];
+            let (p, nrm) = (scene.positions()[v], scene.normals()[v]);
+            let mut e = [Vec3A::ZERO; 2];
+            for (side, e) in e.iter_mut().enumerate() {
+                let (d, ind) = (&transfer.direct[v][side], &transfer.indirect[v][side]);
+                let mut acc = Vec3A::ZERO;
+                for i in 0..COEFFS {
+                    acc += through_direct[i] * d[i] + through_indirect[i] * Vec3A::from(ind[i]);
+                }
+                *e = acc.max(Vec3A::ZERO);
+            }
+            let e = e.map(Vec3::from);
+            let view = (eye - p).normalize_or_zero();
+            let mut radiance = [s.r[0] / PI * e[0] + s.t / PI * e[1], s.r[1] / PI * e[1] + s.t / PI * e[0]];
+            // Gloss of the SH light, toward the eye mirrored into each side.
+            for (side, rad) in radiance.iter_mut().enumerate() {
+                let g = s.gloss[side];
+                if g.rho_s == Vec3::ZERO {
+                    continue;
+                }
+                let ns = if side == 0 { nrm } else { -nrm };
+                let vs = if ns.dot(view) > 0.0 { view } else { (view - 2.0 * ns.dot(view) * ns).normalize_or(ns) };
+                let nv = ns.dot(vs).max(1e-3);
+                let (albedo, bands) = tables.lookup(g.roughness, nv);
+                let mirror = 2.0 * nv * ns - vs;
+                let y = crate::sh::basis(mirror);
+                let mut filtered = Vec3A::ZERO;
+                for (i, yi) in y.iter().enumerate() {
+                    let l = (i as f32).sqrt() as usize;
+                    filtered += through_direct[i] * (yi * bands[l]);
+                }
+                let visible = (transfer.direct[v][side][0] * sky_share).clamp(0.0, 1.0);
+                *rad += g.rho_s * albedo * visible * Vec3::from(filtered.max(Vec3A::ZERO));
+            }
+            if let (Some(sun), Some((map, content))) = (sun, map) {
+                let cos = nrm.dot(sun.dir);
+                let q = f32::from(map[v]) / 255.0;
+                let vis = match content {
+                    Content::Visibility => q * cos.abs(),
+                    Content::CosineBaked => q,
+                };
+                if vis > 0.0 {
+                    let lit = usize::from(cos < 0.0);
+                    let irr = sun.irradiance * vis;
+                    let ns = if lit == 0 { nrm } else { -nrm };
+                    // The lit side reflects (diffuse + gloss toward the eye); the other transmits.
+                    let v_lit = if ns.dot(view) > 0.0 { view } else { view - 2.0 * ns.dot(view) * ns };
+                    radiance[lit] += (s.r[lit] / PI + s.gloss[lit].eval(ns, sun.dir, v_lit)) * irr;
+                    radiance[1 - lit] += s.t / PI * irr;
+                }
+            }
+            *o = radiance;
+        });
+    }
+}
+
+/// Irradiance on each side of every vertex from the environment alone (for tests and reports).
+pub fn environment_irradiance(transfer: &Transfer, lighting: &Lighting, v: usize) -> [Vec3; 2] {
+    [0, 1].map(|side| {
+        dot_rgb(&transfer.direct[v][side], &lighting.env) + dot_each(&transfer.indirect[v][side], &lighting.env)
+    })
+}

@@ -1,0 +1,504 @@
+//! `cargo xtask leaves`: the plant-leaf renderer end to end — build (or load) a plant, precompute
+//! the sun's light-visibility convolution and the SH transfer, shade a frame in two passes, and
+//! compare it and the SH-only rendering with the path-traced reference; images and key=value
+//! figures. Also the `leaves` section of `cargo xtask bench`.
+
+use crate::bench::median;
+use anyhow::{Context, Result, bail};
+use glam::Vec3;
+use indicatif::{ProgressBar, ProgressStyle};
+use serde_json::json;
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+use vcut_envmap::EnvMap;
+use vcut_leaf::image::{LeafImage, render};
+use vcut_leaf::lvc::{Content, Lvc, LvcParams};
+use vcut_leaf::material::LeafMaterial;
+use vcut_leaf::plant::{PlantParams, plant};
+use vcut_leaf::prt::{PrtParams, Transfer};
+use vcut_leaf::reference::{ReferenceParams, reference, rel_l2};
+use vcut_leaf::scene::LeafScene;
+use vcut_leaf::shade::{LeafData, Lighting, Shader, SunMethod, TwoSided};
+use vcut_scene::Camera;
+use vcut_shade::image::{Image, auto_exposure, write_png};
+
+/// Arguments of `cargo xtask leaves`.
+#[derive(clap::Args, Clone)]
+pub struct LeavesArgs {
+    /// `procedural` (the built-in plant), `asset` (the shared potted plant, every surface a leaf)
+    /// or a glTF/OBJ file read the same way.
+    #[arg(long, default_value = "procedural")]
+    pub scene: String,
+    /// Leaves of the procedural plant.
+    #[arg(long, default_value_t = 48)]
+    pub leaves: u32,
+    /// Instead of --leaves: about this many leaf vertices (16 × 8 quads per leaf).
+    #[arg(long)]
+    pub vertices: Option<usize>,
+    /// Environment: builtin:sky (default), builtin:studio or a map file; its sun is split off.
+    #[arg(long, default_value = "builtin:sky")]
+    pub env: String,
+    /// Sun direction as ELEVATION,AZIMUTH in degrees (azimuth from +Z toward +X); default the map's.
+    #[arg(long, allow_hyphen_values = true)]
+    pub sun: Option<String>,
+    /// Sun direction from a time of day in hours (6 = sunrise in the east, 12 = noon at 60°,
+    /// 18 = sunset in the west); overrides --sun.
+    #[arg(long)]
+    pub time_of_day: Option<f32>,
+    /// Sun disk diameter in degrees.
+    #[arg(long, default_value_t = 0.53)]
+    pub sun_diameter: f32,
+    /// LVC cube face resolution (6·R² sun directions).
+    #[arg(long, default_value_t = 32)]
+    pub lvc_resolution: u32,
+    /// Store the paper's cosine-weighted V in the maps instead of the visibility alone.
+    #[arg(long)]
+    pub cosine_baked: bool,
+    /// PRT rays per vertex side.
+    #[arg(long, default_value_t = 256)]
+    pub prt_rays: u32,
+    /// PRT scatterings in the indirect transfer.
+    #[arg(long, default_value_t = 2)]
+    pub bounces: u32,
+    /// Leaf reflectance R,G,B (with --transmittance and --thickness: the tissue is fitted).
+    #[arg(long)]
+    pub reflectance: Option<String>,
+    /// Leaf transmittance R,G,B.
+    #[arg(long)]
+    pub transmittance: Option<String>,
+    /// Leaf thickness (mm).
+    #[arg(long)]
+    pub thickness: Option<f32>,
+    /// Absorption σ_a R,G,B (per mm), instead of a fit.
+    #[arg(long)]
+    pub sigma_a: Option<String>,
+    /// Scattering σ_s R,G,B (per mm), instead of a fit.
+    #[arg(long)]
+    pub sigma_s: Option<String>,
+    /// Gloss of the upper side: RHO_S,ROUGHNESS.
+    #[arg(long)]
+    pub gloss_top: Option<String>,
+    /// Gloss of the lower side: RHO_S,ROUGHNESS.
+    #[arg(long)]
+    pub gloss_bottom: Option<String>,
+    /// No parameter maps on the procedural leaves.
+    #[arg(long)]
+    pub no_maps: bool,
+    /// Paths per vertex side of the reference (0: no reference).
+    #[arg(long, default_value_t = 1024)]
+    pub reference_paths: u32,
+    /// At most this many vertices get a reference (a spread subset; all of a small scene).
+    #[arg(long, default_value_t = 6500)]
+    pub reference_vertices: usize,
+    /// Image size WIDTHxHEIGHT.
+    #[arg(long, default_value = "960x720")]
+    pub size: String,
+    /// Output folder (images).
+    #[arg(long, default_value = "target/leaves")]
+    pub out: PathBuf,
+}
+
+fn triple(s: &str, what: &str) -> Result<Vec3> {
+    let v: Vec<f32> = s
+        .split(',')
+        .map(|x| x.trim().parse::<f32>())
+        .collect::<Result<_, _>>()
+        .with_context(|| format!("{what} {s}: expected R,G,B numbers"))?;
+    match v.as_slice() {
+        [r, g, b] if v.iter().all(|x| x.is_finite() && *x >= 0.0) => Ok(Vec3::new(*r, *g, *b)),
+        [x] if x.is_finite() && *x >= 0.0 => Ok(Vec3::splat(*x)),
+        _ => bail!("{what} {s}: expected three non-negative numbers R,G,B"),
+    }
+}
+
+fn pair(s: &str, what: &str) -> Result<(f32, f32)> {
+    let v: Vec<f32> = s
+        .split(',')
+        .map(|x| x.trim().parse::<f32>())
+        .collect::<Result<_, _>>()
+        .with_context(|| format!("{what} {s}: expected two numbers"))?;
+    match v.as_slice() {
+        [a, b] if a.is_finite() && b.is_finite() => Ok((*a, *b)),
+        _ => bail!("{what} {s}: expected two numbers A,B"),
+    }
+}
+
+/// The leaf material the arguments describe.
+pub fn material(args: &LeavesArgs) -> Result<LeafMaterial> {
+    let mut m = LeafMaterial::default();
+    if args.reflectance.is_some() || args.transmittance.is_some() {
+        let r = triple(args.reflectance.as_deref().context("--transmittance needs --reflectance")?, "--reflectance")?;
+        let t =
+            triple(args.transmittance.as_deref().context("--reflectance needs --transmittance")?, "--transmittance")?;
+        let h = args.thickness.unwrap_or(m.thickness);
+        m = LeafMaterial::from_measured(r, t, h).map_err(|e| anyhow::anyhow!("--reflectance/--transmittance: {e}"))?;
+    } else if let Some(h) = args.thickness {
+        if !(h.is_finite() && h > 0.0) {
+            bail!("--thickness {h}: must be positive");
+        }
+        m.thickness = h;
+    }
+    if let Some(s) = &args.sigma_a {
+        m.sigma_a = triple(s, "--sigma-a")?;
+    }
+    if let Some(s) = &args.sigma_s {
+        m.sigma_s = triple(s, "--sigma-s")?;
+    }
+    for (side, g) in [&args.gloss_top, &args.gloss_bottom].into_iter().enumerate() {
+        if let Some(g) = g {
+            let (rho, m_rough) = pair(g, if side == 0 { "--gloss-top" } else { "--gloss-bottom" })?;
+            if rho < 0.0 || m_rough <= 0.0 {
+                bail!("gloss {g}: need ρ_s ≥ 0 and roughness > 0");
+            }
+            m.gloss[side].rho_s = Vec3::splat(rho);
+            m.gloss[side].roughness = m_rough;
+        }
+    }
+    Ok(m)
+}
+
+/// The scene the arguments name.
+pub fn scene(args: &LeavesArgs, material: &LeafMaterial) -> Result<LeafScene> {
+    Ok(match args.scene.as_str() {
+        "procedural" => {
+            let mut p = match args.vertices {
+                Some(n) => PlantParams::with_vertices(n),
+                None => PlantParams { leaves: args.leaves.max(1), ..PlantParams::default() },
+            };
+            p.maps = !args.no_maps;
+            plant(&p, material)?
+        }
+        spec => {
+            let path = if spec == "asset" {
+                vcut_scene::assets::locate("plants/polyhaven_potted_plant_04_1k/potted_plant_04_1k.gltf")?
+            } else {
+                PathBuf::from(spec)
+            };
+            let s = vcut_scene::Scene::open(&path.to_string_lossy())?;
+            LeafScene::from_scene_as_leaves(&s, material).with_context(|| path.display().to_string())?
+        }
+    })
+}
+
+/// Direction toward the sun from elevation and azimuth (degrees).
+fn sun_dir(elevation: f32, azimuth: f32) -> Vec3 {
+    let (e, a) = (elevation.to_radians(), azimuth.to_radians());
+    Vec3::new(e.cos() * a.sin(), e.sin(), e.cos() * a.cos())
+}
+
+/// The sun at `hours`: rises at 6 in the east (+X), culminates at 60° in the south (+Z) at 12.
+pub fn sun_at(hours: f32) -> Vec3 {
+    let t = (hours - 6.0) / 12.0 * std::f32::consts::PI;
+    let elevation = (60.0f32.to_radians().sin() * t.sin()).asin().to_degrees();
+    let azimuth = 90.0 + (hours - 6.0) / 12.0 * 180.0;
+    sun_dir(elevation, azimuth)
+}
+
+/// A camera looking at the scene's bounding sphere from the front, a little above.
+pub fn camera(scene: &LeafScene) -> Camera {
+    let (c, r) = scene.leaf_bounds();
+    let target = c - Vec3::Y * 0.15 * r;
+    Camera {
+        name: "leaves".into(),
+        position: target + Vec3::new(0.55, 0.45, 1.0).normalize() * 2.4 * r,
+        target,
+        up: Vec3::Y,
+        fov_y_deg: 40.0,
+    }
+}
+
+fn bar(len: usize, what: &str) -> ProgressBar {
+    let pb = ProgressBar::new(len as u64);
+    pb.set_style(
+        ProgressStyle::with_template("{prefix:>10} [{bar:40}] {pos}/{len} vertices {elapsed_precise} eta {eta}")
+            .expect("valid template")
+            .progress_chars("=> "),
+    );
+    pb.set_prefix(what.to_string());
+    pb
+}
+
+/// Everything precomputed for a scene.
+pub struct Precomputed {
+    /// The LVC maps and the SH transfer.
+    pub data: LeafData,
+    /// Seconds: LVC, PRT.
+    pub seconds: (f64, f64),
+}
+
+/// Precomputes the LVC maps (every sun direction, or only `suns`) and the transfer.
+pub fn precompute(scene: &LeafScene, lvc: &LvcParams, prt: &PrtParams, suns: Option<&[usize]>) -> Precomputed {
+    let n = scene.vertex_count();
+    let t = Instant::now();
+    let pb = bar(n, "LVC");
+    let lvc = match suns {
+        None => Lvc::compute(scene, lvc, |d, _| pb.set_position(d as u64)),
+        Some(s) => Lvc::compute_suns(scene, lvc, s, |d, _| pb.set_position(d as u64)),
+    };
+    pb.finish_and_clear();
+    let lvc_s = t.elapsed().as_secs_f64();
+    let t = Instant::now();
+    let pb = bar(n, "PRT");
+    let transfer = Transfer::compute(scene, prt, |d, _| pb.set_position(d as u64));
+    pb.finish_and_clear();
+    Precomputed { data: LeafData { lvc, transfer }, seconds: (lvc_s, t.elapsed().as_secs_f64()) }
+}
+
+/// The lighting the arguments describe, and the map without its sun (for the reference).
+pub fn lighting(args: &LeavesArgs) -> Result<(Lighting, EnvMap)> {
+    let env = crate::inspect::load_envmap(&args.env)?;
+    let (mut light, rest) = Lighting::from_map(&env);
+    let dir = match (args.time_of_day, &args.sun) {
+        (Some(h), _) => Some(sun_at(h)),
+        (None, Some(s)) => {
+            let (e, a) = pair(s, "--sun")?;
+            Some(sun_dir(e, a))
+        }
+        _ => None,
+    };
+    if let Some(d) = dir {
+        if light.sun.is_none() {
+            bail!("{}: no sun found in the map to move (a sun holds ≥ 2 % of the power)", args.env);
+        }
+        light = light.with_sun_dir(d);
+    }
+    Ok((light, rest))
+}
+
+/// A spread subset of at most `max` vertices.
+fn subset(n: usize, max: usize) -> Vec<usize> {
+    if n <= max {
+        return (0..n).collect();
+    }
+    (0..max).map(|i| i * n / max).collect()
+}
+
+fn to_image(i: LeafImage) -> Image {
+    Image { width: i.width, height: i.height, rgb: i.rgb, covered: i.covered }
+}
+
+/// Runs `cargo xtask leaves`.
+pub fn run(args: &LeavesArgs) -> Result<()> {
+    let (w, h) = {
+        let (a, b) = args.size.split_once('x').context("--size: expected WIDTHxHEIGHT")?;
+        (a.parse::<u32>().context("--size width")?, b.parse::<u32>().context("--size height")?)
+    };
+    let m = material(args)?;
+    let t = Instant::now();
+    let scene = scene(args, &m)?;
+    println!("scene={}", args.scene);
+    println!("vertices={}", scene.vertex_count());
+    println!("triangles={}", scene.triangles().len());
+    println!("leaf_sigma_a={:?}", m.sigma_a.to_array());
+    println!("leaf_sigma_s={:?}", m.sigma_s.to_array());
+    println!("leaf_thickness_mm={}", m.thickness);
+    println!("scene_s={:.3}", t.elapsed().as_secs_f64());
+    let (light, rest) = lighting(args)?;
+    let sun = light.sun.context("the environment has no sun: the leaf renderer's direct pass needs one")?;
+    println!("sun_dir={:?}", sun.dir.to_array());
+    let lvc_params = LvcParams {
+        resolution: args.lvc_resolution.max(1),
+        sun_diameter_deg: args.sun_diameter,
+        content: if args.cosine_baked { Content::CosineBaked } else { Content::Visibility },
+        ..LvcParams::default()
+    };
+    let prt = PrtParams { rays: args.prt_rays, bounces: args.bounces, ..PrtParams::default() };
+    let pre = precompute(&scene, &lvc_params, &prt, None);
+    println!("lvc_s={:.3}", pre.seconds.0);
+    println!("lvc_raw_bytes={}", pre.data.lvc.raw_bytes());
+    println!("lvc_rle_bytes={}", pre.data.lvc.compressed_bytes());
+    println!("rle_ratio={:.2}", pre.data.lvc.raw_bytes() as f64 / pre.data.lvc.compressed_bytes().max(1) as f64);
+    println!("prt_s={:.3}", pre.seconds.1);
+    println!("transfer_bytes={}", pre.data.transfer.bytes());
+    let cam = camera(&scene);
+    let figures = frame_figures(&scene, &pre, &light, cam.position, 5)?;
+    println!("decode_ms={:.3}", figures.decode_ms);
+    println!("shade_ms={:.3}", figures.shade_ms);
+    let mut shader = Shader::new();
+    shader.prepare(&pre.data.lvc, &light)?;
+    let (mut lvc_rad, mut sh_rad) = (Vec::new(), Vec::new());
+    shader.shade(&scene, &pre.data, &light, SunMethod::Lvc, cam.position, &mut lvc_rad);
+    shader.shade(&scene, &pre.data, &light, SunMethod::ShOnly, cam.position, &mut sh_rad);
+    std::fs::create_dir_all(&args.out).with_context(|| format!("creating {}", args.out.display()))?;
+    let lvc_img = to_image(render(&scene, &lvc_rad, &cam, w, h, Some(&rest)));
+    let exposure = auto_exposure(&lvc_img);
+    let write = |name: &str, img: &Image| -> Result<PathBuf> {
+        let p = args.out.join(name);
+        write_png(img, &p, exposure)?;
+        Ok(p)
+    };
+    println!("png_lvc_prt={}", write("leaves.png", &lvc_img)?.display());
+    let sh_img = to_image(render(&scene, &sh_rad, &cam, w, h, Some(&rest)));
+    println!("png_sh_only={}", write("leaves-sh-only.png", &sh_img)?.display());
+    if args.reference_paths > 0 {
+        let verts = subset(scene.vertex_count(), args.reference_vertices);
+        let rp = ReferenceParams {
+            paths: args.reference_paths,
+            sun_diameter_deg: args.sun_diameter,
+            ..ReferenceParams::default()
+        };
+        let t = Instant::now();
+        let reference_out = reference(&scene, &rest, light.sun, cam.position, &verts, &rp);
+        let reference_rad = &reference_out.radiance;
+        println!("reference_s={:.3}", t.elapsed().as_secs_f64());
+        println!("reference_vertices={}", verts.len());
+        println!("reference_noise_rel_l2={:.4}", reference_out.noise());
+        let pick = |r: &[TwoSided]| verts.iter().map(|&v| r[v]).collect::<Vec<_>>();
+        println!("rel_l2_lvc_prt={:.4}", rel_l2(&pick(&lvc_rad), reference_rad));
+        println!("rel_l2_sh_only={:.4}", rel_l2(&pick(&sh_rad), reference_rad));
+        for (o, obj) in scene.objects().iter().enumerate() {
+            let range = scene.vertex_range(o);
+            let k: Vec<usize> = (0..verts.len()).filter(|&i| range.contains(&verts[i])).collect();
+            let (a, b, r) = (
+                k.iter().map(|&i| lvc_rad[verts[i]]).collect::<Vec<_>>(),
+                k.iter().map(|&i| sh_rad[verts[i]]).collect::<Vec<_>>(),
+                k.iter().map(|&i| reference_rad[i]).collect::<Vec<_>>(),
+            );
+            println!("rel_l2_lvc_prt_{}={:.4}", obj.name, rel_l2(&a, &r));
+            println!("rel_l2_sh_only_{}={:.4}", obj.name, rel_l2(&b, &r));
+        }
+        if verts.len() == scene.vertex_count() {
+            let img = to_image(render(&scene, reference_rad, &cam, w, h, Some(&rest)));
+            println!("png_reference={}", write("leaves-reference.png", &img)?.display());
+        }
+    }
+    Ok(())
+}
+
+/// Per-frame costs.
+pub struct FrameFigures {
+    /// Median time to decode one sun direction's map.
+    pub decode_ms: f64,
+    /// Median time to shade every vertex (both passes, both sides).
+    pub shade_ms: f64,
+}
+
+/// Medians over `runs` frames: decoding the map of the lighting's sun (and its neighbours), and
+/// shading.
+pub fn frame_figures(
+    scene: &LeafScene,
+    pre: &Precomputed,
+    light: &Lighting,
+    eye: Vec3,
+    runs: usize,
+) -> Result<FrameFigures> {
+    let mut decode = Vec::new();
+    let sun = light.sun.context("no sun")?;
+    let mut buf = vec![0u8; scene.vertex_count()];
+    let j = pre.data.lvc.sun_index(sun.dir);
+    for _ in 0..runs.max(1) {
+        let t = Instant::now();
+        pre.data.lvc.decode(j, &mut buf)?;
+        decode.push(t.elapsed().as_secs_f64() * 1e3);
+    }
+    let mut shader = Shader::new();
+    shader.prepare(&pre.data.lvc, light)?;
+    let mut out = Vec::new();
+    let mut shade = Vec::new();
+    for _ in 0..runs.max(1) + 1 {
+        let t = Instant::now();
+        shader.shade(scene, &pre.data, light, SunMethod::Lvc, eye, &mut out);
+        shade.push(t.elapsed().as_secs_f64() * 1e3);
+    }
+    shade.remove(0);
+    Ok(FrameFigures { decode_ms: median(decode), shade_ms: median(shade) })
+}
+
+/// The `leaves` section of `cargo xtask bench`: RLE ratio, decode and shade times for a 100k-vertex
+/// plant (and shade time for 500k), errors against the path-traced reference. `quick` runs a
+/// smaller plant so CI stays short (the keys then say which size they measured).
+pub fn bench(quick: bool, out: &Path) -> Result<serde_json::Value> {
+    println!("== leaves: LVC + PRT against the path-traced reference");
+    let m = LeafMaterial::default();
+    let env = vcut_envmap::procedural::PreethamSky::default().bake(512);
+    let (light, rest) = Lighting::from_map(&env);
+    let sun = light.sun.context("the built-in sky has a sun")?;
+    let (big, huge, prt_rays, ref_vertices, ref_paths) =
+        if quick { (10_000, 50_000, 64, 300, 512) } else { (100_000, 500_000, 128, 1500, 2048) };
+    let lvc_params = LvcParams::default();
+    // The 100k plant: everything precomputed.
+    let scene = plant(&PlantParams::with_vertices(big), &m)?;
+    println!("vertices={}", scene.vertex_count());
+    let pre = precompute(&scene, &lvc_params, &PrtParams { rays: prt_rays, ..PrtParams::default() }, None);
+    let cam = camera(&scene);
+    let f = frame_figures(&scene, &pre, &light, cam.position, 7)?;
+    // The cosine-baked maps, for their ratio (the paper's byte content), on the same plant.
+    let baked_ratio = {
+        let t = Instant::now();
+        let pb = bar(scene.vertex_count(), "LVC cos");
+        let baked = Lvc::compute(&scene, &LvcParams { content: Content::CosineBaked, ..lvc_params }, |d, _| {
+            pb.set_position(d as u64)
+        });
+        pb.finish_and_clear();
+        println!("lvc_cosine_baked_s={:.1}", t.elapsed().as_secs_f64());
+        baked.raw_bytes() as f64 / baked.compressed_bytes().max(1) as f64
+    };
+    let verts = subset(scene.vertex_count(), ref_vertices);
+    let rp = ReferenceParams { paths: ref_paths, ..ReferenceParams::default() };
+    let t = Instant::now();
+    let reference_out = reference(&scene, &rest, Some(sun), cam.position, &verts, &rp);
+    let reference_rad = &reference_out.radiance;
+    let reference_s = t.elapsed().as_secs_f64();
+    let mut shader = Shader::new();
+    shader.prepare(&pre.data.lvc, &light)?;
+    let (mut lvc_rad, mut sh_rad) = (Vec::new(), Vec::new());
+    shader.shade(&scene, &pre.data, &light, SunMethod::Lvc, cam.position, &mut lvc_rad);
+    shader.shade(&scene, &pre.data, &light, SunMethod::ShOnly, cam.position, &mut sh_rad);
+    let pick = |r: &[TwoSided]| verts.iter().map(|&v| r[v]).collect::<Vec<_>>();
+    let rel_lvc = rel_l2(&pick(&lvc_rad), reference_rad);
+    let rel_sh = rel_l2(&pick(&sh_rad), reference_rad);
+    let noise = reference_out.noise();
+    std::fs::create_dir_all(out).with_context(|| format!("creating {}", out.display()))?;
+    let img = to_image(render(&scene, &lvc_rad, &cam, 960, 720, Some(&rest)));
+    let exposure = auto_exposure(&img);
+    write_png(&img, &out.join("leaves.png"), exposure)?;
+    write_png(
+        &to_image(render(&scene, &sh_rad, &cam, 960, 720, Some(&rest))),
+        &out.join("leaves-sh-only.png"),
+        exposure,
+    )?;
+    // The 500k plant: shading needs the current sun direction's map only.
+    let huge_scene = plant(&PlantParams::with_vertices(huge), &m)?;
+    let j = pre.data.lvc.sun_index(sun.dir);
+    let huge_pre =
+        precompute(&huge_scene, &lvc_params, &PrtParams { rays: 16, bounces: 2, ..PrtParams::default() }, Some(&[j]));
+    let fh = frame_figures(&huge_scene, &huge_pre, &light, camera(&huge_scene).position, 5)?;
+    let rle_ratio = pre.data.lvc.raw_bytes() as f64 / pre.data.lvc.compressed_bytes().max(1) as f64;
+    for (k, v) in [
+        ("rle_ratio", rle_ratio),
+        ("rle_ratio_cosine_baked", baked_ratio),
+        ("decode_ms", f.decode_ms),
+        ("shade_ms", f.shade_ms),
+        ("shade_ms_large", fh.shade_ms),
+        ("rel_l2_lvc_prt", rel_lvc),
+        ("rel_l2_sh_only", rel_sh),
+        ("reference_noise_rel_l2", noise),
+    ] {
+        println!("{k}={v:.4}");
+    }
+    Ok(json!({
+        "vertices_100k": scene.vertex_count(),
+        "vertices_500k": huge_scene.vertex_count(),
+        "quick": quick,
+        "rle_ratio": rle_ratio,
+        "rle_ratio_cosine_baked": baked_ratio,
+        "lvc_raw_bytes": pre.data.lvc.raw_bytes(),
+        "lvc_rle_bytes": pre.data.lvc.compressed_bytes(),
+        "lvc_s": pre.seconds.0,
+        "prt_s": pre.seconds.1,
+        "prt_rays": prt_rays,
+        "transfer_bytes": pre.data.transfer.bytes(),
+        "decode_ms_100k": f.decode_ms,
+        "shade_ms_100k": f.shade_ms,
+        "shade_ms_500k": fh.shade_ms,
+        "prt_s_500k": huge_pre.seconds.1,
+        "rel_l2_lvc_prt": rel_lvc,
+        "rel_l2_sh_only": rel_sh,
+        "reference_noise_rel_l2": noise,
+        "reference_vertices": verts.len(),
+        "reference_paths": ref_paths,
+        "reference_s": reference_s,
+        "goals": { "rle_ratio_min": 8.0, "decode_ms_100k_max": 2.0, "shade_ms_100k_max": 28.0, "shade_ms_500k_max": 100.0 },
+        "images": [out.join("leaves.png"), out.join("leaves-sh-only.png")],
+    }))
+}
