@@ -200,7 +200,7 @@ pub fn camera(scene: &LeafScene) -> Camera {
     let target = c - Vec3::Y * 0.15 * r;
     Camera {
         name: "leaves".into(),
-        position: target + Vec3::new(0.55, 0.45, 1.0).normalize() * 2.4 * r,
+        position: target + Vec3::new(0.55, 0.45, 1.0).normalize() * 3.2 * r,
         target,
         up: Vec3::Y,
         fov_y_deg: 40.0,

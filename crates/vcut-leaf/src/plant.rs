@@ -56,7 +56,7 @@ const BARK: Vec3 = Vec3::new(0.20, 0.14, 0.08);
 /// Soil.
 const GROUND: Vec3 = Vec3::new(0.18, 0.15, 0.11);
 
-/// A thin cylinder from `a` to `b` (8 sides, open ends).
+/// A thin cylinder from `a` to `b` (8 sides, both ends capped).
 fn tube(a: Vec3, b: Vec3, radius: f32, pos: &mut Vec<Vec3>, tris: &mut Vec<[u32; 3]>) {
     let axis = (b - a).normalize();
     let u = axis.any_orthonormal_vector();
@@ -73,6 +73,24 @@ fn tube(a: Vec3, b: Vec3, radius: f32, pos: &mut Vec<Vec3>, tris: &mut Vec<[u32;
         let (i0, i1) = (base + k, base + (k + 1) % sides);
         tris.push([i0, i1, i1 + sides]);
         tris.push([i0, i1 + sides, i0 + sides]);
+    }
+    // Caps: a fan round each end's centre (own vertices, so their normals face out).
+    for (end, ring, out) in [(a, base, -axis), (b, base + sides, axis)] {
+        let centre = pos.len() as u32;
+        pos.push(end);
+        let start = pos.len() as u32;
+        for k in 0..sides {
+            pos.push(pos[(ring + k) as usize]);
+        }
+        for k in 0..sides {
+            let (i0, i1) = (start + k, start + (k + 1) % sides);
+            let (p0, p1) = (pos[i0 as usize], pos[i1 as usize]);
+            if (p0 - end).cross(p1 - end).dot(out) > 0.0 {
+                tris.push([centre, i0, i1]);
+            } else {
+                tris.push([centre, i1, i0]);
+            }
+        }
     }
 }
 

@@ -1,8 +1,9 @@
 //! The path-traced reference the two passes are measured against: the same BSDF (diffuse
 //! reflection and gloss per side, diffuse transmission), the sun as a disk sampled at every path
 //! vertex (next-event estimation with a shadow ray), the environment without its sun (full
-//! resolution, bilinear) sampled both by its luminance and by the BSDF, combined by multiple
-//! importance sampling (balance heuristic), `depth` scatterings.
+//! resolution, bilinear) sampled both by its luminance and by the BSDF (diffuse lobes and the
+//! gloss's Beckmann half vectors), combined by multiple importance sampling (balance heuristic),
+//! `depth` scatterings.
 //!
 //! Like [`crate::shade`], each side of a vertex is shaded toward the eye, mirrored into that side's
 //! hemisphere when the eye is on the other side.
@@ -142,10 +143,24 @@ impl Tracer<'_> {
             }
         }
         let out_side = if n.dot(wo) >= 0.0 { n } else { -n };
+        let gloss = s.gloss[usize::from(n.dot(wo) < 0.0)];
+        // BSDF sampling as a mixture: the gloss lobe (Beckmann half vectors) with probability
+        // ½ when the side is glossy, else a cosine-weighted direction on the outgoing side (½,
+        // or 1 when opaque) or through the leaf.
+        let p_gloss = if gloss.rho_s == Vec3::ZERO { 0.0 } else { 0.5 };
         let p_same = if s.translucent() { 0.5 } else { 1.0 };
+        let m = gloss.roughness.max(0.02);
         let bsdf_pdf = |d: Vec3| {
             let c = d.dot(out_side);
-            (if c >= 0.0 { p_same } else { 1.0 - p_same }) * c.abs() / PI
+            let diffuse = (if c >= 0.0 { p_same } else { 1.0 - p_same }) * c.abs() / PI;
+            let lobe = if c > 0.0 && p_gloss > 0.0 {
+                let h = (d + wo).normalize_or_zero();
+                let (nh, vh) = (h.dot(out_side), h.dot(wo));
+                if nh > 0.0 && vh > 0.0 { crate::material::beckmann(nh, m) * nh / (4.0 * vh) } else { 0.0 }
+            } else {
+                0.0
+            };
+            p_gloss * lobe + (1.0 - p_gloss) * diffuse
         };
         // The environment by its luminance (MIS weight against the BSDF's pdf).
         let (d, pdf_env) = self.sampler.sample(rng);
@@ -156,20 +171,29 @@ impl Tracer<'_> {
                 out += f * n.dot(d).abs() * self.env.radiance(d) / (pdf_env + bsdf_pdf(d));
             }
         }
-        // One BSDF-sampled direction: the outgoing side with probability ½ (1 when opaque), then
-        // cosine-weighted within it.
-        let same = (rng.next_f64() as f32) < p_same;
-        let hemi = if same { out_side } else { -out_side };
-        let (u1, u2) = (rng.next_f64() as f32, rng.next_f64() as f32);
-        let (r, phi) = (u1.sqrt(), 2.0 * PI * u2);
-        let (a, b) = hemi.any_orthonormal_pair();
-        let d = (a * (r * phi.cos()) + b * (r * phi.sin()) + hemi * (1.0 - u1).max(0.0).sqrt()).normalize();
-        let cos = d.dot(hemi).max(1e-6);
-        let pdf = (if same { p_same } else { 1.0 - p_same }) * cos / PI;
+        let (u0, u1, u2) = (rng.next_f64() as f32, rng.next_f64() as f32, rng.next_f64() as f32);
+        let d = if u0 < p_gloss {
+            let tan2 = -m * m * (1.0 - u1).max(1e-12).ln();
+            let ch = 1.0 / (1.0 + tan2).sqrt();
+            let sh = (1.0 - ch * ch).max(0.0).sqrt();
+            let phi = 2.0 * PI * u2;
+            let (a, b) = out_side.any_orthonormal_pair();
+            let h = a * (sh * phi.cos()) + b * (sh * phi.sin()) + out_side * ch;
+            2.0 * wo.dot(h) * h - wo
+        } else {
+            let same = (u0 - p_gloss) / (1.0 - p_gloss) < p_same;
+            let hemi = if same { out_side } else { -out_side };
+            let (r, phi) = (u1.sqrt(), 2.0 * PI * u2);
+            let (a, b) = hemi.any_orthonormal_pair();
+            (a * (r * phi.cos()) + b * (r * phi.sin()) + hemi * (1.0 - u1).max(0.0).sqrt()).normalize()
+        };
+        let pdf = bsdf_pdf(d);
         let f = s.eval(n, d, wo);
-        if f == Vec3::ZERO {
+        if f == Vec3::ZERO || pdf <= 0.0 {
             return out;
         }
+        let cos = n.dot(d).abs();
+        let hemi = if n.dot(d) >= 0.0 { n } else { -n };
         let throughput = f * cos / pdf;
         let origin = p + hemi * self.eps;
         match self.scene.occluder().closest_hit(origin, d, f32::INFINITY) {
