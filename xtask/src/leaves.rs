@@ -11,7 +11,8 @@ use serde_json::json;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 use vcut_envmap::EnvMap;
-use vcut_leaf::image::{LeafImage, render};
+use vcut_leaf::image::{LeafImage, render, render_triangles};
+use vcut_leaf::lod::{Lod, LodParams};
 use vcut_leaf::lvc::{Content, Lvc, LvcParams};
 use vcut_leaf::material::LeafMaterial;
 use vcut_leaf::plant::{PlantParams, plant};
@@ -20,7 +21,7 @@ use vcut_leaf::reference::{ReferenceParams, reference, rel_l2};
 use vcut_leaf::scene::LeafScene;
 use vcut_leaf::shade::{LeafData, Lighting, Shader, SunMethod, TwoSided};
 use vcut_scene::Camera;
-use vcut_shade::image::{Image, auto_exposure, write_png};
+use vcut_shade::image::{Image, auto_exposure, pixel_errors, write_png};
 
 /// Arguments of `cargo xtask leaves`.
 #[derive(clap::Args, Clone)]
@@ -273,6 +274,22 @@ fn subset(n: usize, max: usize) -> Vec<usize> {
     (0..max).map(|i| i * n / max).collect()
 }
 
+/// 2 × 2 box filter of an image twice the size (a pixel is covered when any sample is).
+fn downsample(i: &LeafImage) -> Image {
+    let (w, h) = (i.width as usize / 2, i.height as usize / 2);
+    let mut rgb = Vec::with_capacity(w * h);
+    let mut covered = Vec::with_capacity(w * h);
+    for y in 0..h {
+        for x in 0..w {
+            let k = |dx: usize, dy: usize| (2 * y + dy) * i.width as usize + 2 * x + dx;
+            let ks = [k(0, 0), k(1, 0), k(0, 1), k(1, 1)];
+            rgb.push(ks.iter().map(|&k| i.rgb[k]).sum::<Vec3>() * 0.25);
+            covered.push(ks.iter().any(|&k| i.covered[k]));
+        }
+    }
+    Image { width: w as u32, height: h as u32, rgb, covered }
+}
+
 fn to_image(i: LeafImage) -> Image {
     Image { width: i.width, height: i.height, rgb: i.rgb, covered: i.covered }
 }
@@ -330,6 +347,10 @@ pub fn run(args: &LeavesArgs) -> Result<()> {
     println!("png_lvc_prt={}", write("leaves.png", &lvc_img)?.display());
     let sh_img = to_image(render(&scene, &sh_rad, &cam, w, h, Some(&rest)));
     println!("png_sh_only={}", write("leaves-sh-only.png", &sh_img)?.display());
+    let lod_figures = lod_report(&scene, &pre.data, &light, &cam, (w, h), &rest)?;
+    for (k, v) in &lod_figures {
+        println!("{k}={v}");
+    }
     if args.reference_paths > 0 {
         let verts = subset(scene.vertex_count(), args.reference_vertices);
         let rp = ReferenceParams {
@@ -363,6 +384,66 @@ pub fn run(args: &LeavesArgs) -> Result<()> {
         }
     }
     Ok(())
+}
+
+/// Levels of detail: per level, triangles, vertices and shade time at the frame's camera; then,
+/// from four times farther (where leaves are a few pixels across), the automatic per-leaf choice
+/// against the full meshes: levels used, shade time, and the image difference. key=value pairs.
+fn lod_report(
+    scene: &LeafScene,
+    data: &LeafData,
+    light: &Lighting,
+    cam: &Camera,
+    (w, h): (u32, u32),
+    background: &EnvMap,
+) -> Result<Vec<(String, String)>> {
+    let t = Instant::now();
+    let lod = Lod::build(scene, &data.transfer, &LodParams::default());
+    let mut out = vec![("lod_build_s".to_string(), format!("{:.3}", t.elapsed().as_secs_f64()))];
+    let mut shader = Shader::new();
+    shader.prepare(&data.lvc, light)?;
+    let mut rad = Vec::new();
+    let timed = |sel: &vcut_leaf::lod::Selection, eye: Vec3, rad: &mut Vec<TwoSided>| {
+        let mut times = Vec::new();
+        for _ in 0..5 {
+            let t = Instant::now();
+            shader.shade_lod(scene, data, sel, light, SunMethod::Lvc, eye, rad);
+            times.push(t.elapsed().as_secs_f64() * 1e3);
+        }
+        median(times)
+    };
+    for k in 0..lod.level_count() {
+        let sel = lod.select(scene, &data.transfer, cam.position, cam.fov_y_deg, h, Some(k));
+        out.push((format!("lod_{k}_leaf_triangles"), lod.triangles_at(k).to_string()));
+        out.push((format!("lod_{k}_vertices_shaded"), sel.vertices.len().to_string()));
+        out.push((format!("lod_{k}_shade_ms"), format!("{:.3}", timed(&sel, cam.position, &mut rad))));
+    }
+    // From farther away, each leaf at the level its size asks for against every leaf in full:
+    // images rendered at 2 × 2 samples per pixel and box-filtered, so silhouettes compare as a
+    // display would show them.
+    for dist in [2.0f32, 4.0, 8.0] {
+        let far = Camera { position: cam.target + (cam.position - cam.target) * dist, ..cam.clone() };
+        let mut images = Vec::new();
+        for force in [Some(0), None] {
+            let sel = lod.select(scene, &data.transfer, far.position, far.fov_y_deg, h, force);
+            let ms = timed(&sel, far.position, &mut rad);
+            let mut full_rad = vec![[Vec3::ZERO; 2]; scene.vertex_count()];
+            for (i, &v) in sel.vertices.iter().enumerate() {
+                full_rad[v as usize] = rad[i];
+            }
+            let big = render_triangles(scene, &sel.triangles, &full_rad, &far, (2 * w, 2 * h), Some(background));
+            images.push(downsample(&big));
+            let name = if force.is_some() { "full" } else { "auto" };
+            out.push((format!("lod_x{dist}_{name}_shade_ms"), format!("{ms:.3}")));
+            out.push((format!("lod_x{dist}_{name}_vertices_shaded"), sel.vertices.len().to_string()));
+            if force.is_none() {
+                out.push((format!("lod_x{dist}_auto_leaves_per_level"), format!("{:?}", sel.leaves_per_level)));
+            }
+        }
+        let (rel, _) = pixel_errors(&images[1], &images[0]);
+        out.push((format!("lod_x{dist}_pixel_rel_l2_vs_full"), format!("{rel:.4}")));
+    }
+    Ok(out)
 }
 
 /// Per-frame costs.

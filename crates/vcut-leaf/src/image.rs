@@ -31,13 +31,26 @@ pub fn render(
     height: u32,
     background: Option<&EnvMap>,
 ) -> LeafImage {
+    render_triangles(scene, scene.triangles(), radiance, camera, (width, height), background)
+}
+
+/// Rasterises `triangles` (scene vertex indices, e.g. a level-of-detail selection's) with
+/// per-vertex `radiance` indexed by scene vertex.
+pub fn render_triangles(
+    scene: &LeafScene,
+    triangles: &[[u32; 3]],
+    radiance: &[TwoSided],
+    camera: &Camera,
+    (width, height): (u32, u32),
+    background: Option<&EnvMap>,
+) -> LeafImage {
     let (w, h) = (width.max(1) as usize, height.max(1) as usize);
     let vp = camera.view_projection(w as f32 / h as f32);
     let clip: Vec<Vec4> = scene.positions().iter().map(|p| vp * p.extend(1.0)).collect();
     let mut depth = vec![f32::INFINITY; w * h];
     let mut rgb = vec![Vec3::ZERO; w * h];
     let mut covered = vec![false; w * h];
-    for t in scene.triangles() {
+    for t in triangles {
         let c = t.map(|i| clip[i as usize]);
         let Some(s) = to_screen(c, w, h) else { continue };
         // The side facing the camera: by the triangle's winding against the vertex normals.

@@ -11,6 +11,8 @@
 //! - [`shade`]: a frame — decode the sun direction's map, add the PRT pass — and the SH-only
 //!   rendering it is compared with; [`reference`]: the path-traced reference; [`image`]: pictures
 //!   of two-sided leaves;
+//! - [`lod`]: coarser meshes of each leaf (meshoptimizer) with Gaussian-averaged transfer, chosen
+//!   per leaf by its size on screen;
 //! - [`plant`]: a procedural plant of any leaf count; [`scene`]: leaves and opaque surfaces
 //!   flattened for all of the above.
 //!
@@ -31,6 +33,7 @@
 //! ```
 
 pub mod image;
+pub mod lod;
 pub mod lvc;
 pub mod material;
 pub mod plant;

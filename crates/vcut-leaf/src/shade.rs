@@ -7,6 +7,7 @@
 //! low-frequency rendering whose lost shadow detail the paper's Fig. 8 shows.
 
 use crate::lvc::{Content, Lvc};
+use crate::material::Scatter;
 use crate::prt::Transfer;
 use crate::rle::RleError;
 use crate::scene::LeafScene;
@@ -199,6 +200,43 @@ impl Shader {
         Ok(true)
     }
 
+    fn context<'a>(
+        &'a self,
+        scene: &'a LeafScene,
+        data: &'a LeafData,
+        lighting: &Lighting,
+        method: SunMethod,
+        eye: Vec3,
+    ) -> FrameContext<'a> {
+        let lvc = &data.lvc;
+        // Light through the direct transfer, and through the indirect one.
+        let mut through_direct = [Vec3A::ZERO; COEFFS];
+        let mut through_indirect = [Vec3A::ZERO; COEFFS];
+        for i in 0..COEFFS {
+            through_indirect[i] = Vec3A::from(lighting.env[i] + lighting.sun_sh[i]);
+            through_direct[i] = match method {
+                SunMethod::Lvc => Vec3A::from(lighting.env[i]),
+                SunMethod::ShOnly => through_indirect[i],
+            };
+        }
+        let map = match (method, lighting.sun) {
+            (SunMethod::Lvc, Some(sun)) if self.map_sun == Some(lvc.sun_index(sun.dir)) => {
+                Some((&self.map[..], lvc.params().content))
+            }
+            _ => None,
+        };
+        FrameContext {
+            scene,
+            through_direct,
+            through_indirect,
+            map,
+            sun: lighting.sun.filter(|_| map.is_some()),
+            tables: GlossTables::get(),
+            sky_share: 1.0 / (PI * crate::sh::basis(Vec3::Y)[0]),
+            eye,
+        }
+    }
+
     /// Shades every vertex of `scene` seen from `eye` into `out`. With [`SunMethod::Lvc`], call
     /// [`Shader::prepare`] first (a frame whose map is missing gets no direct sun).
     pub fn shade(
@@ -210,82 +248,105 @@ impl Shader {
         eye: Vec3,
         out: &mut Vec<TwoSided>,
     ) {
-        let (transfer, lvc) = (&data.transfer, Some(&data.lvc));
-        let n = scene.vertex_count();
-        out.resize(n, [Vec3::ZERO; 2]);
-        // Light through the direct transfer, and through the indirect one.
-        let mut through_direct = [Vec3A::ZERO; COEFFS];
-        let mut through_indirect = [Vec3A::ZERO; COEFFS];
-        for i in 0..COEFFS {
-            through_indirect[i] = Vec3A::from(lighting.env[i] + lighting.sun_sh[i]);
-            through_direct[i] = match method {
-                SunMethod::Lvc => Vec3A::from(lighting.env[i]),
-                SunMethod::ShOnly => through_indirect[i],
-            };
-        }
-        let map = match (method, lvc, lighting.sun) {
-            (SunMethod::Lvc, Some(lvc), Some(sun)) if self.map_sun == Some(lvc.sun_index(sun.dir)) => {
-                Some((&self.map[..], lvc.params().content))
-            }
-            _ => None,
-        };
-        let sun = lighting.sun.filter(|_| map.is_some());
-        let tables = GlossTables::get();
-        let sky_share = 1.0 / (PI * crate::sh::basis(Vec3::Y)[0]);
+        let ctx = self.context(scene, data, lighting, method, eye);
+        let t = &data.transfer;
+        out.resize(scene.vertex_count(), [Vec3::ZERO; 2]);
         out.par_iter_mut().enumerate().with_min_len(1024).for_each(|(v, o)| {
-            let s = &scene.scatter()[v];
-            let (p, nrm) = (scene.positions()[v], scene.normals()[v]);
-            let mut e = [Vec3A::ZERO; 2];
-            for (side, e) in e.iter_mut().enumerate() {
-                let (d, ind) = (&transfer.direct[v][side], &transfer.indirect[v][side]);
-                let mut acc = Vec3A::ZERO;
-                for i in 0..COEFFS {
-                    acc += through_direct[i] * d[i] + through_indirect[i] * Vec3A::from(ind[i]);
-                }
-                *e = acc.max(Vec3A::ZERO);
-            }
-            let e = e.map(Vec3::from);
-            let view = (eye - p).normalize_or_zero();
-            let mut radiance = [s.r[0] / PI * e[0] + s.t / PI * e[1], s.r[1] / PI * e[1] + s.t / PI * e[0]];
-            // Gloss of the SH light, toward the eye mirrored into each side.
-            for (side, rad) in radiance.iter_mut().enumerate() {
-                let g = s.gloss[side];
-                if g.rho_s == Vec3::ZERO {
-                    continue;
-                }
-                let ns = if side == 0 { nrm } else { -nrm };
-                let vs = if ns.dot(view) > 0.0 { view } else { (view - 2.0 * ns.dot(view) * ns).normalize_or(ns) };
-                let nv = ns.dot(vs).max(1e-3);
-                let (albedo, bands) = tables.lookup(g.roughness, nv);
-                let mirror = 2.0 * nv * ns - vs;
-                let y = crate::sh::basis(mirror);
-                let mut filtered = Vec3A::ZERO;
-                for (i, yi) in y.iter().enumerate() {
-                    let l = (i as f32).sqrt() as usize;
-                    filtered += through_direct[i] * (yi * bands[l]);
-                }
-                let visible = (transfer.direct[v][side][0] * sky_share).clamp(0.0, 1.0);
-                *rad += g.rho_s * albedo * visible * Vec3::from(filtered.max(Vec3A::ZERO));
-            }
-            if let (Some(sun), Some((map, content))) = (sun, map) {
-                let cos = nrm.dot(sun.dir);
-                let q = f32::from(map[v]) / 255.0;
-                let vis = match content {
-                    Content::Visibility => q * cos.abs(),
-                    Content::CosineBaked => q,
-                };
-                if vis > 0.0 {
-                    let lit = usize::from(cos < 0.0);
-                    let irr = sun.irradiance * vis;
-                    let ns = if lit == 0 { nrm } else { -nrm };
-                    // The lit side reflects (diffuse + gloss toward the eye); the other transmits.
-                    let v_lit = if ns.dot(view) > 0.0 { view } else { view - 2.0 * ns.dot(view) * ns };
-                    radiance[lit] += (s.r[lit] / PI + s.gloss[lit].eval(ns, sun.dir, v_lit)) * irr;
-                    radiance[1 - lit] += s.t / PI * irr;
-                }
-            }
-            *o = radiance;
+            *o = ctx.vertex(v, &t.direct[v], &t.indirect[v], &scene.scatter()[v]);
         });
+    }
+
+    /// Shades the vertices a level-of-detail selection keeps (`out[k]` for `selection`'s k-th
+    /// vertex), with their averaged transfer.
+    #[allow(clippy::too_many_arguments)] // `shade`'s arguments and the selection
+    pub fn shade_lod(
+        &self,
+        scene: &LeafScene,
+        data: &LeafData,
+        selection: &crate::lod::Selection,
+        lighting: &Lighting,
+        method: SunMethod,
+        eye: Vec3,
+        out: &mut Vec<TwoSided>,
+    ) {
+        let ctx = self.context(scene, data, lighting, method, eye);
+        out.resize(selection.vertices.len(), [Vec3::ZERO; 2]);
+        out.par_iter_mut().enumerate().with_min_len(1024).for_each(|(k, o)| {
+            let (v, direct, indirect, scatter) = selection.vertex(k);
+            *o = ctx.vertex(v, direct, indirect, scatter);
+        });
+    }
+}
+
+/// What every vertex of one frame shares.
+struct FrameContext<'a> {
+    scene: &'a LeafScene,
+    through_direct: [Vec3A; COEFFS],
+    through_indirect: [Vec3A; COEFFS],
+    map: Option<(&'a [u8], Content)>,
+    sun: Option<SunLight>,
+    tables: &'static GlossTables,
+    sky_share: f32,
+    eye: Vec3,
+}
+
+impl FrameContext<'_> {
+    /// Both sides of vertex `v` with transfer `direct`, `indirect` and scattering `s`.
+    fn vertex(&self, v: usize, direct: &[[f32; COEFFS]; 2], indirect: &[[Vec3; COEFFS]; 2], s: &Scatter) -> TwoSided {
+        let scene = self.scene;
+        let (through_direct, through_indirect) = (&self.through_direct, &self.through_indirect);
+        let (tables, sky_share, eye) = (self.tables, self.sky_share, self.eye);
+        let (p, nrm) = (scene.positions()[v], scene.normals()[v]);
+        let mut e = [Vec3A::ZERO; 2];
+        for (side, e) in e.iter_mut().enumerate() {
+            let (d, ind) = (&direct[side], &indirect[side]);
+            let mut acc = Vec3A::ZERO;
+            for i in 0..COEFFS {
+                acc += through_direct[i] * d[i] + through_indirect[i] * Vec3A::from(ind[i]);
+            }
+            *e = acc.max(Vec3A::ZERO);
+        }
+        let e = e.map(Vec3::from);
+        let view = (eye - p).normalize_or_zero();
+        let mut radiance = [s.r[0] / PI * e[0] + s.t / PI * e[1], s.r[1] / PI * e[1] + s.t / PI * e[0]];
+        // Gloss of the SH light, toward the eye mirrored into each side.
+        for (side, rad) in radiance.iter_mut().enumerate() {
+            let g = s.gloss[side];
+            if g.rho_s == Vec3::ZERO {
+                continue;
+            }
+            let ns = if side == 0 { nrm } else { -nrm };
+            let vs = if ns.dot(view) > 0.0 { view } else { (view - 2.0 * ns.dot(view) * ns).normalize_or(ns) };
+            let nv = ns.dot(vs).max(1e-3);
+            let (albedo, bands) = tables.lookup(g.roughness, nv);
+            let mirror = 2.0 * nv * ns - vs;
+            let y = crate::sh::basis(mirror);
+            let mut filtered = Vec3A::ZERO;
+            for (i, yi) in y.iter().enumerate() {
+                let l = (i as f32).sqrt() as usize;
+                filtered += through_direct[i] * (yi * bands[l]);
+            }
+            let visible = (direct[side][0] * sky_share).clamp(0.0, 1.0);
+            *rad += g.rho_s * albedo * visible * Vec3::from(filtered.max(Vec3A::ZERO));
+        }
+        if let (Some(sun), Some((map, content))) = (self.sun, self.map) {
+            let cos = nrm.dot(sun.dir);
+            let q = f32::from(map[v]) / 255.0;
+            let vis = match content {
+                Content::Visibility => q * cos.abs(),
+                Content::CosineBaked => q,
+            };
+            if vis > 0.0 {
+                let lit = usize::from(cos < 0.0);
+                let irr = sun.irradiance * vis;
+                let ns = if lit == 0 { nrm } else { -nrm };
+                // The lit side reflects (diffuse + gloss toward the eye); the other transmits.
+                let v_lit = if ns.dot(view) > 0.0 { view } else { view - 2.0 * ns.dot(view) * ns };
+                radiance[lit] += (s.r[lit] / PI + s.gloss[lit].eval(ns, sun.dir, v_lit)) * irr;
+                radiance[1 - lit] += s.t / PI * irr;
+            }
+        }
+        radiance
     }
 }
 

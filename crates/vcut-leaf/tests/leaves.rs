@@ -169,3 +169,52 @@ fn the_shared_potted_plant_renders_as_leaves() {
     data.lvc.decode(data.lvc.sun_index(light.sun.unwrap().dir), &mut map).unwrap();
     assert!(map.contains(&0) && map.contains(&255));
 }
+
+#[test]
+fn coarser_leaves_keep_their_light_and_far_leaves_get_them() {
+    use vcut_leaf::lod::{Lod, LodParams};
+    use vcut_leaf::plant::{PlantParams, plant};
+    // Uniform leaves (no maps), so a coarse vertex differs from the full shading of the same
+    // vertex by the averaging of its light alone.
+    let scene = plant(&PlantParams { maps: false, ..PlantParams::default() }, &LeafMaterial::default()).unwrap();
+    let lvc = Lvc::compute(&scene, &LvcParams { resolution: 8, ..LVC }, |_, _| {});
+    let t = Transfer::compute(&scene, &PrtParams { rays: 64, ..PrtParams::default() }, |_, _| {});
+    let data = LeafData { lvc, transfer: t };
+    let lod = Lod::build(&scene, &data.transfer, &LodParams::default());
+    assert_eq!(lod.leaf_count(), 48);
+    assert_eq!(lod.level_count(), 3);
+    let fine = lod.triangles_at(0);
+    assert_eq!(fine, 48 * 10 * 6 * 2);
+    assert!(
+        lod.triangles_at(1) < fine / 2 && lod.triangles_at(2) < lod.triangles_at(1),
+        "{} {} {fine}",
+        lod.triangles_at(2),
+        lod.triangles_at(1)
+    );
+    // Near the plant every leaf is at level 0, far away every leaf at the coarsest.
+    let (c, r) = scene.leaf_bounds();
+    let near = lod.select(&scene, &data.transfer, c + Vec3::Z * 2.0 * r, 40.0, 720, None);
+    let far = lod.select(&scene, &data.transfer, c + Vec3::Z * 200.0 * r, 40.0, 720, None);
+    assert_eq!(near.leaves_per_level, vec![48, 0, 0]);
+    assert_eq!(far.leaves_per_level, vec![0, 0, 48]);
+    assert!(lod.vertices_at(2) < lod.vertices_at(0) / 2, "{} of {}", lod.vertices_at(2), lod.vertices_at(0));
+    assert_eq!(near.vertices.len() - far.vertices.len(), lod.vertices_at(0) - lod.vertices_at(2));
+    // Level 0 shades exactly as the full mesh does.
+    let (light, _) = sky();
+    let eye = c + Vec3::new(0.5, 0.4, 1.0) * 3.0 * r;
+    let full = frame(&scene, &data, &light, SunMethod::Lvc, eye);
+    let mut shader = Shader::new();
+    shader.prepare(&data.lvc, &light).unwrap();
+    let mut out = Vec::new();
+    shader.shade_lod(&scene, &data, &near, &light, SunMethod::Lvc, eye, &mut out);
+    for (k, &v) in near.vertices.iter().enumerate() {
+        assert_eq!(out[k], full[v as usize]);
+    }
+    // The coarsest level's vertices, with their averaged transfer, stay near the full shading
+    // of the same vertices (averaging smooths, it does not shift the light).
+    let coarse = lod.select(&scene, &data.transfer, eye, 40.0, 720, Some(2));
+    shader.shade_lod(&scene, &data, &coarse, &light, SunMethod::Lvc, eye, &mut out);
+    let same: Vec<TwoSided> = coarse.vertices.iter().map(|&v| full[v as usize]).collect();
+    let e = rel_l2(&out, &same);
+    assert!(e > 0.0 && e < 0.1, "{e}");
+}
