@@ -19,7 +19,7 @@ use vcut_leaf::plant::{PlantParams, plant};
 use vcut_leaf::prt::{PrtParams, Transfer};
 use vcut_leaf::reference::{ReferenceParams, reference, rel_l2};
 use vcut_leaf::scene::LeafScene;
-use vcut_leaf::shade::{LeafData, Lighting, Shader, SunMethod, TwoSided};
+use vcut_leaf::shade::{LeafData, Lighting, Shader, SunMethod, TwoSided, sun_at, sun_direction};
 use vcut_scene::Camera;
 use vcut_shade::image::{Image, auto_exposure, pixel_errors, write_png};
 
@@ -181,20 +181,6 @@ pub fn scene(args: &LeavesArgs, material: &LeafMaterial) -> Result<LeafScene> {
     })
 }
 
-/// Direction toward the sun from elevation and azimuth (degrees).
-fn sun_dir(elevation: f32, azimuth: f32) -> Vec3 {
-    let (e, a) = (elevation.to_radians(), azimuth.to_radians());
-    Vec3::new(e.cos() * a.sin(), e.sin(), e.cos() * a.cos())
-}
-
-/// The sun at `hours`: rises at 6 in the east (+X), culminates at 60° in the south (+Z) at 12.
-pub fn sun_at(hours: f32) -> Vec3 {
-    let t = (hours - 6.0) / 12.0 * std::f32::consts::PI;
-    let elevation = (60.0f32.to_radians().sin() * t.sin()).asin().to_degrees();
-    let azimuth = 90.0 + (hours - 6.0) / 12.0 * 180.0;
-    sun_dir(elevation, azimuth)
-}
-
 /// A camera looking at the scene's bounding sphere from the front, a little above.
 pub fn camera(scene: &LeafScene) -> Camera {
     let (c, r) = scene.leaf_bounds();
@@ -250,10 +236,13 @@ pub fn lighting(args: &LeavesArgs) -> Result<(Lighting, EnvMap)> {
     let env = crate::inspect::load_envmap(&args.env)?;
     let (mut light, rest) = Lighting::from_map(&env);
     let dir = match (args.time_of_day, &args.sun) {
-        (Some(h), _) => Some(sun_at(h)),
+        (Some(h), _) => {
+            let (e, a) = sun_at(h);
+            Some(sun_direction(e, a))
+        }
         (None, Some(s)) => {
             let (e, a) = pair(s, "--sun")?;
-            Some(sun_dir(e, a))
+            Some(sun_direction(e, a))
         }
         _ => None,
     };

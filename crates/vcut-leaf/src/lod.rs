@@ -128,7 +128,9 @@ fn leaves_of(scene: &LeafScene) -> Vec<Vec<usize>> {
 }
 
 impl Lod {
-    /// Simplifies every leaf of `scene` and averages `transfer` onto the kept vertices.
+    /// Simplifies every leaf of `scene` and averages `transfer` and the vertices' scattering onto
+    /// the kept vertices (after a material edit, build again: coarse levels keep the scattering
+    /// they were built with).
     pub fn build(scene: &LeafScene, transfer: &Transfer, params: &LodParams) -> Lod {
         let pieces = leaves_of(scene);
         let pos = scene.positions();
@@ -280,7 +282,12 @@ impl Lod {
             s.vertices.extend_from_slice(&level.vertices[vr.clone()]);
             s.direct.extend_from_slice(&level.direct[vr.clone()]);
             s.indirect.extend_from_slice(&level.indirect[vr.clone()]);
-            s.scatter.extend_from_slice(&level.scatter[vr]);
+            if k == 0 {
+                // The full mesh reads the scene's scattering as it is now (after any edit).
+                s.scatter.extend(level.vertices[vr].iter().map(|&v| scene_scatter[v as usize]));
+            } else {
+                s.scatter.extend_from_slice(&level.scatter[vr]);
+            }
             s.triangles.extend_from_slice(&level.triangles[level.leaf_triangles[i].clone()]);
         }
         for &v in &self.opaque_vertices {

@@ -27,6 +27,21 @@ pub struct SunLight {
     pub irradiance: Vec3,
 }
 
+/// Unit direction toward a sun at `elevation_deg` above the horizon and `azimuth_deg` from +Z
+/// toward +X (the built-in sky's convention).
+pub fn sun_direction(elevation_deg: f32, azimuth_deg: f32) -> Vec3 {
+    let (e, a) = (elevation_deg.to_radians(), azimuth_deg.to_radians());
+    Vec3::new(e.cos() * a.sin(), e.sin(), e.cos() * a.cos())
+}
+
+/// The sun at `hours` of a day whose sun rises at 6 in the east (+X), culminates at 60° in the
+/// south (+Z) at 12 and sets at 18 in the west: (elevation, azimuth) in degrees.
+pub fn sun_at(hours: f32) -> (f32, f32) {
+    let t = (hours - 6.0) / 12.0 * PI;
+    let elevation = (60.0f32.to_radians().sin() * t.sin()).clamp(-1.0, 1.0).asin().to_degrees();
+    (elevation, 90.0 + (hours - 6.0) / 12.0 * 180.0)
+}
+
 /// The lighting of a frame: the environment without its sun in SH, and the sun.
 #[derive(Debug, Clone)]
 pub struct Lighting {

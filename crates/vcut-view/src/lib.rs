@@ -9,6 +9,9 @@
 //!   `vcut_envmap::Layout::bilinear`), meshes with interpolated per-vertex colours, and the CPU
 //!   renderer's display transform (exposure, ACES filmic in Narkowicz's fit, sRGB) — and
 //!   [`render::screenshot`], the same frame rendered with no window and read back.
+//! - [`leaf::LeafSession`]: the plant-leaf renderer of `vcut-leaf` (two passes, editable leaf
+//!   material and sun, level of detail), drawn two-sided by the same renderer
+//!   ([`render::leaf_screenshot`] headless).
 //! - [`app::run_window`]: winit 0.30 + egui 0.37 around them.
 //!
 //! Shading stays on the CPU (the merge and the BRDF sums of `vcut-shade`); the GPU
@@ -17,11 +20,13 @@
 
 pub mod app;
 pub mod camera;
+pub mod leaf;
 pub mod render;
 pub mod session;
 pub mod ssdo;
 
 pub use app::{ViewOptions, run_window};
 pub use camera::OrbitCamera;
-pub use render::{Gpu, SceneRenderer, ViewError, screenshot};
+pub use leaf::{LeafSession, LeafTimings};
+pub use render::{Gpu, SceneRenderer, ViewError, leaf_screenshot, screenshot};
 pub use session::{Display, Mode, Session, Timings};

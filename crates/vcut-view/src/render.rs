@@ -3,6 +3,7 @@
 //! transform), and headless rendering to an image.
 
 use crate::camera::OrbitCamera;
+use crate::leaf::LeafSession;
 use crate::session::{Display, Session};
 use glam::Mat3;
 use std::time::Instant;
@@ -162,6 +163,8 @@ pub struct SceneRenderer {
     env_size: (u32, u32),
     objects: Vec<ObjectBuffers>,
     uploaded: Option<(u64, u64, u64)>,
+    leaf: wgpu::RenderPipeline,
+    leaves: Option<(ObjectBuffers, u64)>,
 }
 
 /// The lat-long texels to draw `env` with (its rotation and intensity go in the uniforms):
@@ -280,6 +283,13 @@ impl SceneRenderer {
             attributes: &wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3],
         };
         let mesh = pipeline("mesh", &pipeline_layout, "vs_mesh", "fs_mesh", &[Some(vertex_layout)], true);
+        // Leaves: position, the radiance of the side along the normal, of the side against it.
+        let leaf_layout = wgpu::VertexBufferLayout {
+            array_stride: 36,
+            step_mode: wgpu::VertexStepMode::Vertex,
+            attributes: &wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3, 2 => Float32x3],
+        };
+        let leaf = pipeline("leaf", &pipeline_layout, "vs_leaf", "fs_leaf", &[Some(leaf_layout)], true);
         let uniforms = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("uniforms"),
             size: std::mem::size_of::<Uniforms>() as u64,
@@ -298,6 +308,8 @@ impl SceneRenderer {
             image,
             env_size,
             objects: Vec::new(),
+            leaf,
+            leaves: None,
             uploaded: None,
         }
     }
@@ -432,11 +444,56 @@ impl SceneRenderer {
         viewport: Viewport,
         image: Option<&wgpu::TextureView>,
     ) {
+        let display = session.display() == Display::Radiance;
+        let mut pass = self.begin(
+            gpu,
+            encoder,
+            (target, depth),
+            session.env(),
+            (session.exposure_in_use(), display),
+            camera,
+            viewport,
+        );
+        if let Some(image) = image {
+            let group = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("image"),
+                layout: &self.image_layout,
+                entries: &[wgpu::BindGroupEntry { binding: 0, resource: wgpu::BindingResource::TextureView(image) }],
+            });
+            pass.set_pipeline(&self.image);
+            pass.set_bind_group(1, &group, &[]);
+            pass.draw(0..3, 0..1);
+            return;
+        }
+        pass.set_pipeline(&self.background);
+        pass.draw(0..3, 0..1);
+        pass.set_pipeline(&self.mesh);
+        for o in &self.objects {
+            if o.index_count == 0 {
+                continue;
+            }
+            pass.set_vertex_buffer(0, o.vertices.slice(..));
+            pass.set_index_buffer(o.indices.slice(..), wgpu::IndexFormat::Uint32);
+            pass.draw_indexed(0..o.index_count, 0, 0..1);
+        }
+    }
+
+    /// Writes the uniforms and opens the scene pass over `viewport` (target cleared to black,
+    /// depth to 1), the scene bind group set.
+    #[allow(clippy::too_many_arguments)]
+    fn begin<'e>(
+        &self,
+        gpu: &Gpu,
+        encoder: &'e mut wgpu::CommandEncoder,
+        (target, depth): (&wgpu::TextureView, &wgpu::TextureView),
+        env: &EnvMap,
+        (exposure, radiance): (f32, bool),
+        camera: &OrbitCamera,
+        viewport: Viewport,
+    ) -> wgpu::RenderPass<'e> {
         let (width, height) = (viewport.width.max(1.0), viewport.height.max(1.0));
         let vp = camera.view_projection(width / height);
-        let env = session.env();
         let map_from_world = Mat3::from_quat(env.rotation().inverse());
-        let display = session.display();
         let u = Uniforms {
             view_proj: vp.to_cols_array_2d(),
             inv_view_proj: vp.inverse().to_cols_array_2d(),
@@ -444,13 +501,8 @@ impl SceneRenderer {
             env_x: map_from_world.x_axis.extend(0.0).to_array(),
             env_y: map_from_world.y_axis.extend(0.0).to_array(),
             env_z: map_from_world.z_axis.extend(0.0).to_array(),
-            params: [session.exposure_in_use(), env.intensity(), width, height],
-            flags: [
-                u32::from(display == Display::Radiance),
-                u32::from(!self.format.is_srgb()),
-                self.env_size.0,
-                self.env_size.1,
-            ],
+            params: [exposure, env.intensity(), width, height],
+            flags: [u32::from(radiance), u32::from(!self.format.is_srgb()), self.env_size.0, self.env_size.1],
             viewport: [viewport.x, viewport.y, width, height],
         };
         gpu.queue.write_buffer(&self.uniforms, 0, bytemuck::bytes_of(&u));
@@ -473,27 +525,78 @@ impl SceneRenderer {
         });
         pass.set_viewport(viewport.x, viewport.y, width, height, 0.0, 1.0);
         pass.set_bind_group(0, &self.bind_group, &[]);
-        if let Some(image) = image {
-            let group = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
-                label: Some("image"),
-                layout: &self.image_layout,
-                entries: &[wgpu::BindGroupEntry { binding: 0, resource: wgpu::BindingResource::TextureView(image) }],
-            });
-            pass.set_pipeline(&self.image);
-            pass.set_bind_group(1, &group, &[]);
-            pass.draw(0..3, 0..1);
-            return;
+        pass
+    }
+
+    /// Uploads a leaf session's drawn triangles and two-sided radiance when it re-shaded (and
+    /// its environment the first time); returns the milliseconds spent.
+    pub fn upload_leaves(&mut self, gpu: &Gpu, session: &LeafSession) -> f64 {
+        let start = Instant::now();
+        if self.leaves.as_ref().is_some_and(|(_, v)| *v == session.version()) {
+            return 0.0;
         }
+        if self.leaves.is_none() {
+            let (bg, size) = Self::env_bind_group(gpu, &self.layout, &self.uniforms, session.env());
+            self.bind_group = bg;
+            self.env_size = size;
+        }
+        let scene = session.scene();
+        let data: Vec<[f32; 9]> = scene
+            .positions()
+            .iter()
+            .zip(session.radiance())
+            .map(|(p, r)| [p.x, p.y, p.z, r[0].x, r[0].y, r[0].z, r[1].x, r[1].y, r[1].z])
+            .collect();
+        let indices: Vec<u32> = session.triangles().iter().flatten().copied().collect();
+        let buffer = |label: &str, bytes: &[u8], usage: wgpu::BufferUsages| {
+            let b = gpu.device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some(label),
+                size: (bytes.len().max(4)).next_multiple_of(4) as u64,
+                usage: usage | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            });
+            gpu.queue.write_buffer(&b, 0, bytes);
+            b
+        };
+        let buffers = ObjectBuffers {
+            vertices: buffer("leaf vertices", bytemuck::cast_slice(&data), wgpu::BufferUsages::VERTEX),
+            indices: buffer("leaf indices", bytemuck::cast_slice(&indices), wgpu::BufferUsages::INDEX),
+            index_count: indices.len() as u32,
+            vertex_count: data.len(),
+        };
+        self.leaves = Some((buffers, session.version()));
+        start.elapsed().as_secs_f64() * 1e3
+    }
+
+    /// Records a leaf session's frame: the environment behind, each triangle showing the side
+    /// that faces the camera (front faces — counter-clockwise, as the vertex normals wind — show
+    /// the side along the normal).
+    pub fn draw_leaves(
+        &self,
+        gpu: &Gpu,
+        encoder: &mut wgpu::CommandEncoder,
+        (target, depth): (&wgpu::TextureView, &wgpu::TextureView),
+        session: &LeafSession,
+        viewport: Viewport,
+    ) {
+        let mut pass = self.begin(
+            gpu,
+            encoder,
+            (target, depth),
+            session.env(),
+            (session.exposure_in_use(), true),
+            &session.camera,
+            viewport,
+        );
         pass.set_pipeline(&self.background);
         pass.draw(0..3, 0..1);
-        pass.set_pipeline(&self.mesh);
-        for o in &self.objects {
-            if o.index_count == 0 {
-                continue;
-            }
-            pass.set_vertex_buffer(0, o.vertices.slice(..));
-            pass.set_index_buffer(o.indices.slice(..), wgpu::IndexFormat::Uint32);
-            pass.draw_indexed(0..o.index_count, 0, 0..1);
+        if let Some((b, _)) = &self.leaves
+            && b.index_count > 0
+        {
+            pass.set_pipeline(&self.leaf);
+            pass.set_vertex_buffer(0, b.vertices.slice(..));
+            pass.set_index_buffer(b.indices.slice(..), wgpu::IndexFormat::Uint32);
+            pass.draw_indexed(0..b.index_count, 0, 0..1);
         }
     }
 }
@@ -524,16 +627,49 @@ pub fn screenshot(gpu: &Gpu, session: &mut Session, width: u32, height: u32) -> 
         None
     };
     let session = &*session;
-    let format = wgpu::TextureFormat::Rgba8Unorm;
-    let mut renderer = SceneRenderer::new(gpu, format, session.env());
+    let mut renderer = SceneRenderer::new(gpu, SCREENSHOT_FORMAT, session.env());
     renderer.upload(gpu, session);
+    let image = screen.as_ref().map(|f| f.output());
+    read_back(gpu, (width, height), |encoder, view, depth| {
+        let viewport = Viewport::full(width, height);
+        renderer.draw_with(gpu, encoder, view, depth, session, &session.camera, viewport, image.as_ref());
+    })
+}
+
+/// Renders a leaf session's frame (re-shaded first if needed) with no window into a
+/// `width × height` RGBA8 image.
+pub fn leaf_screenshot(
+    gpu: &Gpu,
+    session: &mut LeafSession,
+    width: u32,
+    height: u32,
+) -> Result<image::RgbaImage, ViewError> {
+    let (width, height) = (width.max(1), height.max(1));
+    session.update(height).map_err(|e| ViewError::Readback(format!("LVC map: {e}")))?;
+    let mut renderer = SceneRenderer::new(gpu, SCREENSHOT_FORMAT, session.env());
+    renderer.upload_leaves(gpu, session);
+    let session = &*session;
+    read_back(gpu, (width, height), |encoder, view, depth| {
+        renderer.draw_leaves(gpu, encoder, (view, depth), session, Viewport::full(width, height));
+    })
+}
+
+/// Format of headless renders (the shader encodes sRGB).
+const SCREENSHOT_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8Unorm;
+
+/// Records `draw` into a fresh `width × height` target and reads it back.
+fn read_back(
+    gpu: &Gpu,
+    (width, height): (u32, u32),
+    draw: impl FnOnce(&mut wgpu::CommandEncoder, &wgpu::TextureView, &wgpu::TextureView),
+) -> Result<image::RgbaImage, ViewError> {
     let texture = gpu.device.create_texture(&wgpu::TextureDescriptor {
         label: Some("screenshot"),
         size: wgpu::Extent3d { width, height, depth_or_array_layers: 1 },
         mip_level_count: 1,
         sample_count: 1,
         dimension: wgpu::TextureDimension::D2,
-        format,
+        format: SCREENSHOT_FORMAT,
         usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
         view_formats: &[],
     });
@@ -547,9 +683,7 @@ pub fn screenshot(gpu: &Gpu, session: &mut Session, width: u32, height: u32) -> 
         mapped_at_creation: false,
     });
     let mut encoder = gpu.device.create_command_encoder(&Default::default());
-    let image = screen.as_ref().map(|f| f.output());
-    let viewport = Viewport::full(width, height);
-    renderer.draw_with(gpu, &mut encoder, &view, &depth, session, &session.camera, viewport, image.as_ref());
+    draw(&mut encoder, &view, &depth);
     encoder.copy_texture_to_buffer(
         wgpu::TexelCopyTextureInfo {
             texture: &texture,

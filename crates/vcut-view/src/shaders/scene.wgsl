@@ -155,3 +155,25 @@ fn fs_mesh(in: MeshOut) -> @location(0) vec4<f32> {
     }
     return vec4<f32>(display_colour(in.colour), 1.0);
 }
+
+// ---- leaves: two-sided, each side its own radiance ----
+
+struct LeafOut {
+    @builtin(position) pos: vec4<f32>,
+    @location(0) front: vec3<f32>,
+    @location(1) back: vec3<f32>,
+};
+
+@vertex
+fn vs_leaf(@location(0) position: vec3<f32>, @location(1) front: vec3<f32>, @location(2) back: vec3<f32>) -> LeafOut {
+    var out: LeafOut;
+    out.pos = u.view_proj * vec4<f32>(position, 1.0);
+    out.front = front;
+    out.back = back;
+    return out;
+}
+
+@fragment
+fn fs_leaf(in: LeafOut, @builtin(front_facing) front_facing: bool) -> @location(0) vec4<f32> {
+    return vec4<f32>(display_radiance(select(in.back, in.front, front_facing)), 1.0);
+}
