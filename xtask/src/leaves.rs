@@ -23,22 +23,19 @@ use vcut_leaf::shade::{LeafData, Lighting, Shader, SunMethod, TwoSided, sun_at, 
 use vcut_scene::Camera;
 use vcut_shade::image::{Image, auto_exposure, pixel_errors, write_png};
 
-/// Arguments of `cargo xtask leaves`.
+/// The plant, its leaves and the sun: shared by `cargo xtask leaves` and `cargo xtask view --leaves`.
 #[derive(clap::Args, Clone)]
-pub struct LeavesArgs {
+pub struct PlantArgs {
     /// `procedural` (the built-in plant), `asset` (the shared potted plant, every surface a leaf)
     /// or a glTF/OBJ file read the same way.
     #[arg(long, default_value = "procedural")]
-    pub scene: String,
+    pub plant: String,
     /// Leaves of the procedural plant.
     #[arg(long, default_value_t = 48)]
-    pub leaves: u32,
-    /// Instead of --leaves: about this many leaf vertices (16 × 8 quads per leaf).
+    pub leaf_count: u32,
+    /// Instead of --leaf-count: about this many leaf vertices (16 × 8 quads per leaf).
     #[arg(long)]
     pub vertices: Option<usize>,
-    /// Environment: builtin:sky (default), builtin:studio or a map file; its sun is split off.
-    #[arg(long, default_value = "builtin:sky")]
-    pub env: String,
     /// Sun direction as ELEVATION,AZIMUTH in degrees (azimuth from +Z toward +X); default the map's.
     #[arg(long, allow_hyphen_values = true)]
     pub sun: Option<String>,
@@ -85,6 +82,17 @@ pub struct LeavesArgs {
     /// No parameter maps on the procedural leaves.
     #[arg(long)]
     pub no_maps: bool,
+}
+
+/// Arguments of `cargo xtask leaves`.
+#[derive(clap::Args, Clone)]
+pub struct LeavesArgs {
+    /// The plant, leaves and sun.
+    #[command(flatten)]
+    pub plant: PlantArgs,
+    /// Environment: builtin:sky (default), builtin:studio or a map file; its sun is split off.
+    #[arg(long, default_value = "builtin:sky")]
+    pub env: String,
     /// Paths per vertex side of the reference (0: no reference).
     #[arg(long, default_value_t = 1024)]
     pub reference_paths: u32,
@@ -125,7 +133,7 @@ fn pair(s: &str, what: &str) -> Result<(f32, f32)> {
 }
 
 /// The leaf material the arguments describe.
-pub fn material(args: &LeavesArgs) -> Result<LeafMaterial> {
+pub fn material(args: &PlantArgs) -> Result<LeafMaterial> {
     let mut m = LeafMaterial::default();
     if args.reflectance.is_some() || args.transmittance.is_some() {
         let r = triple(args.reflectance.as_deref().context("--transmittance needs --reflectance")?, "--reflectance")?;
@@ -159,12 +167,12 @@ pub fn material(args: &LeavesArgs) -> Result<LeafMaterial> {
 }
 
 /// The scene the arguments name.
-pub fn scene(args: &LeavesArgs, material: &LeafMaterial) -> Result<LeafScene> {
-    Ok(match args.scene.as_str() {
+pub fn scene(args: &PlantArgs, material: &LeafMaterial) -> Result<LeafScene> {
+    Ok(match args.plant.as_str() {
         "procedural" => {
             let mut p = match args.vertices {
                 Some(n) => PlantParams::with_vertices(n),
-                None => PlantParams { leaves: args.leaves.max(1), ..PlantParams::default() },
+                None => PlantParams { leaves: args.leaf_count.max(1), ..PlantParams::default() },
             };
             p.maps = !args.no_maps;
             plant(&p, material)?
@@ -231,28 +239,40 @@ pub fn precompute(scene: &LeafScene, lvc: &LvcParams, prt: &PrtParams, suns: Opt
     Precomputed { data: LeafData { lvc, transfer }, seconds: (lvc_s, t.elapsed().as_secs_f64()) }
 }
 
-/// The lighting the arguments describe, and the map without its sun (for the reference).
-pub fn lighting(args: &LeavesArgs) -> Result<(Lighting, EnvMap)> {
-    let env = crate::inspect::load_envmap(&args.env)?;
-    let (mut light, rest) = Lighting::from_map(&env);
-    let dir = match (args.time_of_day, &args.sun) {
-        (Some(h), _) => {
-            let (e, a) = sun_at(h);
-            Some(sun_direction(e, a))
-        }
-        (None, Some(s)) => {
-            let (e, a) = pair(s, "--sun")?;
-            Some(sun_direction(e, a))
-        }
+/// The sun direction the arguments ask for, as (elevation, azimuth) degrees, if any.
+pub fn sun_angles(args: &PlantArgs) -> Result<Option<(f32, f32)>> {
+    Ok(match (args.time_of_day, &args.sun) {
+        (Some(h), _) => Some(sun_at(h)),
+        (None, Some(s)) => Some(pair(s, "--sun")?),
         _ => None,
-    };
-    if let Some(d) = dir {
+    })
+}
+
+/// The lighting the arguments describe, and the map without its sun (for the reference).
+pub fn lighting(args: &PlantArgs, env_spec: &str) -> Result<(Lighting, EnvMap)> {
+    let env = crate::inspect::load_envmap(env_spec)?;
+    let (mut light, rest) = Lighting::from_map(&env);
+    if let Some((e, a)) = sun_angles(args)? {
+        let d = sun_direction(e, a);
         if light.sun.is_none() {
-            bail!("{}: no sun found in the map to move (a sun holds ≥ 2 % of the power)", args.env);
+            bail!("{env_spec}: no sun found in the map to move (a sun holds ≥ 2 % of the power)");
         }
         light = light.with_sun_dir(d);
     }
     Ok((light, rest))
+}
+
+/// The LVC and PRT parameters the arguments ask for.
+pub fn params(p: &PlantArgs) -> (LvcParams, PrtParams) {
+    (
+        LvcParams {
+            resolution: p.lvc_resolution.max(1),
+            sun_diameter_deg: p.sun_diameter,
+            content: if p.cosine_baked { Content::CosineBaked } else { Content::Visibility },
+            ..LvcParams::default()
+        },
+        PrtParams { rays: p.prt_rays, bounces: p.bounces, ..PrtParams::default() },
+    )
 }
 
 /// A spread subset of at most `max` vertices.
@@ -289,26 +309,21 @@ pub fn run(args: &LeavesArgs) -> Result<()> {
         let (a, b) = args.size.split_once('x').context("--size: expected WIDTHxHEIGHT")?;
         (a.parse::<u32>().context("--size width")?, b.parse::<u32>().context("--size height")?)
     };
-    let m = material(args)?;
+    let p = &args.plant;
+    let m = material(p)?;
     let t = Instant::now();
-    let scene = scene(args, &m)?;
-    println!("scene={}", args.scene);
+    let scene = scene(p, &m)?;
+    println!("plant={}", p.plant);
     println!("vertices={}", scene.vertex_count());
     println!("triangles={}", scene.triangles().len());
     println!("leaf_sigma_a={:?}", m.sigma_a.to_array());
     println!("leaf_sigma_s={:?}", m.sigma_s.to_array());
     println!("leaf_thickness_mm={}", m.thickness);
     println!("scene_s={:.3}", t.elapsed().as_secs_f64());
-    let (light, rest) = lighting(args)?;
+    let (light, rest) = lighting(p, &args.env)?;
     let sun = light.sun.context("the environment has no sun: the leaf renderer's direct pass needs one")?;
     println!("sun_dir={:?}", sun.dir.to_array());
-    let lvc_params = LvcParams {
-        resolution: args.lvc_resolution.max(1),
-        sun_diameter_deg: args.sun_diameter,
-        content: if args.cosine_baked { Content::CosineBaked } else { Content::Visibility },
-        ..LvcParams::default()
-    };
-    let prt = PrtParams { rays: args.prt_rays, bounces: args.bounces, ..PrtParams::default() };
+    let (lvc_params, prt) = params(p);
     let pre = precompute(&scene, &lvc_params, &prt, None);
     println!("lvc_s={:.3}", pre.seconds.0);
     println!("lvc_raw_bytes={}", pre.data.lvc.raw_bytes());
@@ -344,7 +359,7 @@ pub fn run(args: &LeavesArgs) -> Result<()> {
         let verts = subset(scene.vertex_count(), args.reference_vertices);
         let rp = ReferenceParams {
             paths: args.reference_paths,
-            sun_diameter_deg: args.sun_diameter,
+            sun_diameter_deg: p.sun_diameter,
             ..ReferenceParams::default()
         };
         let t = Instant::now();

@@ -4,7 +4,7 @@
 use anyhow::{Context, Result, bail};
 use std::path::PathBuf;
 use std::time::{Duration, Instant};
-use vcut_view::{Gpu, Mode, OrbitCamera, Session, ViewOptions};
+use vcut_view::{Gpu, LeafSession, LeafViewOptions, Mode, OrbitCamera, Session, ViewOptions};
 
 /// Arguments of `view`.
 #[derive(clap::Args, Clone)]
@@ -54,6 +54,67 @@ pub struct ViewArgs {
     /// Re-merge at every mouse move while dragging if a move costs less than this (ms).
     #[arg(long, default_value_t = 120.0)]
     pub live_move_ms: f64,
+    /// The plant-leaf viewer instead (`vcut-leaf`: the plant precomputed first, then the sun,
+    /// method, level of detail and leaf panel); the plant options below apply.
+    #[arg(long, conflicts_with_all = ["input", "scene"])]
+    pub leaves: bool,
+    /// The plant, leaves and sun (with --leaves).
+    #[command(flatten)]
+    pub plant: crate::leaves::PlantArgs,
+}
+
+/// `view --leaves`: the plant precomputed, then the leaf window (or a screenshot).
+fn run_leaves(args: &ViewArgs) -> Result<()> {
+    let p = &args.plant;
+    let material = crate::leaves::material(p)?;
+    let t = Instant::now();
+    let scene = crate::leaves::scene(p, &material)?;
+    let (lvc, prt) = crate::leaves::params(p);
+    let pre = crate::leaves::precompute(&scene, &lvc, &prt, None);
+    let setup_s = t.elapsed().as_secs_f64();
+    let env_spec = args.env.as_deref().unwrap_or("builtin:sky");
+    let env = crate::inspect::load_envmap(env_spec)?;
+    let camera = OrbitCamera::from_camera(&crate::leaves::camera(&scene));
+    let summary = vec![
+        ("plant".to_string(), p.plant.clone()),
+        ("vertices".into(), scene.vertex_count().to_string()),
+        ("environment".into(), env_spec.to_string()),
+        (
+            "sun maps".into(),
+            format!(
+                "{:.1} MB raw, {:.1} MB RLE",
+                pre.data.lvc.raw_bytes() as f64 / 1e6,
+                pre.data.lvc.compressed_bytes() as f64 / 1e6
+            ),
+        ),
+        ("SH transfer".into(), format!("{:.1} MB", pre.data.transfer.bytes() as f64 / 1e6)),
+        ("precompute".into(), format!("{setup_s:.1} s")),
+    ];
+    let mut session = LeafSession::new(scene, pre.data, env, camera);
+    if session.data().lvc.vertex_count() == 0 {
+        bail!("the plant has no vertices");
+    }
+    if let Some((e, a)) = crate::leaves::sun_angles(p)? {
+        session.set_sun(e, a);
+    }
+    session.exposure = args.exposure;
+    if let Some(path) = &args.screenshot {
+        let gpu = Gpu::headless()?;
+        println!("adapter={}", gpu.describe());
+        let t = Instant::now();
+        let image = vcut_view::leaf_screenshot(&gpu, &mut session, args.width, args.height)?;
+        println!("screenshot_ms={:.1}", t.elapsed().as_secs_f64() * 1e3);
+        println!("shade_ms={:.2}", session.timings.shade_ms);
+        if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
+            std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
+        }
+        vcut_view::render::write_png(&image, path)?;
+        println!("png={}", path.display());
+        return Ok(());
+    }
+    let options = LeafViewOptions { title: format!("vcuts leaves — {}", p.plant), summary, max_frames: args.frames };
+    vcut_view::run_leaf_window(session, options)?;
+    Ok(())
 }
 
 /// Environment maps the panel offers: the built-ins, the data's own, and the shared assets'.
@@ -90,6 +151,9 @@ fn parse_mode(s: &str) -> Result<Mode> {
 
 /// Runs `view`.
 pub fn run(args: &ViewArgs) -> Result<()> {
+    if args.leaves {
+        return run_leaves(args);
+    }
     let mode = parse_mode(&args.mode)?;
     let input = match (&args.input, &args.scene) {
         (Some(p), _) => p.clone(),

@@ -6,10 +6,10 @@
 //! the last move cost less than [`ViewOptions::live_move_ms`], otherwise once on release.
 
 use crate::camera::ray_plane;
-use crate::render::{Gpu, SceneRenderer, ViewError, Viewport, depth_view};
+use crate::render::{ViewError, Viewport};
 use crate::session::{Mode, Session};
+use crate::window::WindowState;
 use glam::Vec3;
-use std::sync::Arc;
 use std::time::{Duration, Instant};
 use vcut_envmap::EnvMap;
 use vcut_scene::{BrdfModel, Material, Motion};
@@ -17,7 +17,7 @@ use winit::application::ApplicationHandler;
 use winit::event::{ElementState, MouseButton, MouseScrollDelta, WindowEvent};
 use winit::event_loop::{ActiveEventLoop, ControlFlow, EventLoop};
 use winit::keyboard::{Key, NamedKey};
-use winit::window::{Window, WindowId};
+use winit::window::WindowId;
 
 /// Loads an environment map by name (for the panel's environment menu).
 pub type EnvLoader = Box<dyn Fn(&str) -> Result<EnvMap, String>>;
@@ -47,27 +47,15 @@ enum Drag {
 /// What a screen-space frame was made from: the session's colour version and the viewport size.
 type ScreenKey = (u64, (u32, u32));
 
-struct WindowState {
-    window: Arc<Window>,
-    surface: wgpu::Surface<'static>,
-    config: wgpu::SurfaceConfiguration,
-    gpu: Gpu,
-    scene: SceneRenderer,
-    depth: wgpu::TextureView,
-    egui_ctx: egui::Context,
-    egui_state: egui_winit::State,
-    egui_renderer: egui_wgpu::Renderer,
+struct App {
+    session: Session,
+    options: ViewOptions,
+    state: Option<WindowState>,
     /// The screen-space passes, compiled on first use.
     ssdo: Option<crate::ssdo::GpuSsdo>,
     /// The last screen-space frame and what it was made from (the session's colour version and
     /// the viewport size): redrawn only when either changes.
     screen: Option<(ScreenKey, crate::ssdo::SsdoFrame)>,
-}
-
-struct App {
-    session: Session,
-    options: ViewOptions,
-    state: Option<WindowState>,
     error: Option<ViewError>,
     cursor: Option<(f32, f32)>,
     drag: Option<Drag>,
@@ -90,6 +78,8 @@ pub fn run_window(session: Session, options: ViewOptions) -> Result<(), ViewErro
         session,
         options,
         state: None,
+        ssdo: None,
+        screen: None,
         error: None,
         cursor: None,
         drag: None,
@@ -110,49 +100,9 @@ pub fn run_window(session: Session, options: ViewOptions) -> Result<(), ViewErro
 
 impl App {
     fn create(&mut self, event_loop: &ActiveEventLoop) -> Result<WindowState, ViewError> {
-        let attributes = Window::default_attributes()
-            .with_title(self.options.title.clone())
-            .with_inner_size(winit::dpi::LogicalSize::new(1280.0, 800.0));
-        let window = Arc::new(event_loop.create_window(attributes).map_err(|e| ViewError::Window(e.to_string()))?);
-        let instance = wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle_from_env());
-        let surface = instance.create_surface(window.clone()).map_err(|e| ViewError::Window(e.to_string()))?;
-        let gpu = Gpu::with_instance(instance, Some(&surface))?;
-        let size = window.inner_size();
-        let caps = surface.get_capabilities(&gpu.adapter);
-        let format = caps.formats.iter().copied().find(|f| !f.is_srgb()).or(caps.formats.first().copied());
-        let mut config = surface
-            .get_default_config(&gpu.adapter, size.width.max(1), size.height.max(1))
-            .ok_or_else(|| ViewError::Window(format!("the adapter '{}' cannot present here", gpu.describe())))?;
-        if let Some(f) = format {
-            config.format = f;
-        }
-        surface.configure(&gpu.device, &config);
-        let scene = SceneRenderer::new(&gpu, config.format, self.session.env());
-        let depth = depth_view(&gpu, config.width, config.height);
-        let egui_ctx = egui::Context::default();
-        let egui_state = egui_winit::State::new(
-            egui_ctx.clone(),
-            egui::ViewportId::ROOT,
-            &window,
-            Some(window.scale_factor() as f32),
-            None,
-            Some(gpu.device.limits().max_texture_dimension_2d as usize),
-        );
-        let egui_renderer = egui_wgpu::Renderer::new(&gpu.device, config.format, Default::default());
-        self.status = format!("adapter: {}", gpu.describe());
-        Ok(WindowState {
-            window,
-            surface,
-            config,
-            gpu,
-            scene,
-            depth,
-            egui_ctx,
-            egui_state,
-            egui_renderer,
-            ssdo: None,
-            screen: None,
-        })
+        let state = WindowState::create(event_loop, &self.options.title, self.session.env())?;
+        self.status = format!("adapter: {}", state.gpu.describe());
+        Ok(state)
     }
 
     /// The cursor position `(x, y)` relative to the scene's viewport, and the viewport's size.
@@ -261,14 +211,7 @@ impl App {
         if upload_ms > 0.0 {
             self.session.timings.upload_ms = upload_ms;
         }
-        let texture = match state.surface.get_current_texture() {
-            wgpu::CurrentSurfaceTexture::Success(t) | wgpu::CurrentSurfaceTexture::Suboptimal(t) => t,
-            _ => {
-                state.surface.configure(&state.gpu.device, &state.config);
-                state.window.request_redraw();
-                return;
-            }
-        };
+        let Some(texture) = state.acquire() else { return };
         let draw_start = Instant::now();
         // The panel first: its width decides the scene's viewport.
         let raw = state.egui_state.take_egui_input(&state.window);
@@ -293,19 +236,19 @@ impl App {
         if self.session.mode().screen_space() {
             let size = (self.viewport.width as u32, self.viewport.height as u32);
             let key = (self.session.colour_version(), size);
-            if state.screen.as_ref().is_none_or(|(k, _)| *k != key) {
-                let passes = state.ssdo.get_or_insert_with(|| crate::ssdo::GpuSsdo::new(&state.gpu));
+            if self.screen.as_ref().is_none_or(|(k, _)| *k != key) {
+                let passes = self.ssdo.get_or_insert_with(|| crate::ssdo::GpuSsdo::new(&state.gpu));
                 let start = Instant::now();
                 match crate::ssdo::SsdoFrame::of_session(&state.gpu, passes, &mut self.session, size) {
-                    Ok(f) => state.screen = f.map(|f| ((self.session.colour_version(), size), f)),
+                    Ok(f) => self.screen = f.map(|f| ((self.session.colour_version(), size), f)),
                     Err(e) => self.status = e.to_string(),
                 }
                 self.screen_ms = start.elapsed().as_secs_f64() * 1e3;
             }
         } else {
-            state.screen = None;
+            self.screen = None;
         }
-        let image = state.screen.as_ref().map(|(_, f)| f.output());
+        let image = self.screen.as_ref().map(|(_, f)| f.output());
         let mut encoder = state.gpu.device.create_command_encoder(&Default::default());
         state.scene.draw_with(
             &state.gpu,
@@ -317,40 +260,8 @@ impl App {
             self.viewport,
             image.as_ref(),
         );
-        state.egui_state.handle_platform_output(&state.window, output.platform_output);
-        let primitives = ctx.tessellate(output.shapes, output.pixels_per_point);
-        let screen =
-            egui_wgpu::ScreenDescriptor { size_in_pixels: [size.0, size.1], pixels_per_point: output.pixels_per_point };
-        for (id, deltas) in &output.textures_delta.set {
-            for delta in deltas {
-                state.egui_renderer.update_texture(&state.gpu.device, &state.gpu.queue, *id, delta);
-            }
-        }
-        let extra =
-            state.egui_renderer.update_buffers(&state.gpu.device, &state.gpu.queue, &mut encoder, &primitives, &screen);
-        {
-            let mut pass = encoder
-                .begin_render_pass(&wgpu::RenderPassDescriptor {
-                    label: Some("egui"),
-                    color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                        view: &view,
-                        depth_slice: None,
-                        resolve_target: None,
-                        ops: wgpu::Operations { load: wgpu::LoadOp::Load, store: wgpu::StoreOp::Store },
-                    })],
-                    depth_stencil_attachment: None,
-                    timestamp_writes: None,
-                    occlusion_query_set: None,
-                    multiview_mask: None,
-                })
-                .forget_lifetime();
-            state.egui_renderer.render(&mut pass, &primitives, &screen);
-        }
-        for id in &output.textures_delta.free {
-            state.egui_renderer.free_texture(id);
-        }
-        state.gpu.queue.submit(extra.into_iter().chain([encoder.finish()]));
-        state.gpu.queue.present(texture);
+        let repaint = output.viewport_output.values().any(|v| v.repaint_delay.is_zero());
+        state.paint_and_present(encoder, &view, texture, output);
         self.session.timings.draw_ms = draw_start.elapsed().as_secs_f64() * 1e3;
         self.frames += 1;
 
@@ -367,7 +278,7 @@ impl App {
             event_loop.exit();
             return;
         }
-        if more_reference || actions.changed || output.viewport_output.values().any(|v| v.repaint_delay.is_zero()) {
+        if more_reference || actions.changed || repaint {
             state.window.request_redraw();
         }
     }
@@ -575,13 +486,7 @@ impl ApplicationHandler for App {
         }
         match event {
             WindowEvent::CloseRequested => event_loop.exit(),
-            WindowEvent::Resized(size) => {
-                state.config.width = size.width.max(1);
-                state.config.height = size.height.max(1);
-                state.surface.configure(&state.gpu.device, &state.config);
-                state.depth = depth_view(&state.gpu, state.config.width, state.config.height);
-                state.window.request_redraw();
-            }
+            WindowEvent::Resized(size) => state.resize(size),
             WindowEvent::RedrawRequested => self.redraw(event_loop),
             WindowEvent::ModifiersChanged(m) => self.shift = m.state().shift_key(),
             WindowEvent::KeyboardInput { event, .. }

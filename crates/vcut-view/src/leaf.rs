@@ -55,15 +55,18 @@ pub struct LeafSession {
 }
 
 impl LeafSession {
-    /// A session on `scene` with its precomputed `data` under `env` (its sun split off), leaves
-    /// of `material`, seen by `camera`.
-    pub fn new(
-        scene: LeafScene,
-        data: LeafData,
-        env: EnvMap,
-        material: LeafMaterial,
-        camera: OrbitCamera,
-    ) -> LeafSession {
+    /// A session on `scene` with its precomputed `data` under `env` (its sun split off), seen by
+    /// `camera`; the panel edits the material of the scene's first leaf object (and gives it to
+    /// every leaf object).
+    pub fn new(scene: LeafScene, data: LeafData, env: EnvMap, camera: OrbitCamera) -> LeafSession {
+        let material = scene
+            .objects()
+            .iter()
+            .find_map(|o| match &o.surface {
+                Surface::Leaf(m) => Some((**m).clone()),
+                Surface::Opaque(_) => None,
+            })
+            .unwrap_or_default();
         let (base, _) = Lighting::from_map(&env);
         let sun = base.sun.map_or((45.0, 0.0), |s| {
             (s.dir.y.clamp(-1.0, 1.0).asin().to_degrees(), s.dir.x.atan2(s.dir.z).to_degrees())

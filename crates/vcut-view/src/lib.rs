@@ -21,12 +21,15 @@
 pub mod app;
 pub mod camera;
 pub mod leaf;
+pub mod leaf_app;
 pub mod render;
 pub mod session;
 pub mod ssdo;
+mod window;
 
 pub use app::{ViewOptions, run_window};
 pub use camera::OrbitCamera;
 pub use leaf::{LeafSession, LeafTimings};
+pub use leaf_app::{LeafViewOptions, run_leaf_window};
 pub use render::{Gpu, SceneRenderer, ViewError, leaf_screenshot, screenshot};
 pub use session::{Display, Mode, Session, Timings};

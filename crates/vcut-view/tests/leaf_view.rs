@@ -28,7 +28,7 @@ fn session() -> LeafSession {
         fov_y_deg: 40.0,
     };
     let env = PreethamSky::default().bake(256);
-    LeafSession::new(scene, LeafData { lvc, transfer }, env, m, OrbitCamera::from_camera(&camera))
+    LeafSession::new(scene, LeafData { lvc, transfer }, env, OrbitCamera::from_camera(&camera))
 }
 
 fn cpu_image(s: &LeafSession, w: u32, h: u32) -> Vec<u8> {
@@ -50,6 +50,7 @@ fn the_leaf_screenshot_matches_the_cpu_renderer_and_follows_every_edit() {
     let mut s = session();
     let (w, h) = (320, 240);
     let shot = |s: &mut LeafSession| vcut_view::leaf_screenshot(&gpu, s, w, h).unwrap();
+    assert!(s.material().maps[0].is_some(), "the plant's own material, maps included");
     let first = shot(&mut s);
     // Two-sided: each pixel shows the side facing the camera, as the CPU renderer decides it.
     let cpu = cpu_image(&s, w, h);

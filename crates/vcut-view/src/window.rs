@@ -1,0 +1,123 @@
+//! What every window of the viewer shares: the winit window and its wgpu surface, the device,
+//! the scene renderer, and egui — created, resized, and painted over the scene then presented.
+
+use crate::render::{Gpu, SceneRenderer, ViewError, depth_view};
+use std::sync::Arc;
+use vcut_envmap::EnvMap;
+use winit::event_loop::ActiveEventLoop;
+use winit::window::Window;
+
+/// A window with its surface, device, scene renderer and egui.
+pub(crate) struct WindowState {
+    pub window: Arc<Window>,
+    pub surface: wgpu::Surface<'static>,
+    pub config: wgpu::SurfaceConfiguration,
+    pub gpu: Gpu,
+    pub scene: SceneRenderer,
+    pub depth: wgpu::TextureView,
+    pub egui_ctx: egui::Context,
+    pub egui_state: egui_winit::State,
+    pub egui_renderer: egui_wgpu::Renderer,
+}
+
+impl WindowState {
+    /// A 1280 × 800 window titled `title`, its scene renderer set up for `env`.
+    pub fn create(event_loop: &ActiveEventLoop, title: &str, env: &EnvMap) -> Result<WindowState, ViewError> {
+        let attributes =
+            Window::default_attributes().with_title(title).with_inner_size(winit::dpi::LogicalSize::new(1280.0, 800.0));
+        let window = Arc::new(event_loop.create_window(attributes).map_err(|e| ViewError::Window(e.to_string()))?);
+        let instance = wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle_from_env());
+        let surface = instance.create_surface(window.clone()).map_err(|e| ViewError::Window(e.to_string()))?;
+        let gpu = Gpu::with_instance(instance, Some(&surface))?;
+        let size = window.inner_size();
+        let caps = surface.get_capabilities(&gpu.adapter);
+        let format = caps.formats.iter().copied().find(|f| !f.is_srgb()).or(caps.formats.first().copied());
+        let mut config = surface
+            .get_default_config(&gpu.adapter, size.width.max(1), size.height.max(1))
+            .ok_or_else(|| ViewError::Window(format!("the adapter '{}' cannot present here", gpu.describe())))?;
+        if let Some(f) = format {
+            config.format = f;
+        }
+        surface.configure(&gpu.device, &config);
+        let scene = SceneRenderer::new(&gpu, config.format, env);
+        let depth = depth_view(&gpu, config.width, config.height);
+        let egui_ctx = egui::Context::default();
+        let egui_state = egui_winit::State::new(
+            egui_ctx.clone(),
+            egui::ViewportId::ROOT,
+            &window,
+            Some(window.scale_factor() as f32),
+            None,
+            Some(gpu.device.limits().max_texture_dimension_2d as usize),
+        );
+        let egui_renderer = egui_wgpu::Renderer::new(&gpu.device, config.format, Default::default());
+        Ok(WindowState { window, surface, config, gpu, scene, depth, egui_ctx, egui_state, egui_renderer })
+    }
+
+    /// Follows a new window size.
+    pub fn resize(&mut self, size: winit::dpi::PhysicalSize<u32>) {
+        self.config.width = size.width.max(1);
+        self.config.height = size.height.max(1);
+        self.surface.configure(&self.gpu.device, &self.config);
+        self.depth = depth_view(&self.gpu, self.config.width, self.config.height);
+        self.window.request_redraw();
+    }
+
+    /// The next surface texture, or `None` (surface reconfigured, redraw requested).
+    pub fn acquire(&mut self) -> Option<wgpu::SurfaceTexture> {
+        match self.surface.get_current_texture() {
+            wgpu::CurrentSurfaceTexture::Success(t) | wgpu::CurrentSurfaceTexture::Suboptimal(t) => Some(t),
+            _ => {
+                self.surface.configure(&self.gpu.device, &self.config);
+                self.window.request_redraw();
+                None
+            }
+        }
+    }
+
+    /// Paints egui's `output` over `view` after the scene recorded in `encoder`, submits, and
+    /// presents `texture`.
+    pub fn paint_and_present(
+        &mut self,
+        mut encoder: wgpu::CommandEncoder,
+        view: &wgpu::TextureView,
+        texture: wgpu::SurfaceTexture,
+        output: egui::FullOutput,
+    ) {
+        let size = (self.config.width, self.config.height);
+        self.egui_state.handle_platform_output(&self.window, output.platform_output);
+        let primitives = self.egui_ctx.tessellate(output.shapes, output.pixels_per_point);
+        let screen =
+            egui_wgpu::ScreenDescriptor { size_in_pixels: [size.0, size.1], pixels_per_point: output.pixels_per_point };
+        for (id, deltas) in &output.textures_delta.set {
+            for delta in deltas {
+                self.egui_renderer.update_texture(&self.gpu.device, &self.gpu.queue, *id, delta);
+            }
+        }
+        let extra =
+            self.egui_renderer.update_buffers(&self.gpu.device, &self.gpu.queue, &mut encoder, &primitives, &screen);
+        {
+            let mut pass = encoder
+                .begin_render_pass(&wgpu::RenderPassDescriptor {
+                    label: Some("egui"),
+                    color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                        view,
+                        depth_slice: None,
+                        resolve_target: None,
+                        ops: wgpu::Operations { load: wgpu::LoadOp::Load, store: wgpu::StoreOp::Store },
+                    })],
+                    depth_stencil_attachment: None,
+                    timestamp_writes: None,
+                    occlusion_query_set: None,
+                    multiview_mask: None,
+                })
+                .forget_lifetime();
+            self.egui_renderer.render(&mut pass, &primitives, &screen);
+        }
+        for id in &output.textures_delta.free {
+            self.egui_renderer.free_texture(id);
+        }
+        self.gpu.queue.submit(extra.into_iter().chain([encoder.finish()]));
+        self.gpu.queue.present(texture);
+    }
+}
