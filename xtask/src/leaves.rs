@@ -11,7 +11,7 @@ use serde_json::json;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 use vcut_envmap::EnvMap;
-use vcut_leaf::image::{LeafImage, render, render_triangles};
+use vcut_leaf::image::{render, render_triangles};
 use vcut_leaf::lod::{Lod, LodParams};
 use vcut_leaf::lvc::{Content, Lvc, LvcParams};
 use vcut_leaf::material::LeafMaterial;
@@ -21,6 +21,7 @@ use vcut_leaf::reference::{ReferenceParams, reference, rel_l2};
 use vcut_leaf::scene::LeafScene;
 use vcut_leaf::shade::{LeafData, Lighting, Shader, SunMethod, TwoSided, sun_at, sun_direction};
 use vcut_scene::Camera;
+use vcut_scene::raster::Target;
 use vcut_shade::image::{Image, auto_exposure, pixel_errors, write_png};
 
 /// The plant, its leaves and the sun: shared by `cargo xtask leaves` and `cargo xtask view --leaves`.
@@ -284,13 +285,13 @@ fn subset(n: usize, max: usize) -> Vec<usize> {
 }
 
 /// 2 × 2 box filter of an image twice the size (a pixel is covered when any sample is).
-fn downsample(i: &LeafImage) -> Image {
-    let (w, h) = (i.width as usize / 2, i.height as usize / 2);
+fn downsample(i: &Target) -> Image {
+    let (w, h) = (i.width / 2, i.height / 2);
     let mut rgb = Vec::with_capacity(w * h);
     let mut covered = Vec::with_capacity(w * h);
     for y in 0..h {
         for x in 0..w {
-            let k = |dx: usize, dy: usize| (2 * y + dy) * i.width as usize + 2 * x + dx;
+            let k = |dx: usize, dy: usize| (2 * y + dy) * i.width + 2 * x + dx;
             let ks = [k(0, 0), k(1, 0), k(0, 1), k(1, 1)];
             rgb.push(ks.iter().map(|&k| i.rgb[k]).sum::<Vec3>() * 0.25);
             covered.push(ks.iter().any(|&k| i.covered[k]));
@@ -299,8 +300,8 @@ fn downsample(i: &LeafImage) -> Image {
     Image { width: w as u32, height: h as u32, rgb, covered }
 }
 
-fn to_image(i: LeafImage) -> Image {
-    Image { width: i.width, height: i.height, rgb: i.rgb, covered: i.covered }
+fn to_image(i: Target) -> Image {
+    Image { width: i.width as u32, height: i.height as u32, rgb: i.rgb, covered: i.covered }
 }
 
 /// Runs `cargo xtask leaves`.

@@ -46,3 +46,63 @@ pub fn raster_triangle(s: [Vec3; 3], w: usize, h: usize, mut f: impl FnMut(usize
         }
     }
 }
+
+/// An image being rasterised: linear RGB, a z-buffer, and which pixels show geometry.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Target {
+    /// Width in pixels.
+    pub width: usize,
+    /// Height in pixels.
+    pub height: usize,
+    /// Pixels, row-major from the top.
+    pub rgb: Vec<Vec3>,
+    /// NDC depth of the nearest surface so far.
+    pub depth: Vec<f32>,
+    /// Whether each pixel shows geometry.
+    pub covered: Vec<bool>,
+}
+
+impl Target {
+    /// An empty `width × height` target (black, nothing covered).
+    pub fn new(width: usize, height: usize) -> Target {
+        let n = width * height;
+        Target { width, height, rgb: vec![Vec3::ZERO; n], depth: vec![f32::INFINITY; n], covered: vec![false; n] }
+    }
+
+    /// Draws the triangle of clip-space corners `clip` where it is nearest, its colour the
+    /// perspective-correct interpolation of the corners' `attr` (attribute/w and 1/w
+    /// interpolated). Triangles reaching behind the near plane are skipped.
+    pub fn triangle(&mut self, clip: [Vec4; 3], attr: [Vec3; 3]) {
+        let (w, h) = (self.width, self.height);
+        let Some(s) = to_screen(clip, w, h) else { return };
+        let inv_w = clip.map(|v| 1.0 / v.w);
+        raster_triangle(s, w, h, |k, b0, b1, b2| {
+            let z = b0 * s[0].z + b1 * s[1].z + b2 * s[2].z;
+            if z >= self.depth[k] {
+                return;
+            }
+            self.depth[k] = z;
+            let q = b0 * inv_w[0] + b1 * inv_w[1] + b2 * inv_w[2];
+            self.rgb[k] = (attr[0] * (b0 * inv_w[0]) + attr[1] * (b1 * inv_w[1]) + attr[2] * (b2 * inv_w[2])) / q;
+            self.covered[k] = true;
+        });
+    }
+
+    /// Gives every pixel not covered `radiance(unit direction)` of the ray through its centre,
+    /// for a camera at `eye` with view-projection `view_proj`.
+    pub fn background(&mut self, view_proj: glam::Mat4, eye: Vec3, radiance: impl Fn(Vec3) -> Vec3) {
+        let inv = view_proj.inverse();
+        let (w, h) = (self.width, self.height);
+        for py in 0..h {
+            for px in 0..w {
+                let k = py * w + px;
+                if self.covered[k] {
+                    continue;
+                }
+                let ndc =
+                    Vec3::new((px as f32 + 0.5) / w as f32 * 2.0 - 1.0, 1.0 - (py as f32 + 0.5) / h as f32 * 2.0, 1.0);
+                self.rgb[k] = radiance((inv.project_point3(ndc) - eye).normalize_or_zero());
+            }
+        }
+    }
+}

@@ -13,7 +13,7 @@ use std::io::Write;
 use std::path::{Path, PathBuf};
 use vcut_envmap::EnvMap;
 use vcut_scene::Camera;
-use vcut_scene::raster::{raster_triangle, to_screen};
+use vcut_scene::raster::Target;
 
 /// A linear RGB image, row-major from the top.
 #[derive(Debug, Clone, PartialEq)]
@@ -62,45 +62,18 @@ pub fn rasterize(
 ) -> Image {
     let (w, h) = (width.max(1) as usize, height.max(1) as usize);
     let vp = view_projection(camera, w as f32 / h as f32);
-    let mut depth = vec![f32::INFINITY; w * h];
-    let mut rgb = vec![Vec3::ZERO; w * h];
-    let mut covered = vec![false; w * h];
+    let mut target = Target::new(w, h);
     for (o, rad) in radiance.iter().enumerate().take(frame.object_count()) {
         let (_, mesh, _, _, _) = frame.object(o);
         let clip: Vec<Vec4> = frame.positions(o).iter().map(|p| vp * p.extend(1.0)).collect();
         for t in mesh.triangles() {
-            let c = t.map(|i| clip[i as usize]);
-            let Some(s) = to_screen(c, w, h) else { continue };
-            let inv_w = c.map(|v| 1.0 / v.w);
-            let attr = t.map(|i| rad[i as usize]);
-            raster_triangle(s, w, h, |k, b0, b1, b2| {
-                let z = b0 * s[0].z + b1 * s[1].z + b2 * s[2].z;
-                if z >= depth[k] {
-                    return;
-                }
-                depth[k] = z;
-                // Perspective-correct: interpolate attribute/w and 1/w.
-                let q = b0 * inv_w[0] + b1 * inv_w[1] + b2 * inv_w[2];
-                rgb[k] = (attr[0] * (b0 * inv_w[0]) + attr[1] * (b1 * inv_w[1]) + attr[2] * (b2 * inv_w[2])) / q;
-                covered[k] = true;
-            });
+            target.triangle(t.map(|i| clip[i as usize]), t.map(|i| rad[i as usize]));
         }
     }
     if let Some(env) = background {
-        let inv = vp.inverse();
-        for py in 0..h {
-            for px in 0..w {
-                let k = py * w + px;
-                if covered[k] {
-                    continue;
-                }
-                let ndc =
-                    Vec3::new((px as f32 + 0.5) / w as f32 * 2.0 - 1.0, 1.0 - (py as f32 + 0.5) / h as f32 * 2.0, 1.0);
-                let far = inv.project_point3(ndc);
-                rgb[k] = env.radiance((far - camera.position).normalize_or_zero());
-            }
-        }
+        target.background(vp, camera.position, |d| env.radiance(d));
     }
+    let Target { rgb, covered, .. } = target;
     Image { width: w as u32, height: h as u32, rgb, covered }
 }
 

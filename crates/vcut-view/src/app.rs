@@ -14,9 +14,8 @@ use std::time::{Duration, Instant};
 use vcut_envmap::EnvMap;
 use vcut_scene::{BrdfModel, Material, Motion};
 use winit::application::ApplicationHandler;
-use winit::event::{ElementState, MouseButton, MouseScrollDelta, WindowEvent};
+use winit::event::{ElementState, MouseButton, WindowEvent};
 use winit::event_loop::{ActiveEventLoop, ControlFlow, EventLoop};
-use winit::keyboard::{Key, NamedKey};
 use winit::window::WindowId;
 
 /// Loads an environment map by name (for the panel's environment menu).
@@ -480,22 +479,13 @@ impl ApplicationHandler for App {
 
     fn window_event(&mut self, event_loop: &ActiveEventLoop, _id: WindowId, event: WindowEvent) {
         let Some(state) = self.state.as_mut() else { return };
-        let response = state.egui_state.on_window_event(&state.window, &event);
-        if response.repaint {
-            state.window.request_redraw();
+        let (response, done) = state.common_event(event_loop, &event);
+        if done {
+            return;
         }
         match event {
-            WindowEvent::CloseRequested => event_loop.exit(),
-            WindowEvent::Resized(size) => state.resize(size),
             WindowEvent::RedrawRequested => self.redraw(event_loop),
             WindowEvent::ModifiersChanged(m) => self.shift = m.state().shift_key(),
-            WindowEvent::KeyboardInput { event, .. }
-                if !response.consumed
-                    && event.state == ElementState::Pressed
-                    && event.logical_key == Key::Named(NamedKey::Escape) =>
-            {
-                event_loop.exit()
-            }
             WindowEvent::CursorMoved { position, .. } => {
                 if response.consumed && self.drag.is_none() {
                     self.cursor = Some((position.x as f32, position.y as f32));
@@ -511,11 +501,7 @@ impl ApplicationHandler for App {
                 }
             }
             WindowEvent::MouseWheel { delta, .. } if !response.consumed => {
-                let lines = match delta {
-                    MouseScrollDelta::LineDelta(_, y) => y,
-                    MouseScrollDelta::PixelDelta(p) => p.y as f32 / 40.0,
-                };
-                self.session.camera.zoom(0.9f32.powf(lines));
+                self.session.camera.zoom(0.9f32.powf(crate::window::wheel_lines(delta)));
                 self.request_redraw();
             }
             _ => {}

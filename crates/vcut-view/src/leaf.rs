@@ -201,8 +201,8 @@ impl LeafSession {
             None,
         );
         let image = vcut_shade::image::Image {
-            width: small.width,
-            height: small.height,
+            width: small.width as u32,
+            height: small.height as u32,
             rgb: small.rgb,
             covered: small.covered,
         };

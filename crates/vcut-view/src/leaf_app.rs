@@ -11,9 +11,8 @@ use std::time::Instant;
 use vcut_leaf::material::SideMaps;
 use vcut_leaf::shade::{SunMethod, sun_at};
 use winit::application::ApplicationHandler;
-use winit::event::{ElementState, MouseButton, MouseScrollDelta, WindowEvent};
+use winit::event::{ElementState, MouseButton, WindowEvent};
 use winit::event_loop::{ActiveEventLoop, ControlFlow, EventLoop};
-use winit::keyboard::{Key, NamedKey};
 use winit::window::WindowId;
 
 /// What the leaf window shows besides the session.
@@ -297,21 +296,12 @@ impl ApplicationHandler for LeafApp {
 
     fn window_event(&mut self, event_loop: &ActiveEventLoop, _id: WindowId, event: WindowEvent) {
         let Some(state) = self.state.as_mut() else { return };
-        let response = state.egui_state.on_window_event(&state.window, &event);
-        if response.repaint {
-            state.window.request_redraw();
+        let (response, done) = state.common_event(event_loop, &event);
+        if done {
+            return;
         }
         match event {
-            WindowEvent::CloseRequested => event_loop.exit(),
-            WindowEvent::Resized(size) => state.resize(size),
             WindowEvent::RedrawRequested => self.redraw(event_loop),
-            WindowEvent::KeyboardInput { event, .. }
-                if !response.consumed
-                    && event.state == ElementState::Pressed
-                    && event.logical_key == Key::Named(NamedKey::Escape) =>
-            {
-                event_loop.exit()
-            }
             WindowEvent::CursorMoved { position, .. } => {
                 let (x, y) = (position.x as f32, position.y as f32);
                 let previous = self.cursor.replace((x, y));
@@ -338,11 +328,7 @@ impl ApplicationHandler for LeafApp {
                 };
             }
             WindowEvent::MouseWheel { delta, .. } if !response.consumed => {
-                let lines = match delta {
-                    MouseScrollDelta::LineDelta(_, y) => y,
-                    MouseScrollDelta::PixelDelta(p) => p.y as f32 / 40.0,
-                };
-                self.session.camera.zoom(0.9f32.powf(lines));
+                self.session.camera.zoom(0.9f32.powf(crate::window::wheel_lines(delta)));
                 self.session.touch();
                 self.request_redraw();
             }

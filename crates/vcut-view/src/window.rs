@@ -4,8 +4,18 @@
 use crate::render::{Gpu, SceneRenderer, ViewError, depth_view};
 use std::sync::Arc;
 use vcut_envmap::EnvMap;
+use winit::event::{ElementState, MouseScrollDelta, WindowEvent};
 use winit::event_loop::ActiveEventLoop;
+use winit::keyboard::{Key, NamedKey};
 use winit::window::Window;
+
+/// Mouse-wheel motion in lines (pixels at 40 a line).
+pub(crate) fn wheel_lines(delta: MouseScrollDelta) -> f32 {
+    match delta {
+        MouseScrollDelta::LineDelta(_, y) => y,
+        MouseScrollDelta::PixelDelta(p) => p.y as f32 / 40.0,
+    }
+}
 
 /// A window with its surface, device, scene renderer and egui.
 pub(crate) struct WindowState {
@@ -52,6 +62,40 @@ impl WindowState {
         );
         let egui_renderer = egui_wgpu::Renderer::new(&gpu.device, config.format, Default::default());
         Ok(WindowState { window, surface, config, gpu, scene, depth, egui_ctx, egui_state, egui_renderer })
+    }
+
+    /// Passes `event` to egui (asking for a redraw when egui wants one) and handles what every
+    /// window does alike — close, resize, Escape (when egui did not take it); returns egui's
+    /// response, and whether the event is dealt with.
+    pub fn common_event(
+        &mut self,
+        event_loop: &ActiveEventLoop,
+        event: &WindowEvent,
+    ) -> (egui_winit::EventResponse, bool) {
+        let response = self.egui_state.on_window_event(&self.window, event);
+        if response.repaint {
+            self.window.request_redraw();
+        }
+        let done = match event {
+            WindowEvent::CloseRequested => {
+                event_loop.exit();
+                true
+            }
+            WindowEvent::Resized(size) => {
+                self.resize(*size);
+                true
+            }
+            WindowEvent::KeyboardInput { event, .. }
+                if !response.consumed
+                    && event.state == ElementState::Pressed
+                    && event.logical_key == Key::Named(NamedKey::Escape) =>
+            {
+                event_loop.exit();
+                true
+            }
+            _ => false,
+        };
+        (response, done)
     }
 
     /// Follows a new window size.
