@@ -505,7 +505,7 @@ fn ssdo_section(args: &BenchArgs) -> Result<serde_json::Value> {
     if !args.quick && !names.iter().any(|n| n == "plant") {
         names.push("plant".into());
     }
-    let (eval, rays, runs) = if args.quick { ((320, 180), 64, 3) } else { ((640, 360), 256, 5) };
+    let (eval, rays, runs) = if args.quick { ((320, 180), 64, 5) } else { ((640, 360), 256, 9) };
     crate::ssdo::bench(&names, (1280, 720), eval, rays, runs)
 }
 

@@ -207,21 +207,26 @@ fn gpu_times(
     let gpu = vcut_view::Gpu::headless()?;
     let passes = vcut_view::ssdo::GpuSsdo::new(&gpu);
     let mut out = vec![("gpu_adapter".to_string(), serde_json::json!(gpu.describe()))];
-    let mut ms = std::collections::BTreeMap::new();
+    // The three modes' frames timed in turn within each run, so a change of load on this shared
+    // machine hits all of them alike; medians over the runs.
+    let mut frames = Vec::new();
     for mode in MODES {
         let mut p = params(objects);
         p.peel = mode == "ssdo-peeled";
         let method = if mode == "ssao" { Method::Ssao } else { Method::Ssdo };
         let f = passes.frame(&gpu, objects, light, camera, &p, method, size);
         f.run(&gpu)?;
-        let times: Vec<f64> = (0..runs.max(1))
-            .map(|_| {
-                let t = Instant::now();
-                f.run(&gpu).map(|_| t.elapsed().as_secs_f64() * 1e3)
-            })
-            .collect::<Result<_, _>>()?;
-        ms.insert(mode, crate::bench::median(times));
+        frames.push((mode, f, Vec::new()));
     }
+    for _ in 0..runs.max(1) {
+        for (_, f, times) in &mut frames {
+            let t = Instant::now();
+            f.run(&gpu)?;
+            times.push(t.elapsed().as_secs_f64() * 1e3);
+        }
+    }
+    let ms: std::collections::BTreeMap<&str, f64> =
+        frames.into_iter().map(|(mode, _, times)| (mode, crate::bench::median(times))).collect();
     out.push(("ms_ssao".into(), serde_json::json!(ms["ssao"])));
     out.push(("ms_ssdo".into(), serde_json::json!(ms["ssdo"])));
     out.push(("ms_ssdo_peeled".into(), serde_json::json!(ms["ssdo-peeled"])));

@@ -124,6 +124,15 @@ fn basis(n: vec3<f32>) -> mat2x3<f32> {
     );
 }
 
+// The pixel sample point s projects to (s known to be in front of the camera and on screen:
+// an occluded sample's).
+fn pixel_of(s: vec3<f32>) -> vec2<i32> {
+    let c = u.view_proj * vec4<f32>(s, 1.0);
+    let x = (c.x / c.w * 0.5 + 0.5) * u.size.x;
+    let y = (0.5 - c.y / c.w * 0.5) * u.size.y;
+    return vec2<i32>(i32(x), i32(y));
+}
+
 // The pixel whose stored surface occludes sample point s, or (-1, -1).
 fn occluder(s: vec3<f32>) -> vec2<i32> {
     let none = vec2<i32>(-1, -1);
@@ -246,12 +255,18 @@ fn fs_sample(@builtin(position) frag: vec4<f32>) -> SampleOut {
     var visible_cos = 0.0;
     var all_cos = 0.0;
     var occluded = 0.0;
+    // Which samples are occluded, for the bounce pass (bit i: sample i), kept in the sun
+    // term's w — exact in f32 up to 24 samples.
+    var mask = 0u;
     for (var i = 0u; i < u.p1.x; i++) {
         let s = sample_at(q, i, g.xyz, n);
         let c = max(dot(s.dir, n), 0.0);
         all_cos += c;
         if (occluder(s.point).x >= 0) {
             occluded += 1.0;
+            if (i < 24u) {
+                mask |= 1u << i;
+            }
             continue;
         }
         visible_cos += c;
@@ -274,9 +289,10 @@ fn fs_sample(@builtin(position) frag: vec4<f32>) -> SampleOut {
     if (u.sun_dir.w > 0.0) {
         let c = dot(n, u.sun_dir.xyz);
         if (c > 0.0) {
-            out.sun = vec4<f32>(albedo / PI * u.sun_irradiance.xyz * c * sun_lit(g.xyz), 1.0);
+            out.sun = vec4<f32>(albedo / PI * u.sun_irradiance.xyz * c * sun_lit(g.xyz), 0.0);
         }
     }
+    out.sun.w = f32(mask);
     return out;
 }
 
@@ -294,9 +310,20 @@ fn fs_indirect(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
     let area = u.p0.z * PI * u.p0.x * u.p0.x / nf;
     let d_min2 = u.p0.x * u.p0.x * 0.5;
     var sum = vec3<f32>(0.0);
+    // The sampling pass recorded which samples are occluded: only their senders are projected
+    // again (no depth tests); beyond 24 samples the rest are tested here.
+    let mask = u32(textureLoad(in_b, q, 0).w);
     for (var i = 0u; i < u.p1.x; i++) {
+        if (i < 24u && ((mask >> i) & 1u) == 0u) {
+            continue;
+        }
         let s = sample_at(q, i, g.xyz, n);
-        let k = occluder(s.point);
+        var k = vec2<i32>(-1, -1);
+        if (i < 24u) {
+            k = pixel_of(s.point);
+        } else {
+            k = occluder(s.point);
+        }
         if (k.x < 0) {
             continue;
         }
