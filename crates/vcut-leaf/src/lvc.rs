@@ -125,10 +125,8 @@ impl Lvc {
     /// Traces every vertex's visibility over the cube's directions and convolves it with the sun
     /// disk; `progress(done, total)` after each chunk of vertices.
     pub fn compute(scene: &LeafScene, params: &LvcParams, progress: impl FnMut(usize, usize)) -> Lvc {
-        let dirs = CubeDirections { resolution: params.resolution.max(1) };
-        let ray_dirs: Vec<Vec3> = (0..dirs.len()).map(|i| dirs.direction(i)).collect();
-        let all: Vec<usize> = (0..dirs.len()).collect();
-        Lvc::compute_directions(scene, params, &all, &ray_dirs, progress)
+        let all: Vec<usize> = (0..CubeDirections { resolution: params.resolution.max(1) }.len()).collect();
+        Lvc::compute_suns(scene, params, &all, progress)
     }
 
     /// [`Lvc::compute`] for the sun directions `suns` only (maps of the others are left empty):
@@ -138,24 +136,15 @@ impl Lvc {
         scene: &LeafScene,
         params: &LvcParams,
         suns: &[usize],
-        progress: impl FnMut(usize, usize),
-    ) -> Lvc {
-        let dirs = CubeDirections { resolution: params.resolution.max(1) };
-        let ray_dirs: Vec<Vec3> = (0..dirs.len()).map(|i| dirs.direction(i)).collect();
-        Lvc::compute_directions(scene, params, suns, &ray_dirs, progress)
-    }
-
-    fn compute_directions(
-        scene: &LeafScene,
-        params: &LvcParams,
-        suns: &[usize],
-        ray_dirs: &[Vec3],
         mut progress: impl FnMut(usize, usize),
     ) -> Lvc {
         let dirs = CubeDirections { resolution: params.resolution.max(1) };
+        let ray_dirs: Vec<Vec3> = (0..dirs.len()).map(|i| dirs.direction(i)).collect();
         let masks = disk_masks(dirs, params);
+        let mut wanted = vec![false; dirs.len()];
         let mut needed = vec![false; dirs.len()];
         for &j in suns {
+            wanted[j] = true;
             for &(t, _) in &masks[j] {
                 needed[t as usize] = true;
             }
@@ -169,7 +158,6 @@ impl Lvc {
         let occ = scene.occluder();
         let eps = scene.ray_offset();
         let mut encoders: Vec<Encoder> = (0..dirs.len()).map(|_| Encoder::new()).collect();
-        let mut done = 0;
         for start in (0..n).step_by(CHUNK) {
             let end = (start + CHUNK).min(n);
             // Visibility of the chunk's vertices along each traced direction, vertex-major.
@@ -189,7 +177,7 @@ impl Lvc {
                 .collect();
             // Re-bin per sun direction: each direction's encoder takes the chunk's column.
             encoders.par_iter_mut().enumerate().for_each(|(j, enc)| {
-                if !suns.is_empty() && slot_of_sun(suns, j).is_none() {
+                if !wanted[j] {
                     return;
                 }
                 for (k, row) in vis.iter().enumerate() {
@@ -205,15 +193,13 @@ impl Lvc {
                     enc.push((acc.clamp(0.0, 1.0) * 255.0).round() as u8);
                 }
             });
-            done = end;
-            progress(done, n);
+            progress(end, n);
         }
-        let _ = done;
         let mut offsets = Vec::with_capacity(dirs.len() + 1);
         let mut data = Vec::new();
         for (j, enc) in encoders.into_iter().enumerate() {
             offsets.push(data.len());
-            if slot_of_sun(suns, j).is_some() {
+            if wanted[j] {
                 data.extend(enc.finish());
             }
         }
@@ -260,10 +246,6 @@ impl Lvc {
     pub fn compressed_bytes(&self) -> usize {
         self.data.len()
     }
-}
-
-fn slot_of_sun(suns: &[usize], j: usize) -> Option<usize> {
-    suns.binary_search(&j).ok().or_else(|| suns.iter().position(|&s| s == j))
 }
 
 #[cfg(test)]

@@ -11,7 +11,7 @@ use crate::material::Scatter;
 use crate::prt::Transfer;
 use crate::rle::RleError;
 use crate::scene::LeafScene;
-use crate::sh::{COEFFS, ShRgb, dot_each, dot_rgb, project_delta, project_env};
+use crate::sh::{COEFFS, ShRgb, project_delta, project_env};
 use glam::{Vec3, Vec3A};
 use rayon::prelude::*;
 use std::f32::consts::PI;
@@ -363,11 +363,4 @@ impl FrameContext<'_> {
         }
         radiance
     }
-}
-
-/// Irradiance on each side of every vertex from the environment alone (for tests and reports).
-pub fn environment_irradiance(transfer: &Transfer, lighting: &Lighting, v: usize) -> [Vec3; 2] {
-    [0, 1].map(|side| {
-        dot_rgb(&transfer.direct[v][side], &lighting.env) + dot_each(&transfer.indirect[v][side], &lighting.env)
-    })
 }
