@@ -424,6 +424,20 @@ pub fn run(args: &BenchArgs) -> Result<()> {
     let (set, _) =
         DirectionSet::load_or_generate(Path::new("target/vcut-cache"), 32_768, &RepulsionParams::default(), |_, _| {})?;
     let u = set.uniformity();
+    // Both starts generated afresh in this run, so their times compare.
+    let timed = |params: &RepulsionParams| -> Result<(f64, vcut_sphere::Uniformity)> {
+        let t = Instant::now();
+        let s = DirectionSet::generate(32_768, params, |_, _| {})?;
+        Ok((t.elapsed().as_secs_f64(), s.uniformity()))
+    };
+    let (fib_s, _) = timed(&RepulsionParams::default())?;
+    let (random_s, ru) = timed(&RepulsionParams::random(1))?;
+    println!(
+        "random start (seed 1): cv_cell_area={:.5} min_nn_ratio={:.4}, {:.2}x the Fibonacci start's time",
+        ru.cv_cell_area,
+        ru.min_nn_ratio,
+        random_s / fib_s
+    );
     let tree = vcut_dirtree::DirectionTree::build(set.directions(), &set.cell_areas())?;
     let sky = vcut_envmap::procedural::PreethamSky::default().bake(1024);
     let mut builder = LightTreeBuilder::new(&tree);
@@ -466,7 +480,13 @@ pub fn run(args: &BenchArgs) -> Result<()> {
             "memory_bandwidth_gb_s": bandwidth,
             "raw_rays_per_s": raw,
         },
-        "directions": { "n": u.n, "cv_cell_area": u.cv_cell_area, "min_nn_ratio": u.min_nn_ratio },
+        "directions": {
+            "n": u.n, "cv_cell_area": u.cv_cell_area, "min_nn_ratio": u.min_nn_ratio, "generate_s": fib_s,
+            "random": {
+                "seed": 1, "cv_cell_area": ru.cv_cell_area, "min_nn_ratio": ru.min_nn_ratio,
+                "generate_s": random_s, "time_vs_fibonacci": random_s / fib_s,
+            },
+        },
         "light_tree_rebuild_ms": rebuild_ms,
         "merge_speedup": teapot.map(|s| f(s, "merge_speedup")),
         "codec_size_ratio": teapot.map(|s| f(s, "data_bytes_height_codec_4bit") / f(s, "data_bytes_index")),

@@ -40,7 +40,10 @@ pub fn run(args: &DirectionsArgs) -> Result<()> {
         "random" => Start::Random,
         s => bail!("--start {s}: expected fibonacci or random"),
     };
-    let params = RepulsionParams { start, seed: args.seed, ..RepulsionParams::default() };
+    let params = match start {
+        Start::Fibonacci => RepulsionParams { seed: args.seed, ..RepulsionParams::default() },
+        Start::Random => RepulsionParams::random(args.seed),
+    };
     let bar = ProgressBar::new_spinner();
     bar.set_style(ProgressStyle::with_template("{spinner} repulsion {msg} [{elapsed}]").context("progress style")?);
     let progress = |it: u32, rms: f64| {

@@ -1,5 +1,5 @@
 //! Point repulsion from the Fibonacci start for 32,768 and 65,536 directions (goal: 65,536 in
-//! ≤ 10 s on 2 cores), the random start at 32,768, and the exact Voronoi cell areas.
+//! ≤ 10 s on 2 cores), the random start at both sizes, and the exact Voronoi cell areas.
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use std::hint::black_box;
@@ -13,9 +13,11 @@ fn repulsion(c: &mut Criterion) {
             b.iter(|| DirectionSet::generate(black_box(n), &RepulsionParams::default(), |_, _| {}).unwrap())
         });
     }
-    g.bench_function("random_32768", |b| {
-        b.iter(|| DirectionSet::generate(32_768, &RepulsionParams::random(1), |_, _| {}).unwrap())
-    });
+    for n in [32_768usize, 65_536] {
+        g.bench_function(format!("random_{n}"), |b| {
+            b.iter(|| DirectionSet::generate(black_box(n), &RepulsionParams::random(1), |_, _| {}).unwrap())
+        });
+    }
     let set = DirectionSet::generate(65_536, &RepulsionParams::default(), |_, _| {}).unwrap();
     g.bench_function("voronoi_cell_areas_65536", |b| b.iter(|| set.cell_areas()));
     g.finish();

@@ -20,7 +20,8 @@ fn fnv1a(bytes: &[u8]) -> u64 {
 
 /// The cache file name for a set.
 pub fn file_name(n: usize, p: &RepulsionParams) -> String {
-    let knobs = format!("{}:{}:{}:{}", p.kernel_radius, p.step, p.tolerance, p.max_iterations);
+    let knobs =
+        format!("{}:{}:{}:{}:{:?}:{}", p.kernel_radius, p.step, p.tolerance, p.max_iterations, p.integrator, p.window);
     format!(
         "directions-v{ALGORITHM_VERSION}-{}-n{n}-seed{}-{:08x}.bin",
         p.start.name(),
