@@ -225,6 +225,24 @@ fn gpu_times(
             times.push(t.elapsed().as_secs_f64() * 1e3);
         }
     }
+    // Where the time goes: every pass submitted and waited for alone, medians over the runs.
+    for (mode, f, _) in &frames {
+        let mut per_pass: Vec<(&str, Vec<f64>)> = Vec::new();
+        for _ in 0..runs.max(1) {
+            for (k, (label, t)) in f.run_passes(&gpu)?.into_iter().enumerate() {
+                if per_pass.len() <= k {
+                    per_pass.push((label, Vec::new()));
+                }
+                per_pass[k].1.push(t);
+            }
+        }
+        let passes: serde_json::Map<String, serde_json::Value> = per_pass
+            .into_iter()
+            .map(|(label, times)| (label.to_string(), serde_json::json!(crate::bench::median(times))))
+            .collect();
+        println!("  {mode} passes (ms): {}", serde_json::Value::Object(passes.clone()));
+        out.push((format!("passes_ms_{}", mode.replace('-', "_")), serde_json::Value::Object(passes)));
+    }
     let ms: std::collections::BTreeMap<&str, f64> =
         frames.into_iter().map(|(mode, _, times)| (mode, crate::bench::median(times))).collect();
     out.push(("ms_ssao".into(), serde_json::json!(ms["ssao"])));

@@ -57,6 +57,7 @@ struct Draw {
 }
 
 struct Pass {
+    label: &'static str,
     targets: Vec<wgpu::TextureView>,
     depth: Option<wgpu::TextureView>,
     draw: Option<Draw>,
@@ -331,6 +332,7 @@ impl GpuSsdo {
         let peel = params.peel;
         let mut commands = vec![
             Pass {
+                label: "g-buffer",
                 targets: g1.iter().map(view).collect(),
                 depth: Some(view(&depth1)),
                 draw: Some(Draw {
@@ -342,6 +344,7 @@ impl GpuSsdo {
             },
             // The second layer (cleared even when not peeling: the samples' pass reads it).
             Pass {
+                label: "g-buffer second layer",
                 targets: g2.iter().map(view).collect(),
                 depth: Some(view(&depth2)),
                 draw: peel.then(|| Draw {
@@ -352,6 +355,7 @@ impl GpuSsdo {
                 }),
             },
             Pass {
+                label: "shadow map",
                 targets: Vec::new(),
                 depth: Some(view(&shadow)),
                 draw: sun.is_some().then(|| Draw {
@@ -373,27 +377,32 @@ impl GpuSsdo {
         };
         let all = [0, 1, 2, 3, 4];
         commands.push(Pass {
+            label: "sampling",
             targets: vec![view(&env), view(&sun_t)],
             depth: None,
             draw: Some(fullscreen(&self.sample, Some(&u_main), &all, &[(0, &cone_v), (1, &irr_v), (3, &shadow_v)])),
         });
         let bounce = method == Method::Ssdo && params.indirect;
         commands.push(Pass {
+            label: "bounce",
             targets: vec![view(&indirect)],
             depth: None,
             draw: bounce.then(|| fullscreen(&self.indirect, Some(&u_main), &all, &[(0, &env_v), (1, &sun_v)])),
         });
         commands.push(Pass {
+            label: "blur horizontal",
             targets: blur_h.iter().map(view).collect(),
             depth: None,
             draw: Some(fullscreen(&self.blur, Some(&u_h), &[0, 1], &[(0, &env_v), (1, &ind_v)])),
         });
         commands.push(Pass {
+            label: "blur vertical",
             targets: blur_v.iter().map(view).collect(),
             depth: None,
             draw: Some(fullscreen(&self.blur, Some(&u_v), &[0, 1], &[(0, &bh[0]), (1, &bh[1])])),
         });
         commands.push(Pass {
+            label: "composite",
             targets: vec![view(&out)],
             depth: None,
             draw: Some(fullscreen(&self.composite, None, &[0], &[(0, &bv[0]), (1, &bv[1]), (2, &sun_v)])),
@@ -410,8 +419,26 @@ impl GpuSsdo {
 impl SsdoFrame {
     /// Encodes every pass, submits, and waits for the GPU.
     pub fn run(&self, gpu: &Gpu) -> Result<(), ViewError> {
+        self.submit(gpu, &self.commands)
+    }
+
+    /// Runs the passes one submission each, waiting after each: the wall time of every pass
+    /// (label, ms), for finding where a frame's time goes. Their sum exceeds [`Self::run`]'s
+    /// time by the submissions' overhead.
+    pub fn run_passes(&self, gpu: &Gpu) -> Result<Vec<(&'static str, f64)>, ViewError> {
+        self.commands
+            .chunks(1)
+            .map(|p| {
+                let t = std::time::Instant::now();
+                self.submit(gpu, p)?;
+                Ok((p[0].label, t.elapsed().as_secs_f64() * 1e3))
+            })
+            .collect()
+    }
+
+    fn submit(&self, gpu: &Gpu, passes: &[Pass]) -> Result<(), ViewError> {
         let mut encoder = gpu.device.create_command_encoder(&Default::default());
-        for p in &self.commands {
+        for p in passes {
             let attachments: Vec<Option<wgpu::RenderPassColorAttachment<'_>>> = p
                 .targets
                 .iter()
@@ -428,7 +455,7 @@ impl SsdoFrame {
                 })
                 .collect();
             let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-                label: None,
+                label: Some(p.label),
                 color_attachments: &attachments,
                 depth_stencil_attachment: p.depth.as_ref().map(|d| wgpu::RenderPassDepthStencilAttachment {
                     view: d,

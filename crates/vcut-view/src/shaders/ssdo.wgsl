@@ -223,12 +223,23 @@ struct Sample {
     point: vec3<f32>,
 };
 
-fn sample_at(q: vec2<i32>, i: u32, position: vec3<f32>, n: vec3<f32>) -> Sample {
-    let set_index = (u32(q.x % 4) + 4u * u32(q.y % 4)) % u.p1.y;
-    let p = samples[set_index * u.p1.x + i].xyz;
-    let tb = basis(n);
+// Where pixel q's sample set starts in `samples`, and its tangent frame: once per pixel.
+struct Frame {
+    base: u32,
+    tb: mat2x3<f32>,
+};
+
+fn frame_at(q: vec2<i32>, n: vec3<f32>) -> Frame {
+    var f: Frame;
+    f.base = ((u32(q.x % 4) + 4u * u32(q.y % 4)) % u.p1.y) * u.p1.x;
+    f.tb = basis(n);
+    return f;
+}
+
+fn sample_at(f: Frame, i: u32, position: vec3<f32>, n: vec3<f32>) -> Sample {
+    let p = samples[f.base + i].xyz;
     var s: Sample;
-    let w = tb[0] * p.x + tb[1] * p.y + n * p.z;
+    let w = f.tb[0] * p.x + f.tb[1] * p.y + n * p.z;
     let len = length(w);
     s.dir = select(n, w / len, len > 0.0);
     s.point = position + s.dir * (length(p) * u.p0.x);
@@ -258,8 +269,9 @@ fn fs_sample(@builtin(position) frag: vec4<f32>) -> SampleOut {
     // Which samples are occluded, for the bounce pass (bit i: sample i), kept in the sun
     // term's w — exact in f32 up to 24 samples.
     var mask = 0u;
+    let f = frame_at(q, n);
     for (var i = 0u; i < u.p1.x; i++) {
-        let s = sample_at(q, i, g.xyz, n);
+        let s = sample_at(f, i, g.xyz, n);
         let c = max(dot(s.dir, n), 0.0);
         all_cos += c;
         if (occluder(s.point).x >= 0) {
@@ -296,6 +308,26 @@ fn fs_sample(@builtin(position) frag: vec4<f32>) -> SampleOut {
     return out;
 }
 
+// What the sender stored at pixel k sends to the receiver at p with normal n: its pixel's
+// direct radiance (in_a + in_b) through a patch of `area`, back-facing senders ignored.
+fn bounce(p: vec3<f32>, n: vec3<f32>, k: vec2<i32>, area: f32, d_min2: f32) -> vec3<f32> {
+    let sender = textureLoad(g_position, k, 0).xyz;
+    let sender_n = textureLoad(g_normal, k, 0).xyz;
+    let d = sender - p;
+    let d2 = dot(d, d);
+    if (d2 <= 0.0) {
+        return vec3<f32>(0.0);
+    }
+    let dir = d / sqrt(d2);
+    let cos_r = dot(n, dir);
+    let cos_s = -dot(sender_n, dir);
+    if (cos_r <= 0.0 || cos_s <= 0.0) {
+        return vec3<f32>(0.0);
+    }
+    let light = textureLoad(in_a, k, 0).xyz + textureLoad(in_b, k, 0).xyz;
+    return light * (area * cos_s * cos_r / max(d2, d_min2));
+}
+
 // in_a: the environment term, in_b: the sun term (both unblurred).
 @fragment
 fn fs_indirect(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
@@ -311,37 +343,26 @@ fn fs_indirect(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
     let d_min2 = u.p0.x * u.p0.x * 0.5;
     var sum = vec3<f32>(0.0);
     // The sampling pass recorded which samples are occluded: only their senders are projected
-    // again (no depth tests); beyond 24 samples the rest are tested here.
-    let mask = u32(textureLoad(in_b, q, 0).w);
-    for (var i = 0u; i < u.p1.x; i++) {
-        if (i < 24u && ((mask >> i) & 1u) == 0u) {
-            continue;
+    // again (no depth tests), one iteration per set bit — the fragments shaded together then
+    // loop as often as the most occluded of them, not N times. Beyond 24 samples the rest are
+    // tested here.
+    var mask = u32(textureLoad(in_b, q, 0).w);
+    let f = frame_at(q, n);
+    loop {
+        if (mask == 0u) {
+            break;
         }
-        let s = sample_at(q, i, g.xyz, n);
-        var k = vec2<i32>(-1, -1);
-        if (i < 24u) {
-            k = pixel_of(s.point);
-        } else {
-            k = occluder(s.point);
+        let i = firstTrailingBit(mask);
+        mask &= mask - 1u;
+        let s = sample_at(f, i, g.xyz, n);
+        sum += bounce(g.xyz, n, pixel_of(s.point), area, d_min2);
+    }
+    for (var i = 24u; i < u.p1.x; i++) {
+        let s = sample_at(f, i, g.xyz, n);
+        let k = occluder(s.point);
+        if (k.x >= 0) {
+            sum += bounce(g.xyz, n, k, area, d_min2);
         }
-        if (k.x < 0) {
-            continue;
-        }
-        let sender = textureLoad(g_position, k, 0).xyz;
-        let sender_n = textureLoad(g_normal, k, 0).xyz;
-        let d = sender - g.xyz;
-        let d2 = dot(d, d);
-        if (d2 <= 0.0) {
-            continue;
-        }
-        let dir = d / sqrt(d2);
-        let cos_r = dot(n, dir);
-        let cos_s = -dot(sender_n, dir);
-        if (cos_r <= 0.0 || cos_s <= 0.0) {
-            continue;
-        }
-        let light = textureLoad(in_a, k, 0).xyz + textureLoad(in_b, k, 0).xyz;
-        sum += light * (area * cos_s * cos_r / max(d2, d_min2));
     }
     return vec4<f32>(albedo / PI * sum, 1.0);
 }
