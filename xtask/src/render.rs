@@ -192,6 +192,14 @@ pub fn run(args: &RenderArgs) -> Result<Printed> {
     let (move_ms, moved) = apply_edits(&mut frame, &args.brdfs, &args.moves)?;
     out.emit("move_merge_ms", format!("{move_ms:.2}"));
     out.emit("move_merged_vertices", format!("{moved}"));
+    if moved > 0 {
+        // Where the last move's time went (wall clock over all cores).
+        let t = frame.last_move();
+        out.emit("move_keys_ms", format!("{:.2}", t.keys_s * 1e3));
+        out.emit("move_decode_ms", format!("{:.2}", t.decode_s * 1e3));
+        out.emit("move_merge_only_ms", format!("{:.2}", t.merge_s * 1e3));
+        out.emit("move_lists_ms", format!("{:.2}", t.lists_s * 1e3));
+    }
     let camera = camera(scene.as_ref(), args.camera.as_deref(), &frame)?;
     if args.mode != "cuts" {
         return screen_space(args, &frame, &env, &camera, out);
