@@ -94,6 +94,14 @@ struct FieldKey {
     samples: Option<[FieldSample; 8]>,
 }
 
+/// The field cuts the last merge of an object's vertices decoded, by (object, sphere, point),
+/// sorted: a move along a path needs mostly the same samples again.
+#[derive(Default)]
+struct FieldCache {
+    keys: Vec<(u32, u32, u32)>,
+    cuts: Vec<Cut>,
+}
+
 /// An object at run time.
 struct ObjectState {
     name: String,
@@ -111,6 +119,8 @@ struct ObjectState {
     merged: Vec<MergedCut>,
     lists: Vec<ShadeList>,
     keys: Vec<Vec<FieldKey>>,
+    /// Decoded field cuts its vertices' last merge used.
+    decoded: FieldCache,
 }
 
 impl ObjectState {
@@ -206,6 +216,16 @@ impl ShadeList {
     /// The list of merged cut `cut` at normal `n`.
     fn new(cut: &MergedCut, n: Vec3, table: &[ShadeNode]) -> ShadeList {
         let mut list = ShadeList::default();
+        list.rebuild(cut, n, table);
+        list
+    }
+
+    /// Makes this the list of `cut` at `n`, reusing its buffers.
+    fn rebuild(&mut self, cut: &MergedCut, n: Vec3, table: &[ShadeNode]) {
+        let list = self;
+        list.nodes.clear();
+        list.weights.clear();
+        list.diffuse = Vec3::ZERO;
         for (&k, &v) in cut.indices.iter().zip(&cut.values) {
             if v == 0.0 {
                 continue;
@@ -221,7 +241,6 @@ impl ShadeList {
             list.weights.push(w);
             list.diffuse += w * node.light;
         }
-        list
     }
 
     /// Σ weight · lobe(Ê_k) · l_k.
@@ -262,6 +281,7 @@ impl Frame {
                 merged: Vec::new(),
                 lists: Vec::new(),
                 keys: Vec::new(),
+                decoded: FieldCache::default(),
             });
         }
         let mut builder = LightTreeBuilder::new(&tree);
@@ -280,9 +300,12 @@ impl Frame {
         for o in 0..frame.objects.len() {
             let n = frame.objects[o].mesh.vertex_count();
             let keys: Vec<Vec<FieldKey>> = (0..n).map(|v| frame.keys(o, v)).collect();
-            let merged = frame.merge_all(o, &keys, &(0..n).collect::<Vec<_>>(), &mut MoveTiming::default())?;
+            let mut merged = vec![MergedCut::default(); n];
+            let mut cache = FieldCache::default();
+            frame.merge_all(o, &keys, &vec![true; n], &mut merged, &mut cache, &mut MoveTiming::default())?;
+            frame.objects[o].decoded = cache;
             frame.objects[o].keys = keys;
-            frame.objects[o].merged = merged.into_iter().map(|(_, m)| m).collect();
+            frame.objects[o].merged = merged;
         }
         frame.relist_all();
         Ok(frame)
@@ -365,7 +388,7 @@ impl Frame {
     pub fn field_sources(&self, o: usize, v: usize) -> Vec<(usize, FieldLayout)> {
         self.objects[o].keys[v]
             .iter()
-            .filter_map(|k| self.objects[k.object as usize].layout.map(|l| (k.object as usize, l)))
+            .filter_map(|k| self.objects.get(k.object as usize)?.layout.map(|l| (k.object as usize, l)))
             .collect()
     }
 
@@ -387,14 +410,18 @@ impl Frame {
         keys
     }
 
-    /// Merges the given vertices of object `o` with their keys, in parallel.
+    /// Merges the vertices of object `o` marked in `changed` with their keys into `merged`
+    /// (in place, reusing each cut's buffers), in parallel. Returns how many were merged.
     fn merge_all(
         &self,
         o: usize,
         keys: &[Vec<FieldKey>],
-        vertices: &[usize],
+        changed: &[bool],
+        merged: &mut [MergedCut],
+        cache: &mut FieldCache,
         timing: &mut MoveTiming,
-    ) -> Result<Vec<(usize, MergedCut)>, FrameError> {
+    ) -> Result<usize, FrameError> {
+        let vertices: Vec<usize> = (0..changed.len()).filter(|&v| changed[v]).collect();
         let me = &self.objects[o];
         let h = self.tree.height();
         // Neighbouring vertices share most of their field samples: decode each sample once.
@@ -407,9 +434,24 @@ impl Frame {
         wanted.sort_unstable();
         wanted.dedup();
         let start = Instant::now();
+        // Reuse what the last merge decoded (both lists sorted); decode the rest.
+        let old = std::mem::take(cache);
+        let mut old = old.keys.into_iter().zip(old.cuts).peekable();
+        let reused: Vec<Option<Cut>> = wanted
+            .iter()
+            .map(|key| {
+                while old.next_if(|(k, _)| k < key).is_some() {}
+                old.next_if(|(k, _)| k == key).map(|(_, c)| c)
+            })
+            .collect();
+        drop(old);
         let decoded: Vec<Cut> = wanted
             .par_iter()
-            .map(|&(j, sphere, point)| self.objects[j as usize].field[sphere as usize].cut(point as usize))
+            .zip(reused.into_par_iter())
+            .map(|(&(j, sphere, point), hit)| match hit {
+                Some(c) => Ok(c),
+                None => self.objects[j as usize].field[sphere as usize].cut(point as usize),
+            })
             .collect::<Result<_, String>>()
             .map_err(|reason| FrameError::Cut { object: o, vertex: vertices.first().copied().unwrap_or(0), reason })?;
         let decoded_index: Vec<IndexCut> = match self.algorithm {
@@ -421,48 +463,46 @@ impl Frame {
             wanted.binary_search(&(j, x.sphere, x.point)).unwrap_or_else(|_| unreachable!("collected above"))
         };
         let start = Instant::now();
-        let merged = vertices
-            .par_iter()
-            .map_init(MergedCut::default, |scratch, &v| {
-                let err = |reason: String| FrameError::Cut { object: o, vertex: v, reason };
-                if keys[v].iter().any(|k| k.samples.is_none()) {
-                    let out = MergedCut { root_height: h, heights: vec![h as u8], values: vec![0.0], indices: vec![0] };
-                    return Ok((v, out));
+        let result = merged.par_iter_mut().enumerate().filter(|(v, _)| changed[*v]).try_for_each(|(v, scratch)| {
+            let err = |reason: String| FrameError::Cut { object: o, vertex: v, reason };
+            if keys[v].iter().any(|k| k.samples.is_none()) {
+                *scratch = MergedCut { root_height: h, heights: vec![h as u8], values: vec![0.0], indices: vec![0] };
+                return Ok(());
+            }
+            let svc = me.svc_cut(v).map_err(err)?;
+            // Per field: where its kept samples' cuts are, and their weights.
+            let fields: Vec<(Vec<usize>, Vec<f32>)> = keys[v]
+                .iter()
+                .map(|k| {
+                    let samples = k.samples.unwrap_or_else(|| unreachable!("handled above"));
+                    let kept: Vec<&FieldSample> = samples.iter().filter(|x| x.weight > 0.0).collect();
+                    (kept.iter().map(|x| at(k.object, x)).collect(), kept.iter().map(|x| x.weight).collect())
+                })
+                .collect();
+            match self.algorithm {
+                MergeAlgorithm::Counter => {
+                    let cuts: Vec<Vec<&Cut>> =
+                        fields.iter().map(|(i, _)| i.iter().map(|&i| &decoded[i]).collect()).collect();
+                    let svc_ref = &svc;
+                    let mut groups = vec![Group::single(&svc_ref)];
+                    groups.extend(cuts.iter().zip(&fields).map(|(c, (_, w))| Group { cuts: c, weights: w }));
+                    merge(&groups, scratch).map_err(|e| err(e.to_string()))?;
                 }
-                let svc = me.svc_cut(v).map_err(err)?;
-                // Per field: where its kept samples' cuts are, and their weights.
-                let fields: Vec<(Vec<usize>, Vec<f32>)> = keys[v]
-                    .iter()
-                    .map(|k| {
-                        let samples = k.samples.unwrap_or_else(|| unreachable!("handled above"));
-                        let kept: Vec<&FieldSample> = samples.iter().filter(|x| x.weight > 0.0).collect();
-                        (kept.iter().map(|x| at(k.object, x)).collect(), kept.iter().map(|x| x.weight).collect())
-                    })
-                    .collect();
-                match self.algorithm {
-                    MergeAlgorithm::Counter => {
-                        let cuts: Vec<Vec<&Cut>> =
-                            fields.iter().map(|(i, _)| i.iter().map(|&i| &decoded[i]).collect()).collect();
-                        let svc_ref = &svc;
-                        let mut groups = vec![Group::single(&svc_ref)];
-                        groups.extend(cuts.iter().zip(&fields).map(|(c, (_, w))| Group { cuts: c, weights: w }));
-                        merge(&groups, scratch).map_err(|e| err(e.to_string()))?;
-                    }
-                    MergeAlgorithm::Index => {
-                        let svc = IndexCut::from_cut(&svc);
-                        let svc_refs = [&svc];
-                        let cuts: Vec<Vec<&IndexCut>> =
-                            fields.iter().map(|(i, _)| i.iter().map(|&i| &decoded_index[i]).collect()).collect();
-                        let mut groups = vec![IndexGroup { cuts: &svc_refs, weights: &[1.0] }];
-                        groups.extend(cuts.iter().zip(&fields).map(|(c, (_, w))| IndexGroup { cuts: c, weights: w }));
-                        baseline::merge(&groups, scratch).map_err(|e| err(e.to_string()))?;
-                    }
+                MergeAlgorithm::Index => {
+                    let svc = IndexCut::from_cut(&svc);
+                    let svc_refs = [&svc];
+                    let cuts: Vec<Vec<&IndexCut>> =
+                        fields.iter().map(|(i, _)| i.iter().map(|&i| &decoded_index[i]).collect()).collect();
+                    let mut groups = vec![IndexGroup { cuts: &svc_refs, weights: &[1.0] }];
+                    groups.extend(cuts.iter().zip(&fields).map(|(c, (_, w))| IndexGroup { cuts: c, weights: w }));
+                    baseline::merge(&groups, scratch).map_err(|e| err(e.to_string()))?;
                 }
-                Ok((v, scratch.clone()))
-            })
-            .collect();
+            }
+            Ok(())
+        });
         timing.merge_s += start.elapsed().as_secs_f64();
-        merged
+        *cache = FieldCache { keys: wanted, cuts: decoded };
+        result.map(|()| vertices.len())
     }
 
     /// Moves object `o` to `translation` (from its rest position) and re-merges the vertices
@@ -476,20 +516,38 @@ impl Frame {
             let n = self.objects[k].mesh.vertex_count();
             let start = Instant::now();
             let new_keys: Vec<Vec<FieldKey>> = (0..n).into_par_iter().map(|v| self.keys(k, v)).collect();
-            let changed: Vec<usize> = (0..n).filter(|&v| new_keys[v] != self.objects[k].keys[v]).collect();
+            let changed: Vec<bool> = (0..n).map(|v| new_keys[v] != self.objects[k].keys[v]).collect();
             timing.keys_s += start.elapsed().as_secs_f64();
-            let merged = self.merge_all(k, &new_keys, &changed, &mut timing)?;
-            total += merged.len();
-            let start = Instant::now();
-            let lists: Vec<ShadeList> = merged
-                .par_iter()
-                .map(|(v, m)| ShadeList::new(m, self.objects[k].mesh.normals()[*v], &self.nodes))
-                .collect();
+            let mut merged = std::mem::take(&mut self.objects[k].merged);
+            let mut cache = std::mem::take(&mut self.objects[k].decoded);
+            let result = self.merge_all(k, &new_keys, &changed, &mut merged, &mut cache, &mut timing);
+            let nodes = &self.nodes;
             let state = &mut self.objects[k];
-            for ((v, m), list) in merged.into_iter().zip(lists) {
-                state.merged[v] = m;
-                state.lists[v] = list;
+            state.merged = merged;
+            state.decoded = cache;
+            match result {
+                Ok(count) => total += count,
+                Err(e) => {
+                    // Some changed vertices may hold new cuts: key them as unknown so that any
+                    // later move merges them again.
+                    let unknown = vec![FieldKey { object: u32::MAX, samples: None }];
+                    for (v, c) in changed.iter().enumerate() {
+                        if *c {
+                            state.keys[v] = unknown.clone();
+                        }
+                    }
+                    return Err(e);
+                }
             }
+            let start = Instant::now();
+            let normals = state.mesh.normals();
+            state
+                .lists
+                .par_iter_mut()
+                .zip(state.merged.par_iter())
+                .enumerate()
+                .filter(|(v, _)| changed[*v])
+                .for_each(|(v, (list, m))| list.rebuild(m, normals[v], nodes));
             state.keys = new_keys;
             timing.lists_s += start.elapsed().as_secs_f64();
         }

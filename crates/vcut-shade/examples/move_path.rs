@@ -1,0 +1,58 @@
+//! Where an object move's time goes: moves `OBJECT` (default: the first movable one) along
+//! `STEPS` translations of 0.1 r along (1, 0, 0.5) — the path `cargo xtask bench` times — and
+//! prints, per step and as medians, the re-merge split into field lookups (keys), field-cut
+//! decoding, merging and shading lists, then the shade time.
+//!
+//! `cargo run --release -p vcut-shade --example move_path -- FILE.vcuts [OBJECT] [STEPS]`
+
+use glam::Vec3;
+use std::path::Path;
+use std::time::Instant;
+use vcut_data::Precomputed;
+use vcut_envmap::procedural;
+use vcut_scene::Motion;
+use vcut_shade::Frame;
+
+fn median(mut v: Vec<f64>) -> f64 {
+    v.sort_by(f64::total_cmp);
+    v[v.len() / 2]
+}
+
+fn main() -> Result<(), String> {
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    let file = args.first().ok_or("usage: move_path FILE.vcuts [OBJECT] [STEPS]")?;
+    let env = procedural::PreethamSky::default().bake(1024);
+    let mut data = Precomputed::open(Path::new(file)).map_err(|e| e.to_string())?;
+    let t = Instant::now();
+    let mut frame = Frame::new(&mut data, &env).map_err(|e| e.to_string())?;
+    println!("setup_s={:.3}", t.elapsed().as_secs_f64());
+    let o = match args.get(1) {
+        Some(name) => frame.object_index(name).ok_or(format!("no object {name}"))?,
+        None => (0..frame.object_count()).find(|&o| frame.object(o).3 == Motion::Movable).ok_or("nothing movable")?,
+    };
+    let steps: usize = args.get(2).map(|s| s.parse().map_err(|e| format!("STEPS: {e}"))).transpose()?.unwrap_or(8);
+    let step = Vec3::new(1.0, 0.0, 0.5) * 0.1 * frame.object(o).1.bounds().radius;
+    let eye = Vec3::new(0.0, 2.0, 6.0);
+    let mut rows: Vec<[f64; 6]> = Vec::new();
+    for i in 1..=steps {
+        let t = Instant::now();
+        let merged = frame.translate(o, step * i as f32).map_err(|e| e.to_string())?;
+        let move_ms = t.elapsed().as_secs_f64() * 1e3;
+        let t = Instant::now();
+        std::hint::black_box(frame.shade(eye));
+        let shade_ms = t.elapsed().as_secs_f64() * 1e3;
+        let m = frame.last_move();
+        let row = [move_ms, m.keys_s * 1e3, m.decode_s * 1e3, m.merge_s * 1e3, m.lists_s * 1e3, shade_ms];
+        println!(
+            "step {i}: {merged} vertices, move {:.1} ms (keys {:.1}, decode {:.1}, merge {:.1}, lists {:.1}), shade {:.1} ms",
+            row[0], row[1], row[2], row[3], row[4], row[5]
+        );
+        rows.push(row);
+    }
+    let col = |k: usize| median(rows.iter().map(|r| r[k]).collect());
+    println!("object={}", frame.object(o).0);
+    for (k, name) in ["move_ms", "keys_ms", "decode_ms", "merge_ms", "lists_ms", "shade_ms"].iter().enumerate() {
+        println!("{name}={:.2}", col(k));
+    }
+    Ok(())
+}
