@@ -342,19 +342,17 @@ fn relax_level(points: &mut [DVec3], params: &RepulsionParams, progress: &mut im
         let dt = fire.as_ref().map_or(1.0, |f| f.dt);
         for (k, (dst, &(g, nn))) in points.iter_mut().zip(&forces).enumerate() {
             let p = *dst;
-            let delta = match fire.as_mut() {
+            let q = match fire.as_mut() {
                 Some(fire) => {
-                    fire.v[k] += dt * g;
-                    dt * fire.v[k]
+                    let v = &mut fire.v[k];
+                    *v += dt * g;
+                    let q = (p + dt * *v).normalize();
+                    // Keep the velocity in the new tangent plane.
+                    *v -= q * v.dot(q);
+                    q
                 }
-                None => g,
+                None => (p + g).normalize(),
             };
-            let q = (p + delta).normalize();
-            if let Some(fire) = fire.as_mut() {
-                // Keep the velocity in the new tangent plane.
-                let v = fire.v[k];
-                fire.v[k] = v - q * v.dot(q);
-            }
             *dst = q;
             let d2 = (q - p).length_squared();
             sum += d2;
@@ -369,8 +367,8 @@ fn relax_level(points: &mut [DVec3], params: &RepulsionParams, progress: &mut im
         // Converged when the spacing quality — smallest over mean nearest-neighbour distance,
         // what the uniformity goal measures — has improved by less than `tolerance` over the
         // last `window` iterations. From the Fibonacci start, beyond that only slow defect
-        // drift remains, which lets cell areas drift apart; from the random start the defect cores keep relaxing, hence
-        // its longer window.
+        // drift remains, which lets cell areas drift apart; from the random start the defect
+        // cores keep relaxing, hence its longer window.
         history.push(nn_min / (nn_sum / n as f64));
         let window = params.window.max(1) as usize;
         if history.len() > window && history[history.len() - 1] - history[history.len() - 1 - window] < params.tolerance

@@ -63,18 +63,8 @@ pub fn delaunay_edges(points: &[DVec3]) -> Vec<(u32, u32)> {
     edges
 }
 
-/// Each cell's centroid on the sphere (its area-weighted mean direction, normalised).
-pub fn cell_centroids(points: &[DVec3]) -> Vec<DVec3> {
-    cells(points)
-        .into_iter()
-        .zip(points)
-        .map(|(c, &p)| if c.centroid == DVec3::ZERO { p } else { c.centroid.normalize() })
-        .collect()
-}
-
 struct Cell {
     area: f64,
-    centroid: DVec3,
     /// The point whose bisector bounds each edge of the cell.
     neighbours: Vec<u32>,
 }
@@ -93,7 +83,7 @@ fn cells(points: &[DVec3]) -> Vec<Cell> {
                     return c;
                 }
             }
-            Cell { area: 0.0, centroid: DVec3::ZERO, neighbours: Vec::new() }
+            Cell { area: 0.0, neighbours: Vec::new() }
         })
         .collect()
 }
@@ -124,21 +114,17 @@ fn cell(points: &[DVec3], i: usize, p: DVec3, grid: &SphereGrid, radius: f64, la
         grid.for_each_near(p, &mut visit);
     }
     if poly.len() < 3 {
-        return Some(Cell { area: 0.0, centroid: DVec3::ZERO, neighbours: Vec::new() });
+        return Some(Cell { area: 0.0, neighbours: Vec::new() });
     }
     if !last && poly.iter().any(|(q, _)| q.x.abs() >= half * 0.999 || q.y.abs() >= half * 0.999) {
         return None;
     }
     let verts: Vec<DVec3> = poly.iter().map(|(q, _)| (p + q.x * u + q.y * v).normalize()).collect();
     let mut area = 0.0;
-    let mut centroid = DVec3::ZERO;
     for k in 0..verts.len() {
-        let (a, b) = (verts[k], verts[(k + 1) % verts.len()]);
-        let w = triangle_solid_angle(p, a, b);
-        area += w;
-        centroid += w * (p + a + b);
+        area += triangle_solid_angle(p, verts[k], verts[(k + 1) % verts.len()]);
     }
-    Some(Cell { area, centroid, neighbours: poly.into_iter().map(|(_, j)| j).collect() })
+    Some(Cell { area, neighbours: poly.into_iter().map(|(_, j)| j).collect() })
 }
 
 #[cfg(test)]

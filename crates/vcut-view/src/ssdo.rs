@@ -427,11 +427,11 @@ impl SsdoFrame {
     /// time by the submissions' overhead.
     pub fn run_passes(&self, gpu: &Gpu) -> Result<Vec<(&'static str, f64)>, ViewError> {
         self.commands
-            .chunks(1)
+            .iter()
             .map(|p| {
                 let t = std::time::Instant::now();
-                self.submit(gpu, p)?;
-                Ok((p[0].label, t.elapsed().as_secs_f64() * 1e3))
+                self.submit(gpu, std::slice::from_ref(p))?;
+                Ok((p.label, t.elapsed().as_secs_f64() * 1e3))
             })
             .collect()
     }
