@@ -197,8 +197,9 @@ pub fn run(args: &RenderArgs) -> Result<Printed> {
         let t = frame.last_move();
         out.emit("move_keys_ms", format!("{:.2}", t.keys_s * 1e3));
         out.emit("move_decode_ms", format!("{:.2}", t.decode_s * 1e3));
+        out.emit("move_refine_ms", format!("{:.2}", t.refine_s * 1e3));
+        // The merges proper, shading lists built as the nodes are emitted.
         out.emit("move_merge_only_ms", format!("{:.2}", t.merge_s * 1e3));
-        out.emit("move_lists_ms", format!("{:.2}", t.lists_s * 1e3));
     }
     let camera = camera(scene.as_ref(), args.camera.as_deref(), &frame)?;
     if args.mode != "cuts" {

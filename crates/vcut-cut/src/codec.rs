@@ -278,28 +278,6 @@ impl BitWriter {
     }
 }
 
-/// Reads bits least-significant first from a byte slice.
-struct BitReader<'a> {
-    bytes: &'a [u8],
-    bit: usize,
-}
-
-impl BitReader<'_> {
-    fn next(&mut self) -> Option<u32> {
-        let b = self.bytes.get(self.bit / 8)?;
-        let v = u32::from(b >> (self.bit % 8) & 1);
-        self.bit += 1;
-        Some(v)
-    }
-
-    /// Bytes touched so far, and whether the unread bits of the last one are zero.
-    fn finish(&self) -> (usize, bool) {
-        let used = self.bit.div_ceil(8);
-        let clean = self.bit % 8 == 0 || self.bytes[used - 1] >> (self.bit % 8) == 0;
-        (used, clean)
-    }
-}
-
 fn put_values(out: &mut Vec<u8>, values: &[f32], format: ValueFormat) -> Result<(), EncodeError> {
     if format == ValueFormat::U1 {
         let mut w = BitWriter::default();
@@ -487,30 +465,44 @@ pub fn decode_split_flags_prefix(
     format: ValueFormat,
 ) -> Result<(Cut, usize), DecodeError> {
     let (n, at) = read_count(bytes, root_height)?;
-    let mut r = BitReader { bytes: &bytes[at..], bit: 0 };
+    if root_height > crate::MAX_ROOT_HEIGHT {
+        return Err(CutError::RootHeight(root_height).into());
+    }
+    // The walk's pending right children, one bit per height: a split at height h leaves its
+    // right child (height h − 1) pending and goes on to its left child, and every pending
+    // child is lower than the node being walked, so the next node after a leaf is the lowest
+    // pending one. Every cut this walk describes is valid (each node a tree node, the leaves
+    // covered once), so only the values remain to check.
+    let flags = &bytes[at..];
     let mut heights = Vec::with_capacity(n);
-    let mut stack = Vec::with_capacity(root_height as usize + 2);
-    stack.push(root_height as u8);
-    while let Some(h) = stack.pop() {
-        let split = if h > 0 {
-            r.next().ok_or(DecodeError::Truncated { needed: at + r.bit / 8 + 1, got: bytes.len() })? == 1
-        } else {
-            false
-        };
-        if split {
-            stack.push(h - 1);
-            stack.push(h - 1);
-        } else {
-            heights.push(h);
-            if heights.len() > n {
-                return Err(DecodeError::Shape { described: heights.len(), count: n });
+    let (mut bit, mut pending, mut h) = (0usize, 0u32, root_height);
+    loop {
+        if h > 0 {
+            let byte =
+                *flags.get(bit / 8).ok_or(DecodeError::Truncated { needed: at + bit / 8 + 1, got: bytes.len() })?;
+            let split = byte >> (bit % 8) & 1 == 1;
+            bit += 1;
+            if split {
+                h -= 1;
+                pending |= 1 << h;
+                continue;
             }
         }
+        heights.push(h as u8);
+        if heights.len() > n {
+            return Err(DecodeError::Shape { described: heights.len(), count: n });
+        }
+        if pending == 0 {
+            break;
+        }
+        h = pending.trailing_zeros();
+        pending &= pending - 1;
     }
     if heights.len() != n {
         return Err(DecodeError::Shape { described: heights.len(), count: n });
     }
-    let (flag_bytes, clean) = if r.bit == 0 { (0, true) } else { r.finish() };
+    let (flag_bytes, clean) =
+        if bit % 8 == 0 { (bit / 8, true) } else { (bit.div_ceil(8), flags[bit / 8] >> (bit % 8) == 0) };
     if !clean {
         return Err(DecodeError::Padding);
     }
@@ -523,7 +515,10 @@ pub fn decode_split_flags_prefix(
     if !values_canonical(&bytes[at..], n, format) {
         return Err(DecodeError::Padding);
     }
-    Ok((Cut::new(root_height, heights, values)?, needed))
+    if let Some(node) = values.iter().position(|v| !v.is_finite()) {
+        return Err(CutError::Value { node }.into());
+    }
+    Ok((Cut::from_valid_walk(root_height, heights, values), needed))
 }
 
 /// Decodes a split-flag-coded cut that fills `bytes` exactly.

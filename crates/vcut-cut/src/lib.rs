@@ -104,6 +104,13 @@ impl Cut {
         Ok(Cut { root_height, heights, values })
     }
 
+    /// A cut whose shape a decoder's top-down walk produced (valid by construction) and whose
+    /// values it checked: the checks [`Cut::new`] makes, re-made in debug builds only.
+    pub(crate) fn from_valid_walk(root_height: u32, heights: Vec<u8>, values: Vec<f32>) -> Cut {
+        debug_assert_eq!(check(root_height, &heights, &values), Ok(()));
+        Cut { root_height, heights, values }
+    }
+
     /// The one-node cut: the root with `value` (e.g. "all visible").
     pub fn root(root_height: u32, value: f32) -> Result<Cut, CutError> {
         Cut::new(root_height, vec![root_height as u8], vec![value])

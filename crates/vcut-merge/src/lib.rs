@@ -36,6 +36,9 @@
 //! ```
 
 pub mod baseline;
+pub mod refined;
+
+pub use refined::{Factor, Refinement, merge_refined, merge_refined_visit};
 
 use vcut_cut::Cut;
 
@@ -79,11 +82,14 @@ impl MergedCut {
         self.indices.clear();
     }
 
+    /// Appends the node of height `h` starting at `leaf`; returns its level-order index.
     #[inline]
-    fn push(&mut self, h: u32, leaf: u64, value: f32) {
+    fn push(&mut self, h: u32, leaf: u64, value: f32) -> u32 {
+        let index = ((1u64 << (self.root_height - h)) + (leaf >> h) - 1) as u32;
         self.heights.push(h as u8);
         self.values.push(value);
-        self.indices.push(((1u64 << (self.root_height - h)) + (leaf >> h) - 1) as u32);
+        self.indices.push(index);
+        index
     }
 
     /// As a checked [`Cut`] (drops the indices).

@@ -9,7 +9,17 @@ use vcut_merge::baseline::{self, IndexCut, IndexGroup};
 mod common;
 
 use common::random_cut;
-use vcut_merge::{Group, MergedCut, merge, merge_product, merge_weighted_sum};
+use vcut_merge::{Factor, Group, MergedCut, Refinement, merge, merge_product, merge_refined, merge_weighted_sum};
+
+/// `merge_refined` over the same groups (each refined here).
+fn via_refined(groups: &[Group<'_>]) -> MergedCut {
+    let refined: Vec<Refinement> = groups.iter().map(|g| Refinement::new(g.cuts).unwrap()).collect();
+    let factors: Vec<Factor<'_>> =
+        refined.iter().zip(groups).map(|(r, g)| Factor { refinement: r, weights: g.weights }).collect();
+    let mut out = MergedCut::default();
+    merge_refined(&factors, &mut out).unwrap();
+    out
+}
 
 /// Start leaves of every node of the coarsest common refinement, plus the end.
 fn ccr_boundaries(cuts: &[&Cut]) -> std::collections::BTreeSet<u64> {
@@ -131,7 +141,28 @@ proptest! {
         let igroups = [IndexGroup { cuts: &isvc_ref, weights: &[1.0] }, IndexGroup { cuts: &ra2, weights: &wa }, IndexGroup { cuts: &rb2, weights: &wb }];
         let mut base = MergedCut::default();
         baseline::merge(&igroups, &mut base).unwrap();
-        prop_assert_eq!(base, out);
+        prop_assert_eq!(&base, &out);
+        // So does the merge over cuts with precomputed ends.
+        // So does the merge through each group's refinement.
+        prop_assert_eq!(via_refined(&groups), out);
+    }
+
+    /// The merge through refinements is the counter merge to the bit over any mix of groups —
+    /// single cuts, sums of up to 8 (binary or not), zero-heavy cuts whose zero nodes make it
+    /// skip by search.
+    #[test]
+    fn refined_merge_is_the_counter_merge(root in 1u32..=16, seed in any::<u64>(), sizes in proptest::collection::vec(1usize..=8, 1..4), zero in 0.0f32..0.8, split in 0.3f32..0.9) {
+        let cuts: Vec<Vec<Cut>> = sizes
+            .iter()
+            .enumerate()
+            .map(|(g, &n)| (0..n).map(|k| random_cut(root, seed ^ ((g * 16 + k + 1) as u64).wrapping_mul(0x9e37), split, zero, 0.3)).collect())
+            .collect();
+        let refs: Vec<Vec<&Cut>> = cuts.iter().map(|g| g.iter().collect()).collect();
+        let weights: Vec<Vec<f32>> = sizes.iter().map(|&n| (0..n).map(|k| (k as f32 + 1.0) / (n * (n + 1) / 2) as f32).collect()).collect();
+        let groups: Vec<Group<'_>> = refs.iter().zip(&weights).map(|(c, w)| Group { cuts: c, weights: w }).collect();
+        let mut out = MergedCut::default();
+        merge(&groups, &mut out).unwrap();
+        prop_assert_eq!(&via_refined(&groups), &out);
     }
 }
 
@@ -146,6 +177,7 @@ fn zero_svc_node_is_one_node_and_skips_the_fields() {
     assert_eq!(out.values[0], 0.0);
     assert_eq!(steps, 1 + 8);
     assert_eq!(out.indices[0], 1);
+    assert_eq!(via_refined(&[Group::single(&&svc), Group::single(&&field)]), out);
 }
 
 #[test]

@@ -1,9 +1,12 @@
 //! Where an object move's time goes: moves `OBJECT` (default: the first movable one) along
 //! `STEPS` translations of 0.1 r along (1, 0, 0.5) — the path `cargo xtask bench` times — and
 //! prints, per step and as medians, the re-merge split into field lookups (keys), field-cut
-//! decoding, merging and shading lists, then the shade time.
+//! decoding, refining the field cells, and merging (shading lists built as nodes are emitted),
+//! then the shade time.
 //!
-//! `cargo run --release -p vcut-shade --example move_path -- FILE.vcuts [OBJECT] [STEPS]`
+//! `cargo run --release -p vcut-shade --example move_path -- FILE.vcuts [OBJECT] [STEPS]`;
+//! with `VS_INDEX=1` it also times the index baseline over the same path (`index_move_ms`,
+//! move + shade), between two rounds of the default merge, for a ratio in one run.
 
 use glam::Vec3;
 use std::path::Path;
@@ -11,7 +14,7 @@ use std::time::Instant;
 use vcut_data::Precomputed;
 use vcut_envmap::procedural;
 use vcut_scene::Motion;
-use vcut_shade::Frame;
+use vcut_shade::{Frame, MergeAlgorithm};
 
 fn median(mut v: Vec<f64>) -> f64 {
     v.sort_by(f64::total_cmp);
@@ -34,6 +37,28 @@ fn main() -> Result<(), String> {
     let step = Vec3::new(1.0, 0.0, 0.5) * 0.1 * frame.object(o).1.bounds().radius;
     let eye = Vec3::new(0.0, 2.0, 6.0);
     let mut rows: Vec<[f64; 6]> = Vec::new();
+    // The path, then (with VS_INDEX set) the index baseline over it and the path again: the
+    // machine's speed drifts, the ratio of the two in one run does not.
+    let rounds = if std::env::var_os("VS_INDEX").is_some() { 3 } else { 1 };
+    let mut index_ms = Vec::new();
+    for round in 0..rounds {
+        if round == 1 {
+            frame.set_merge_algorithm(MergeAlgorithm::Index);
+        } else {
+            frame.set_merge_algorithm(MergeAlgorithm::Counter);
+        }
+        frame.translate(o, Vec3::ZERO).map_err(|e| e.to_string())?;
+        for i in 1..=steps {
+            let t = Instant::now();
+            frame.translate(o, step * i as f32).map_err(|e| e.to_string())?;
+            std::hint::black_box(frame.shade(eye));
+            if round == 1 {
+                index_ms.push(t.elapsed().as_secs_f64() * 1e3);
+            }
+        }
+    }
+    frame.set_merge_algorithm(MergeAlgorithm::Counter);
+    frame.translate(o, Vec3::ZERO).map_err(|e| e.to_string())?;
     for i in 1..=steps {
         let t = Instant::now();
         let merged = frame.translate(o, step * i as f32).map_err(|e| e.to_string())?;
@@ -42,17 +67,24 @@ fn main() -> Result<(), String> {
         std::hint::black_box(frame.shade(eye));
         let shade_ms = t.elapsed().as_secs_f64() * 1e3;
         let m = frame.last_move();
-        let row = [move_ms, m.keys_s * 1e3, m.decode_s * 1e3, m.merge_s * 1e3, m.lists_s * 1e3, shade_ms];
+        let row = [move_ms, m.keys_s * 1e3, m.decode_s * 1e3, m.refine_s * 1e3, m.merge_s * 1e3, shade_ms];
         println!(
-            "step {i}: {merged} vertices, move {:.1} ms (keys {:.1}, decode {:.1}, merge {:.1}, lists {:.1}), shade {:.1} ms",
+            "step {i}: {merged} vertices, move {:.1} ms (keys {:.1}, decode {:.1}, refine {:.1}, merge and lists {:.1}), shade {:.1} ms",
             row[0], row[1], row[2], row[3], row[4], row[5]
         );
         rows.push(row);
     }
     let col = |k: usize| median(rows.iter().map(|r| r[k]).collect());
     println!("object={}", frame.object(o).0);
-    for (k, name) in ["move_ms", "keys_ms", "decode_ms", "merge_ms", "lists_ms", "shade_ms"].iter().enumerate() {
+    for (k, name) in ["move_ms", "keys_ms", "decode_ms", "refine_ms", "merge_ms", "shade_ms"].iter().enumerate() {
         println!("{name}={:.2}", col(k));
+    }
+    let move_shade = median(rows.iter().map(|r| r[0] + r[5]).collect());
+    println!("move_and_shade_ms={move_shade:.2}");
+    if !index_ms.is_empty() {
+        let index = median(index_ms);
+        println!("index_move_and_shade_ms={index:.2}");
+        println!("vs_index={:.3}", move_shade / index);
     }
     Ok(())
 }

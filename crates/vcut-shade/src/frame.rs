@@ -38,7 +38,7 @@ use vcut_dirtree::DirectionTree;
 use vcut_envmap::EnvMap;
 use vcut_lighttree::{LightTree, LightTreeBuilder};
 use vcut_merge::baseline::{self, IndexCut, IndexGroup};
-use vcut_merge::{Group, MergedCut, merge};
+use vcut_merge::{Factor, MergedCut, Refinement, merge_refined_visit};
 use vcut_scene::{Material, Mesh, Motion};
 
 /// Why a frame could not be set up.
@@ -63,7 +63,10 @@ pub enum FrameError {
 /// timed on the same frames.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum MergeAlgorithm {
-    /// The paper's counter merge over height-coded cuts.
+    /// The paper's counter merge over height-coded cuts, through refinements: each field cell's
+    /// cuts (the 8 samples of a lookup, shared by the vertices around them) are merged once
+    /// into their common refinement ([`vcut_merge::Refinement`]), then every vertex merges its
+    /// SVC with its cells' refinements ([`vcut_merge::merge_refined`], the same cut to the bit).
     #[default]
     Counter,
     /// The index baseline (Cheslack-Postava 2008 style): cuts converted to level-order indices
@@ -78,10 +81,10 @@ pub struct MoveTiming {
     pub keys_s: f64,
     /// Decoding the field samples the changed vertices need (once each).
     pub decode_s: f64,
-    /// Merging the changed vertices (SVC decode included).
+    /// Refining the field cells the changed vertices use (once each).
+    pub refine_s: f64,
+    /// Merging the changed vertices and building their shading lists (SVC decode included).
     pub merge_s: f64,
-    /// Rebuilding their shading lists.
-    pub lists_s: f64,
     /// Vertices re-merged.
     pub vertices: usize,
 }
@@ -94,12 +97,42 @@ struct FieldKey {
     samples: Option<[FieldSample; 8]>,
 }
 
-/// The field cuts the last merge of an object's vertices decoded, by (object, sphere, point),
-/// sorted: a move along a path needs mostly the same samples again.
+/// A field lookup's kept samples — (object, sphere, point), in lookup order, the order of the
+/// sum — the cuts one factor of a vertex's product sums. Vertices near each other share cells.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
+struct CellKey {
+    samples: [(u32, u32, u32); 8],
+    len: u8,
+}
+
+impl CellKey {
+    /// The cell of lookup `k` and the kept samples' weights (`None`: no samples kept).
+    fn of(k: &FieldKey) -> Option<(CellKey, [f32; 8])> {
+        let samples = k.samples?;
+        let mut cell = CellKey { samples: [(0, 0, 0); 8], len: 0 };
+        let mut weights = [0.0f32; 8];
+        for x in samples.iter().filter(|x| x.weight > 0.0) {
+            cell.samples[usize::from(cell.len)] = (k.object, x.sphere, x.point);
+            weights[usize::from(cell.len)] = x.weight;
+            cell.len += 1;
+        }
+        Some((cell, weights))
+    }
+
+    fn samples(&self) -> &[(u32, u32, u32)] {
+        &self.samples[..usize::from(self.len)]
+    }
+}
+
+/// What the last merge of an object's vertices built, for the next move (a move along a path
+/// needs mostly the same cells and samples again): the cells' refinements, sorted by cell, and
+/// the field cuts it decoded, by (object, sphere, point), sorted.
 #[derive(Default)]
 struct FieldCache {
     keys: Vec<(u32, u32, u32)>,
     cuts: Vec<Cut>,
+    cells: Vec<CellKey>,
+    refined: Vec<Refinement>,
 }
 
 /// An object at run time.
@@ -222,25 +255,34 @@ impl ShadeList {
 
     /// Makes this the list of `cut` at `n`, reusing its buffers.
     fn rebuild(&mut self, cut: &MergedCut, n: Vec3, table: &[ShadeNode]) {
-        let list = self;
-        list.nodes.clear();
-        list.weights.clear();
-        list.diffuse = Vec3::ZERO;
+        self.clear();
         for (&k, &v) in cut.indices.iter().zip(&cut.values) {
-            if v == 0.0 {
-                continue;
-            }
-            let node = &table[k as usize];
-            if n.dot(node.dir) <= 0.0 {
-                continue;
-            }
-            let below = n.dot(node.mean);
-            let w =
-                if n.dot(node.axis) >= node.sin_half && below > 1e-6 { v * n.dot(node.centroid) / below } else { v };
-            list.nodes.push(k);
-            list.weights.push(w);
-            list.diffuse += w * node.light;
+            self.push(k, v, n, table);
         }
+    }
+
+    /// Empties the list, keeping its buffers.
+    fn clear(&mut self) {
+        self.nodes.clear();
+        self.weights.clear();
+        self.diffuse = Vec3::ZERO;
+    }
+
+    /// Adds merged node `k` of value `v` (nothing if it is zero or below the horizon of `n`).
+    #[inline]
+    fn push(&mut self, k: u32, v: f32, n: Vec3, table: &[ShadeNode]) {
+        if v == 0.0 {
+            return;
+        }
+        let node = &table[k as usize];
+        if n.dot(node.dir) <= 0.0 {
+            return;
+        }
+        let below = n.dot(node.mean);
+        let w = if n.dot(node.axis) >= node.sin_half && below > 1e-6 { v * n.dot(node.centroid) / below } else { v };
+        self.nodes.push(k);
+        self.weights.push(w);
+        self.diffuse += w * node.light;
     }
 
     /// Σ weight · lobe(Ê_k) · l_k.
@@ -301,13 +343,22 @@ impl Frame {
             let n = frame.objects[o].mesh.vertex_count();
             let keys: Vec<Vec<FieldKey>> = (0..n).map(|v| frame.keys(o, v)).collect();
             let mut merged = vec![MergedCut::default(); n];
+            let mut lists = vec![ShadeList::default(); n];
             let mut cache = FieldCache::default();
-            frame.merge_all(o, &keys, &vec![true; n], &mut merged, &mut cache, &mut MoveTiming::default())?;
+            frame.merge_all(
+                o,
+                &keys,
+                &vec![true; n],
+                &mut merged,
+                &mut lists,
+                &mut cache,
+                &mut MoveTiming::default(),
+            )?;
             frame.objects[o].decoded = cache;
             frame.objects[o].keys = keys;
             frame.objects[o].merged = merged;
+            frame.objects[o].lists = lists;
         }
-        frame.relist_all();
         Ok(frame)
     }
 
@@ -410,33 +461,17 @@ impl Frame {
         keys
     }
 
-    /// Merges the vertices of object `o` marked in `changed` with their keys into `merged`
-    /// (in place, reusing each cut's buffers), in parallel. Returns how many were merged.
-    fn merge_all(
+    /// Decodes the field cuts of `wanted` (sorted samples), taking those `old` holds (sorted
+    /// too) from it.
+    fn decode_samples(
         &self,
         o: usize,
-        keys: &[Vec<FieldKey>],
-        changed: &[bool],
-        merged: &mut [MergedCut],
-        cache: &mut FieldCache,
-        timing: &mut MoveTiming,
-    ) -> Result<usize, FrameError> {
-        let vertices: Vec<usize> = (0..changed.len()).filter(|&v| changed[v]).collect();
-        let me = &self.objects[o];
-        let h = self.tree.height();
-        // Neighbouring vertices share most of their field samples: decode each sample once.
-        let mut wanted: Vec<(u32, u32, u32)> = vertices
-            .iter()
-            .flat_map(|&v| keys[v].iter())
-            .filter_map(|k| k.samples.map(|s| (k.object, s)))
-            .flat_map(|(j, s)| s.into_iter().filter(|x| x.weight > 0.0).map(move |x| (j, x.sphere, x.point)))
-            .collect();
-        wanted.sort_unstable();
-        wanted.dedup();
-        let start = Instant::now();
-        // Reuse what the last merge decoded (both lists sorted); decode the rest.
-        let old = std::mem::take(cache);
-        let mut old = old.keys.into_iter().zip(old.cuts).peekable();
+        vertex: usize,
+        wanted: &[(u32, u32, u32)],
+        old_keys: Vec<(u32, u32, u32)>,
+        old_cuts: Vec<Cut>,
+    ) -> Result<Vec<Cut>, FrameError> {
+        let mut old = old_keys.into_iter().zip(old_cuts).peekable();
         let reused: Vec<Option<Cut>> = wanted
             .iter()
             .map(|key| {
@@ -445,7 +480,7 @@ impl Frame {
             })
             .collect();
         drop(old);
-        let decoded: Vec<Cut> = wanted
+        wanted
             .par_iter()
             .zip(reused.into_par_iter())
             .map(|(&(j, sphere, point), hit)| match hit {
@@ -453,55 +488,174 @@ impl Frame {
                 None => self.objects[j as usize].field[sphere as usize].cut(point as usize),
             })
             .collect::<Result<_, String>>()
-            .map_err(|reason| FrameError::Cut { object: o, vertex: vertices.first().copied().unwrap_or(0), reason })?;
-        let decoded_index: Vec<IndexCut> = match self.algorithm {
-            MergeAlgorithm::Counter => Vec::new(),
-            MergeAlgorithm::Index => decoded.par_iter().map(IndexCut::from_cut).collect(),
-        };
-        timing.decode_s += start.elapsed().as_secs_f64();
-        let at = |j: u32, x: &FieldSample| -> usize {
-            wanted.binary_search(&(j, x.sphere, x.point)).unwrap_or_else(|_| unreachable!("collected above"))
-        };
+            .map_err(|reason| FrameError::Cut { object: o, vertex, reason })
+    }
+
+    /// Merges the vertices of object `o` marked in `changed` with their keys into `merged`
+    /// and builds their shading `lists` (in place, reusing each buffer), in parallel. Returns
+    /// how many were merged.
+    #[allow(clippy::too_many_arguments)]
+    fn merge_all(
+        &self,
+        o: usize,
+        keys: &[Vec<FieldKey>],
+        changed: &[bool],
+        merged: &mut [MergedCut],
+        lists: &mut [ShadeList],
+        cache: &mut FieldCache,
+        timing: &mut MoveTiming,
+    ) -> Result<usize, FrameError> {
+        let vertices: Vec<usize> = (0..changed.len()).filter(|&v| changed[v]).collect();
+        let first = vertices.first().copied().unwrap_or(0);
+        let me = &self.objects[o];
+        let normals = me.mesh.normals();
+        let table = &self.nodes;
+        let h = self.tree.height();
+        let old = std::mem::take(cache);
+        let occluded = |v: usize| keys[v].iter().any(|k| k.samples.is_none());
+        let full_zero = || MergedCut { root_height: h, heights: vec![h as u8], values: vec![0.0], indices: vec![0] };
         let start = Instant::now();
-        let result = merged.par_iter_mut().enumerate().filter(|(v, _)| changed[*v]).try_for_each(|(v, scratch)| {
-            let err = |reason: String| FrameError::Cut { object: o, vertex: v, reason };
-            if keys[v].iter().any(|k| k.samples.is_none()) {
-                *scratch = MergedCut { root_height: h, heights: vec![h as u8], values: vec![0.0], indices: vec![0] };
-                return Ok(());
+        let result = match self.algorithm {
+            MergeAlgorithm::Counter => {
+                // The cells the vertices use; those the last move refined are kept.
+                let mut cells: Vec<CellKey> =
+                    vertices.iter().flat_map(|&v| keys[v].iter()).filter_map(|k| CellKey::of(k).map(|c| c.0)).collect();
+                cells.sort_unstable();
+                cells.dedup();
+                let mut old_cells = old.cells.into_iter().zip(old.refined).peekable();
+                let reused: Vec<Option<Refinement>> = cells
+                    .iter()
+                    .map(|key| {
+                        while old_cells.next_if(|(k, _)| k < key).is_some() {}
+                        old_cells.next_if(|(k, _)| k == key).map(|(_, r)| r)
+                    })
+                    .collect();
+                drop(old_cells);
+                // The new cells' samples, each decoded once.
+                let mut wanted: Vec<(u32, u32, u32)> = cells
+                    .iter()
+                    .zip(&reused)
+                    .filter(|(_, r)| r.is_none())
+                    .flat_map(|(c, _)| c.samples().iter().copied())
+                    .collect();
+                wanted.sort_unstable();
+                wanted.dedup();
+                timing.refine_s += start.elapsed().as_secs_f64();
+                let start = Instant::now();
+                let decoded = self.decode_samples(o, first, &wanted, old.keys, old.cuts)?;
+                timing.decode_s += start.elapsed().as_secs_f64();
+                let start = Instant::now();
+                let refined: Vec<Refinement> = cells
+                    .par_iter()
+                    .zip(reused.into_par_iter())
+                    .map(|(c, hit)| match hit {
+                        Some(r) => Ok(r),
+                        None => {
+                            let cuts: Vec<&Cut> = c
+                                .samples()
+                                .iter()
+                                .map(|x| {
+                                    &decoded
+                                        [wanted.binary_search(x).unwrap_or_else(|_| unreachable!("collected above"))]
+                                })
+                                .collect();
+                            Refinement::new(&cuts)
+                        }
+                    })
+                    .collect::<Result<_, _>>()
+                    .map_err(|e| FrameError::Cut { object: o, vertex: first, reason: e.to_string() })?;
+                timing.refine_s += start.elapsed().as_secs_f64();
+                let start = Instant::now();
+                let result = merged
+                    .par_iter_mut()
+                    .zip(lists.par_iter_mut())
+                    .enumerate()
+                    .filter(|(v, _)| changed[*v])
+                    .try_for_each_init(Refinement::default, |svc_refined, (v, (out, list))| {
+                        if occluded(v) {
+                            *out = full_zero();
+                            list.clear();
+                            return Ok(());
+                        }
+                        let err = |reason: String| FrameError::Cut { object: o, vertex: v, reason };
+                        let svc = me.svc_cut(v).map_err(err)?;
+                        svc_refined.rebuild(&[&svc]).map_err(|e| err(e.to_string()))?;
+                        let lookups: Vec<(CellKey, [f32; 8])> = keys[v].iter().filter_map(CellKey::of).collect();
+                        let mut factors = Vec::with_capacity(1 + lookups.len());
+                        factors.push(Factor { refinement: svc_refined, weights: &[1.0] });
+                        for (cell, weights) in &lookups {
+                            let c = cells.binary_search(cell).unwrap_or_else(|_| unreachable!("collected above"));
+                            factors
+                                .push(Factor { refinement: &refined[c], weights: &weights[..usize::from(cell.len)] });
+                        }
+                        // The shading list is built as the nodes are emitted.
+                        list.clear();
+                        let n = normals[v];
+                        merge_refined_visit(&factors, out, |k, value| list.push(k, value, n, table))
+                            .map_err(|e| err(e.to_string()))?;
+                        Ok(())
+                    });
+                timing.merge_s += start.elapsed().as_secs_f64();
+                *cache = FieldCache { keys: wanted, cuts: decoded, cells, refined };
+                result
             }
-            let svc = me.svc_cut(v).map_err(err)?;
-            // Per field: where its kept samples' cuts are, and their weights.
-            let fields: Vec<(Vec<usize>, Vec<f32>)> = keys[v]
-                .iter()
-                .map(|k| {
-                    let samples = k.samples.unwrap_or_else(|| unreachable!("handled above"));
-                    let kept: Vec<&FieldSample> = samples.iter().filter(|x| x.weight > 0.0).collect();
-                    (kept.iter().map(|x| at(k.object, x)).collect(), kept.iter().map(|x| x.weight).collect())
-                })
-                .collect();
-            match self.algorithm {
-                MergeAlgorithm::Counter => {
-                    let cuts: Vec<Vec<&Cut>> =
-                        fields.iter().map(|(i, _)| i.iter().map(|&i| &decoded[i]).collect()).collect();
-                    let svc_ref = &svc;
-                    let mut groups = vec![Group::single(&svc_ref)];
-                    groups.extend(cuts.iter().zip(&fields).map(|(c, (_, w))| Group { cuts: c, weights: w }));
-                    merge(&groups, scratch).map_err(|e| err(e.to_string()))?;
-                }
-                MergeAlgorithm::Index => {
-                    let svc = IndexCut::from_cut(&svc);
-                    let svc_refs = [&svc];
-                    let cuts: Vec<Vec<&IndexCut>> =
-                        fields.iter().map(|(i, _)| i.iter().map(|&i| &decoded_index[i]).collect()).collect();
-                    let mut groups = vec![IndexGroup { cuts: &svc_refs, weights: &[1.0] }];
-                    groups.extend(cuts.iter().zip(&fields).map(|(c, (_, w))| IndexGroup { cuts: c, weights: w }));
-                    baseline::merge(&groups, scratch).map_err(|e| err(e.to_string()))?;
-                }
+            MergeAlgorithm::Index => {
+                // Every sample the vertices use, decoded once and converted to indices.
+                let mut wanted: Vec<(u32, u32, u32)> = vertices
+                    .iter()
+                    .flat_map(|&v| keys[v].iter())
+                    .filter_map(|k| CellKey::of(k).map(|c| c.0))
+                    .flat_map(|c| c.samples().to_vec())
+                    .collect();
+                wanted.sort_unstable();
+                wanted.dedup();
+                let decoded = self.decode_samples(o, first, &wanted, old.keys, old.cuts)?;
+                let decoded_index: Vec<IndexCut> = decoded.par_iter().map(IndexCut::from_cut).collect();
+                timing.decode_s += start.elapsed().as_secs_f64();
+                let start = Instant::now();
+                let result = merged
+                    .par_iter_mut()
+                    .zip(lists.par_iter_mut())
+                    .enumerate()
+                    .filter(|(v, _)| changed[*v])
+                    .try_for_each(|(v, (out, list))| {
+                        if occluded(v) {
+                            *out = full_zero();
+                            list.clear();
+                            return Ok(());
+                        }
+                        let err = |reason: String| FrameError::Cut { object: o, vertex: v, reason };
+                        let svc = IndexCut::from_cut(&me.svc_cut(v).map_err(err)?);
+                        let svc_refs = [&svc];
+                        let lookups: Vec<(CellKey, [f32; 8])> = keys[v].iter().filter_map(CellKey::of).collect();
+                        let cuts: Vec<Vec<&IndexCut>> = lookups
+                            .iter()
+                            .map(|(c, _)| {
+                                c.samples()
+                                    .iter()
+                                    .map(|x| {
+                                        &decoded_index[wanted
+                                            .binary_search(x)
+                                            .unwrap_or_else(|_| unreachable!("collected above"))]
+                                    })
+                                    .collect()
+                            })
+                            .collect();
+                        let mut groups = vec![IndexGroup { cuts: &svc_refs, weights: &[1.0] }];
+                        groups.extend(
+                            cuts.iter()
+                                .zip(&lookups)
+                                .map(|(c, (cell, w))| IndexGroup { cuts: c, weights: &w[..usize::from(cell.len)] }),
+                        );
+                        baseline::merge(&groups, out).map_err(|e| err(e.to_string()))?;
+                        list.rebuild(out, normals[v], table);
+                        Ok(())
+                    });
+                timing.merge_s += start.elapsed().as_secs_f64();
+                *cache = FieldCache { keys: wanted, cuts: decoded, cells: Vec::new(), refined: Vec::new() };
+                result
             }
-            Ok(())
-        });
-        timing.merge_s += start.elapsed().as_secs_f64();
-        *cache = FieldCache { keys: wanted, cuts: decoded };
+        };
         result.map(|()| vertices.len())
     }
 
@@ -519,11 +673,12 @@ impl Frame {
             let changed: Vec<bool> = (0..n).map(|v| new_keys[v] != self.objects[k].keys[v]).collect();
             timing.keys_s += start.elapsed().as_secs_f64();
             let mut merged = std::mem::take(&mut self.objects[k].merged);
+            let mut lists = std::mem::take(&mut self.objects[k].lists);
             let mut cache = std::mem::take(&mut self.objects[k].decoded);
-            let result = self.merge_all(k, &new_keys, &changed, &mut merged, &mut cache, &mut timing);
-            let nodes = &self.nodes;
+            let result = self.merge_all(k, &new_keys, &changed, &mut merged, &mut lists, &mut cache, &mut timing);
             let state = &mut self.objects[k];
             state.merged = merged;
+            state.lists = lists;
             state.decoded = cache;
             match result {
                 Ok(count) => total += count,
@@ -539,17 +694,7 @@ impl Frame {
                     return Err(e);
                 }
             }
-            let start = Instant::now();
-            let normals = state.mesh.normals();
-            state
-                .lists
-                .par_iter_mut()
-                .zip(state.merged.par_iter())
-                .enumerate()
-                .filter(|(v, _)| changed[*v])
-                .for_each(|(v, (list, m))| list.rebuild(m, normals[v], nodes));
             state.keys = new_keys;
-            timing.lists_s += start.elapsed().as_secs_f64();
         }
         self.merges += total as u64;
         timing.vertices = total;
