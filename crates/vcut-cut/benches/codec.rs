@@ -1,5 +1,6 @@
-//! Encode/decode throughput of the height codec (each value format) and the index baseline on a
-//! 2,000-node cut of 32,768 leaves; bytes per node of each are printed beside.
+//! Encode/decode throughput of the height codec (each value format), split-flag decoding (the
+//! presets' coding) and the index baseline on a 2,000-node cut of 32,768 leaves; bytes per node
+//! of each are printed beside.
 
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 use std::hint::black_box;
@@ -36,6 +37,18 @@ fn benches(c: &mut Criterion) {
         });
         g.bench_function(format!("decode_heights_{}", f.name()), |b| {
             b.iter(|| codec::decode_heights(black_box(&bytes), 15, f))
+        });
+    }
+    // Split flags, as the presets store cuts (SVC values in 16 or 8 bits, exact fields in 1).
+    for f in [ValueFormat::U16, ValueFormat::U8, ValueFormat::U1] {
+        let mut cut = cut.clone();
+        if f == ValueFormat::U1 {
+            cut.values_mut().iter_mut().for_each(|v| *v = v.round());
+        }
+        let bytes = codec::encode_split_flags(&cut, f).expect("in range");
+        println!("split flags {}: {n} nodes, {:.3} bytes/node", f.name(), bytes.len() as f64 / n as f64);
+        g.bench_function(format!("decode_split_flags_{}", f.name()), |b| {
+            b.iter(|| codec::decode_split_flags(black_box(&bytes), 15, f))
         });
     }
     let bytes = codec::encode_indices(&cut);

@@ -38,7 +38,7 @@
 pub mod baseline;
 pub mod refined;
 
-pub use refined::{Factor, Refinement, merge_refined, merge_refined_visit};
+pub use refined::{Factor, Refinement, merge_refined};
 
 use vcut_cut::Cut;
 
@@ -82,14 +82,11 @@ impl MergedCut {
         self.indices.clear();
     }
 
-    /// Appends the node of height `h` starting at `leaf`; returns its level-order index.
     #[inline]
-    fn push(&mut self, h: u32, leaf: u64, value: f32) -> u32 {
-        let index = ((1u64 << (self.root_height - h)) + (leaf >> h) - 1) as u32;
+    fn push(&mut self, h: u32, leaf: u64, value: f32) {
         self.heights.push(h as u8);
         self.values.push(value);
-        self.indices.push(index);
-        index
+        self.indices.push(((1u64 << (self.root_height - h)) + (leaf >> h) - 1) as u32);
     }
 
     /// As a checked [`Cut`] (drops the indices).

@@ -351,17 +351,6 @@ impl<'a> Prepared<'a> {
 /// [`crate::merge`] gives for the groups the factors refine. Returns the number of emitted
 /// nodes.
 pub fn merge_refined(factors: &[Factor<'_>], out: &mut MergedCut) -> Result<usize, MergeError> {
-    merge_refined_visit(factors, out, |_, _| {})
-}
-
-/// [`merge_refined`], also calling `visit(index, value)` for every emitted node as it is
-/// emitted (level-order index, value): what is derived from the merged cut — a shading list —
-/// is built while the node is at hand, without reading the cut back.
-pub fn merge_refined_visit(
-    factors: &[Factor<'_>],
-    out: &mut MergedCut,
-    mut visit: impl FnMut(u32, f32),
-) -> Result<usize, MergeError> {
     let mut root = None;
     for (g, f) in factors.iter().enumerate() {
         let r = f.refinement;
@@ -392,8 +381,7 @@ pub fn merge_refined_visit(
             }
         }
         let (target, value) = if zero_end > 0 { (zero_end, 0.0) } else { (next, product) };
-        let index = out.push((target - leaf).trailing_zeros(), u64::from(leaf), value);
-        visit(index, value);
+        out.push((target - leaf).trailing_zeros(), u64::from(leaf), value);
         leaf = target;
         if leaf >= leaves {
             break;

@@ -38,7 +38,7 @@ use vcut_dirtree::DirectionTree;
 use vcut_envmap::EnvMap;
 use vcut_lighttree::{LightTree, LightTreeBuilder};
 use vcut_merge::baseline::{self, IndexCut, IndexGroup};
-use vcut_merge::{Factor, MergedCut, Refinement, merge_refined_visit};
+use vcut_merge::{Factor, MergedCut, Refinement, merge_refined};
 use vcut_scene::{Material, Mesh, Motion};
 
 /// Why a frame could not be set up.
@@ -655,11 +655,9 @@ impl Frame {
                             factors
                                 .push(Factor { refinement: &refined[c], weights: &weights[..usize::from(cell.len)] });
                         }
-                        // The shading list is built as the nodes are emitted.
-                        list.clear();
-                        let n = normals[v];
-                        merge_refined_visit(&factors, out, |k, value| list.push(k, value, n, table))
-                            .map_err(|e| err(e.to_string()))?;
+                        merge_refined(&factors, out).map_err(|e| err(e.to_string()))?;
+                        // The list while the cut is still in cache.
+                        list.rebuild(out, normals[v], table);
                         Ok(())
                     });
                 timing.merge_s += start.elapsed().as_secs_f64();
