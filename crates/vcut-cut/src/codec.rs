@@ -326,7 +326,14 @@ fn get_values(bytes: &[u8], n: usize, format: ValueFormat) -> Vec<f32> {
             bytes.chunks_exact(2).take(n).map(|c| f32::from(u16::from_le_bytes([c[0], c[1]])) / 65535.0).collect()
         }
         ValueFormat::U8 => bytes.iter().take(n).map(|&b| f32::from(b) / 255.0).collect(),
-        ValueFormat::U1 => (0..n).map(|i| f32::from(bytes[i / 8] >> (i % 8) & 1)).collect(),
+        ValueFormat::U1 => {
+            let mut values = Vec::with_capacity(n);
+            for &b in &bytes[..n.div_ceil(8)] {
+                values.extend((0..8).map(|i| f32::from(b >> i & 1)));
+            }
+            values.truncate(n);
+            values
+        }
     }
 }
 

@@ -340,11 +340,11 @@ impl ShadeList {
             for j in 0..L {
                 x[j] = argument([dir[0][j], dir[1][j], dir[2][j]]);
             }
-            for j in 0..L {
-                // Lanes past the list's end have no light.
-                let p = pow.get(x[j]);
-                for c in 0..3 {
-                    sum[c][j] += p * light[c][j];
+            let p = x.map(|x| pow.get(x));
+            // Lanes past the list's end have no light.
+            for (sum, light) in sum.iter_mut().zip(&light) {
+                for j in 0..L {
+                    sum[j] += p[j] * light[j];
                 }
             }
         }
