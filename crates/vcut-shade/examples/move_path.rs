@@ -6,7 +6,8 @@
 //!
 //! `cargo run --release -p vcut-shade --example move_path -- FILE.vcuts [OBJECT] [STEPS]`;
 //! with `VS_INDEX=1` it also times the index baseline over the same path (`index_move_ms`,
-//! move + shade), between two rounds of the default merge, for a ratio in one run.
+//! move + shade), between two rounds of the default merge, for a ratio in one run. Last, a
+//! lighting change (`relight_ms`: light tree and every shading list, no merge).
 
 use glam::Vec3;
 use std::path::Path;
@@ -74,6 +75,15 @@ fn main() -> Result<(), String> {
         );
         rows.push(row);
     }
+    // A lighting change: the light tree again and every vertex's shading list (no merge).
+    let relight: Vec<f64> = (0..5)
+        .map(|_| {
+            let t = Instant::now();
+            frame.set_environment(&env);
+            t.elapsed().as_secs_f64() * 1e3
+        })
+        .collect();
+    println!("relight_ms={:.2}", median(relight));
     let col = |k: usize| median(rows.iter().map(|r| r[k]).collect());
     println!("object={}", frame.object(o).0);
     for (k, name) in ["move_ms", "keys_ms", "decode_ms", "refine_ms", "merge_ms", "shade_ms"].iter().enumerate() {

@@ -281,12 +281,40 @@ impl ShadeList {
         list
     }
 
-    /// Makes this the list of `cut` at `n`, reusing its buffers.
+    /// Makes this the list of `cut` at `n`, reusing its buffers: the nodes that can reflect
+    /// light (non-zero, above the horizon of `n`) with their weights, and Σ weight·l_k.
+    ///
+    /// Two passes without data-dependent branches: the non-zero nodes are packed first, then
+    /// every packed node's table entry is read and the node kept or dropped by arithmetic, so
+    /// the table reads (the cost: scattered over the tree's levels) are independent of each
+    /// other and overlap instead of waiting on mispredicted branches.
     fn rebuild(&mut self, cut: &MergedCut, n: Vec3, table: &[ShadeNode]) {
-        self.clear();
+        let len = cut.values.len();
+        self.nodes.resize(len, 0);
+        self.weights.resize(len, 0.0);
+        let mut packed = 0;
         for (&k, &v) in cut.indices.iter().zip(&cut.values) {
-            self.push(k, v, n, table);
+            self.nodes[packed] = k;
+            self.weights[packed] = v;
+            packed += usize::from(v != 0.0);
         }
+        let mut kept = 0;
+        let mut diffuse = Vec3::ZERO;
+        for i in 0..packed {
+            let (k, v) = (self.nodes[i], self.weights[i]);
+            let node = &table[k as usize];
+            let keep = n.dot(node.dir) > 0.0;
+            let below = n.dot(node.mean);
+            let above = n.dot(node.axis) >= node.sin_half && below > 1e-6;
+            let w = if above { v * n.dot(node.centroid) / below } else { v };
+            self.nodes[kept] = k;
+            self.weights[kept] = w;
+            diffuse += if keep { w * node.light } else { Vec3::ZERO };
+            kept += usize::from(keep);
+        }
+        self.nodes.truncate(kept);
+        self.weights.truncate(kept);
+        self.diffuse = diffuse;
     }
 
     /// Empties the list, keeping its buffers.
@@ -294,23 +322,6 @@ impl ShadeList {
         self.nodes.clear();
         self.weights.clear();
         self.diffuse = Vec3::ZERO;
-    }
-
-    /// Adds merged node `k` of value `v` (nothing if it is zero or below the horizon of `n`).
-    #[inline]
-    fn push(&mut self, k: u32, v: f32, n: Vec3, table: &[ShadeNode]) {
-        if v == 0.0 {
-            return;
-        }
-        let node = &table[k as usize];
-        if n.dot(node.dir) <= 0.0 {
-            return;
-        }
-        let below = n.dot(node.mean);
-        let w = if n.dot(node.axis) >= node.sin_half && below > 1e-6 { v * n.dot(node.centroid) / below } else { v };
-        self.nodes.push(k);
-        self.weights.push(w);
-        self.diffuse += w * node.light;
     }
 
     /// Σ weight · lobe(Ê_k) · l_k for a lobe `scale · pow(x_k)` whose argument is a
