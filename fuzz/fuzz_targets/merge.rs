@@ -1,12 +1,12 @@
 //! Fuzz target: merging arbitrary valid cuts never panics and satisfies the invariants — the
 //! result is a valid cut, equals the pointwise product on the leaves, and the index baseline
-//! gives the same cut.
+//! gives the same cut, and so does the merge through refinements.
 #![no_main]
 
 use libfuzzer_sys::fuzz_target;
 use vcut_cut::Cut;
 use vcut_merge::baseline::{self, IndexCut, IndexGroup};
-use vcut_merge::{MergedCut, merge_product};
+use vcut_merge::{Factor, Group, MergedCut, Refinement, merge, merge_product, merge_refined};
 
 /// Builds a valid cut of root height `root` from bytes: each byte decides split / leaf and value.
 fn cut_from(bytes: &mut impl Iterator<Item = u8>, root: u32) -> Cut {
@@ -50,4 +50,16 @@ fuzz_target!(|data: &[u8]| {
     let mut base = MergedCut::default();
     baseline::merge(&groups, &mut base).expect("same root heights");
     assert_eq!(base, out);
+    // Through refinements: every cut alone, then all of them as one weighted sum (binary cuts
+    // take the mask path, others keep values).
+    let alone: Vec<Refinement> = refs.iter().map(|&c| Refinement::new(&[c]).expect("one cut")).collect();
+    let factors: Vec<Factor<'_>> = alone.iter().map(|r| Factor { refinement: r, weights: &[1.0] }).collect();
+    let mut refined = MergedCut::default();
+    merge_refined(&factors, &mut refined).expect("same root heights");
+    assert_eq!(refined, out);
+    let weights: Vec<f32> = (1..=n).map(|k| k as f32 / 16.0).collect();
+    merge(&[Group { cuts: &refs, weights: &weights }], &mut out).expect("same root heights");
+    let all = Refinement::new(&refs).expect("same root heights");
+    merge_refined(&[Factor { refinement: &all, weights: &weights }], &mut refined).expect("same root heights");
+    assert_eq!(refined, out);
 });
