@@ -265,6 +265,11 @@ fn bench_scene(name: &str, preset: &str, data_dir: &Path, no_mc: bool, reuse: bo
     println!("== {name}: edit, move, references");
     let edit = edit_ms(&mut frame, movable, eye, 11);
     let counter = move_path(&mut frame, movable, eye, MergeAlgorithm::Counter, 8)?;
+    // The knob: SVCs decoded at every merge instead of kept decoded.
+    let svc_cache_bytes = frame.svc_cache_bytes();
+    frame.set_svc_cache(false)?;
+    let svc_decoded = move_path(&mut frame, movable, eye, MergeAlgorithm::Counter, 8)?;
+    frame.set_svc_cache(true)?;
     let index = move_path(&mut frame, movable, eye, MergeAlgorithm::Index, 8)?;
     frame.set_merge_algorithm(MergeAlgorithm::Index);
     let edit_index = edit_ms(&mut frame, movable, eye, 11);
@@ -302,6 +307,8 @@ fn bench_scene(name: &str, preset: &str, data_dir: &Path, no_mc: bool, reuse: bo
         "edit_ms_index": edit_index,
         "move_ms_index": move_ms_index,
         "move_vs_index": move_ms / move_ms_index,
+        "move_ms_svc_decoded": svc_decoded.move_ms,
+        "svc_cache_bytes": svc_cache_bytes,
         "merge_s_path": merge_s,
         "merge_s_path_index": merge_s_index,
         "merge_speedup": merge_s_index / merge_s.max(1e-12),

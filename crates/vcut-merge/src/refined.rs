@@ -26,7 +26,7 @@ pub struct Refinement {
     /// Binary members (every value 0 or 1, at most [`MAX_MASK_MEMBERS`] members — exact fields):
     /// node j's values as a bit mask, member i in bit i. Empty otherwise.
     masks: Vec<u8>,
-    /// Whether any member is non-zero on the node.
+    /// Whether any member is non-zero on the node (empty for a single member: its value says).
     nonzero: Vec<bool>,
 }
 
@@ -57,20 +57,22 @@ impl Refinement {
         self.masks.clear();
         self.nonzero.clear();
         let leaves = 1u32 << root;
-        let longest = cuts.iter().map(|c| c.len()).max().unwrap_or(0);
-        self.ends.reserve(longest * 2);
-        self.nonzero.reserve(longest * 2);
         if let [cut] = cuts {
-            // One cut: its own nodes (a mask would save nothing).
+            // One cut: its own nodes (a mask would save nothing), 8 bytes a node.
+            self.ends.reserve_exact(cut.len());
+            self.values.reserve_exact(cut.len());
             let mut end = 0u32;
             self.ends.extend(cut.heights().iter().map(|&h| {
                 end += 1u32 << h;
                 end
             }));
+            // A single member's node is non-zero where its value is: nothing more to keep.
             self.values.extend_from_slice(cut.values());
-            self.nonzero.extend(cut.values().iter().map(|&v| v != 0.0));
             return Ok(());
         }
+        let longest = cuts.iter().map(|c| c.len()).max().unwrap_or(0);
+        self.ends.reserve(longest * 2);
+        self.nonzero.reserve(longest * 2);
         if cuts.len() <= MAX_MASK_MEMBERS {
             self.masks.reserve(longest * 2);
             let built = if root <= BITMAP_MAX_ROOT {

@@ -6,7 +6,8 @@
 //!
 //! `cargo run --release -p vcut-shade --example move_path -- FILE.vcuts [OBJECT] [STEPS]`;
 //! with `VS_INDEX=1` it also times the index baseline over the same path (`index_move_ms`,
-//! move + shade), between two rounds of the default merge, for a ratio in one run. Last, a
+//! move + shade), between two rounds of the default merge, for a ratio in one run; with
+//! `NO_SVC_CACHE=1` every SVC is decoded at each merge instead of kept decoded. Last, a
 //! lighting change (`relight_ms`: light tree and every shading list, no merge).
 
 use glam::Vec3;
@@ -30,6 +31,10 @@ fn main() -> Result<(), String> {
     let t = Instant::now();
     let mut frame = Frame::new(&mut data, &env).map_err(|e| e.to_string())?;
     println!("setup_s={:.3}", t.elapsed().as_secs_f64());
+    if std::env::var_os("NO_SVC_CACHE").is_some() {
+        frame.set_svc_cache(false).map_err(|e| e.to_string())?;
+    }
+    println!("svc_cache_mb={:.1}", frame.svc_cache_bytes() as f64 / 1e6);
     let o = match args.get(1) {
         Some(name) => frame.object_index(name).ok_or(format!("no object {name}"))?,
         None => (0..frame.object_count()).find(|&o| frame.object(o).3 == Motion::Movable).ok_or("nothing movable")?,

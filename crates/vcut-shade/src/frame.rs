@@ -154,6 +154,9 @@ struct ObjectState {
     keys: Vec<Vec<FieldKey>>,
     /// Decoded field cuts its vertices' last merge used.
     decoded: FieldCache,
+    /// Every vertex's SVC decoded once, ready to merge (empty with the cache off: then each
+    /// merge decodes it from the file's bytes).
+    svc_refined: Vec<Refinement>,
 }
 
 impl ObjectState {
@@ -289,13 +292,17 @@ impl ShadeList {
     /// the table reads (the cost: scattered over the tree's levels) are independent of each
     /// other and overlap instead of waiting on mispredicted branches.
     fn rebuild(&mut self, cut: &MergedCut, n: Vec3, table: &[ShadeNode]) {
-        let len = cut.values.len();
+        // Sized by the non-zero nodes (a list is kept per vertex: no room for the zero ones).
+        let len = cut.values.iter().filter(|&&v| v != 0.0).count();
         self.nodes.resize(len, 0);
         self.weights.resize(len, 0.0);
         let mut packed = 0;
         for (&k, &v) in cut.indices.iter().zip(&cut.values) {
-            self.nodes[packed] = k;
-            self.weights[packed] = v;
+            // The last zero nodes write past the non-zero ones: into the spare slot, if any.
+            if packed < len {
+                self.nodes[packed] = k;
+                self.weights[packed] = v;
+            }
             packed += usize::from(v != 0.0);
         }
         let mut kept = 0;
@@ -401,6 +408,7 @@ impl Frame {
                 lists: Vec::new(),
                 keys: Vec::new(),
                 decoded: FieldCache::default(),
+                svc_refined: Vec::new(),
             });
         }
         let mut builder = LightTreeBuilder::new(&tree);
@@ -417,6 +425,7 @@ impl Frame {
             algorithm: MergeAlgorithm::Counter,
             last_move: MoveTiming::default(),
         };
+        frame.set_svc_cache(true)?;
         for o in 0..frame.objects.len() {
             let n = frame.objects[o].mesh.vertex_count();
             let keys: Vec<Vec<FieldKey>> = (0..n).map(|v| frame.keys(o, v)).collect();
@@ -500,6 +509,33 @@ impl Frame {
             .flat_map(|s| &s.merged)
             .map(|m| m.heights.len() * (size_of::<u8>() + size_of::<f32>() + size_of::<u32>()))
             .sum()
+    }
+
+    /// Keeps every vertex's SVC decoded (`on`, the default) or decodes it at every merge.
+    /// Keeping them spares a move the SVCs' decoding (split flags walked bit by bit) at
+    /// [`Frame::svc_cache_bytes`] of memory (8 bytes a node); `cargo xtask bench` reports both.
+    pub fn set_svc_cache(&mut self, on: bool) -> Result<(), FrameError> {
+        for o in 0..self.objects.len() {
+            let s = &self.objects[o];
+            if !on {
+                self.objects[o].svc_refined = Vec::new();
+            } else if s.svc_refined.is_empty() {
+                let cached = (0..s.mesh.vertex_count())
+                    .into_par_iter()
+                    .map(|v| {
+                        let err = |reason: String| FrameError::Cut { object: o, vertex: v, reason };
+                        Refinement::new(&[&s.svc_cut(v).map_err(err)?]).map_err(|e| err(e.to_string()))
+                    })
+                    .collect::<Result<_, _>>()?;
+                self.objects[o].svc_refined = cached;
+            }
+        }
+        Ok(())
+    }
+
+    /// Bytes of the decoded SVCs kept for merging (0 with the cache off).
+    pub fn svc_cache_bytes(&self) -> usize {
+        self.objects.iter().flat_map(|s| &s.svc_refined).map(Refinement::bytes).sum()
     }
 
     /// The merged cut of vertex `v` of object `o`.
@@ -649,18 +685,23 @@ impl Frame {
                     .zip(lists.par_iter_mut())
                     .enumerate()
                     .filter(|(v, _)| changed[*v])
-                    .try_for_each_init(Refinement::default, |svc_refined, (v, (out, list))| {
+                    .try_for_each_init(Refinement::default, |scratch, (v, (out, list))| {
                         if occluded(v) {
                             *out = full_zero();
                             list.clear();
                             return Ok(());
                         }
                         let err = |reason: String| FrameError::Cut { object: o, vertex: v, reason };
-                        let svc = me.svc_cut(v).map_err(err)?;
-                        svc_refined.rebuild(&[&svc]).map_err(|e| err(e.to_string()))?;
+                        let svc = match me.svc_refined.get(v) {
+                            Some(cached) => cached,
+                            None => {
+                                scratch.rebuild(&[&me.svc_cut(v).map_err(err)?]).map_err(|e| err(e.to_string()))?;
+                                &*scratch
+                            }
+                        };
                         let lookups: Vec<(CellKey, [f32; 8])> = keys[v].iter().filter_map(CellKey::of).collect();
                         let mut factors = Vec::with_capacity(1 + lookups.len());
-                        factors.push(Factor { refinement: svc_refined, weights: &[1.0] });
+                        factors.push(Factor { refinement: svc, weights: &[1.0] });
                         for (cell, weights) in &lookups {
                             let c = cells.binary_search(cell).unwrap_or_else(|_| unreachable!("collected above"));
                             factors

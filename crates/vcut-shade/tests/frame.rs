@@ -171,6 +171,16 @@ fn moves_re_merge_only_what_changed_and_edits_never_merge() {
     frame.translate(ball, moved).unwrap();
     assert!((0..n_ground).all(|v| *frame.merged(ground, v) == counter[v]));
     assert!(frame.shade(EYE) == shaded);
+
+    // So does the default merge with every SVC decoded at each merge instead of kept decoded.
+    frame.set_merge_algorithm(MergeAlgorithm::Counter);
+    assert!(frame.svc_cache_bytes() > 0);
+    frame.set_svc_cache(false).unwrap();
+    assert_eq!(frame.svc_cache_bytes(), 0);
+    frame.translate(ball, Vec3::ZERO).unwrap();
+    frame.translate(ball, moved).unwrap();
+    assert!((0..n_ground).all(|v| *frame.merged(ground, v) == counter[v]));
+    assert!(frame.shade(EYE) == shaded);
 }
 
 #[test]
