@@ -124,6 +124,19 @@ impl CellKey {
     }
 }
 
+/// For every key of `wanted` (sorted), the value `held` has for it (`keys` sorted too, the
+/// values beside them), moved out; `None` where it has none.
+fn take_held<K: Ord, V>(keys: Vec<K>, held: Vec<V>, wanted: &[K]) -> Vec<Option<V>> {
+    let mut held = keys.into_iter().zip(held).peekable();
+    wanted
+        .iter()
+        .map(|key| {
+            while held.next_if(|(k, _)| k < key).is_some() {}
+            held.next_if(|(k, _)| k == key).map(|(_, v)| v)
+        })
+        .collect()
+}
+
 /// What the last merge of an object's vertices built, for the next move (a move along a path
 /// needs mostly the same cells and samples again): the cells' refinements, sorted by cell, and
 /// the field cuts it decoded, by (object, sphere, point), sorted.
@@ -585,15 +598,7 @@ impl Frame {
         old_keys: Vec<(u32, u32, u32)>,
         old_cuts: Vec<Cut>,
     ) -> Result<Vec<Cut>, FrameError> {
-        let mut old = old_keys.into_iter().zip(old_cuts).peekable();
-        let reused: Vec<Option<Cut>> = wanted
-            .iter()
-            .map(|key| {
-                while old.next_if(|(k, _)| k < key).is_some() {}
-                old.next_if(|(k, _)| k == key).map(|(_, c)| c)
-            })
-            .collect();
-        drop(old);
+        let reused = take_held(old_keys, old_cuts, wanted);
         wanted
             .par_iter()
             .zip(reused.into_par_iter())
@@ -636,15 +641,7 @@ impl Frame {
                     vertices.iter().flat_map(|&v| keys[v].iter()).filter_map(|k| CellKey::of(k).map(|c| c.0)).collect();
                 cells.sort_unstable();
                 cells.dedup();
-                let mut old_cells = old.cells.into_iter().zip(old.refined).peekable();
-                let reused: Vec<Option<Refinement>> = cells
-                    .iter()
-                    .map(|key| {
-                        while old_cells.next_if(|(k, _)| k < key).is_some() {}
-                        old_cells.next_if(|(k, _)| k == key).map(|(_, r)| r)
-                    })
-                    .collect();
-                drop(old_cells);
+                let reused = take_held(old.cells, old.refined, &cells);
                 // The new cells' samples, each decoded once.
                 let mut wanted: Vec<(u32, u32, u32)> = cells
                     .iter()
@@ -900,6 +897,13 @@ impl Frame {
 mod tests {
     use super::*;
     use vcut_scene::BrdfModel;
+
+    #[test]
+    fn take_held_moves_out_the_values_of_wanted_keys() {
+        let got = take_held(vec![1, 3, 5, 8], vec!["a", "c", "e", "h"], &[0, 3, 4, 8, 9]);
+        assert_eq!(got, vec![None, Some("c"), None, Some("h"), None]);
+        assert_eq!(take_held(Vec::<u32>::new(), Vec::<u8>::new(), &[1]), vec![None]);
+    }
 
     /// The eight-lane specular sum is the per-node one up to rounding, for list lengths that
     /// fill the lanes, leave a remainder, or are empty.
