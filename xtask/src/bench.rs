@@ -17,7 +17,7 @@ use rayon::prelude::*;
 use serde_json::{Value, json};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
-use vcut_data::Precomputed;
+use vcut_data::{InsideSamples, Precomputed};
 use vcut_lighttree::LightTreeBuilder;
 use vcut_precompute::run::Summary;
 use vcut_scene::{Material, Motion, Scene};
@@ -284,6 +284,10 @@ fn bench_scene(name: &str, preset: &str, data_dir: &Path, no_mc: bool, reuse: bo
     let exact = exact_direction(&frame, eye, offset);
     let exact_ms = t.elapsed().as_secs_f64() * 1e3;
     let (rel_l2_exact, max_exact) = errors(&shaded, &exact);
+    // The knob: field samples inside an object dropped instead of blended in as occluded.
+    frame.set_inside_samples(InsideSamples::Dropped)?;
+    let (rel_l2_dropped, max_dropped) = errors(&frame.shade(eye), &exact);
+    frame.set_inside_samples(InsideSamples::Occluded)?;
     let mc = if no_mc {
         None
     } else {
@@ -320,6 +324,8 @@ fn bench_scene(name: &str, preset: &str, data_dir: &Path, no_mc: bool, reuse: bo
         "merged_cut_bytes": merged_bytes,
         "rel_l2_exact": rel_l2_exact,
         "max_err_exact": max_exact,
+        "rel_l2_exact_inside_dropped": rel_l2_dropped,
+        "max_err_exact_inside_dropped": max_dropped,
         "rel_l2_mc": mc.map(|m| m.0),
         "mc_reference_s": mc.map(|m| m.1),
     });

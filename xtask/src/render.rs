@@ -6,7 +6,7 @@ use anyhow::{Context, Result, bail};
 use glam::Vec3;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
-use vcut_data::Precomputed;
+use vcut_data::{InsideSamples, Precomputed};
 use vcut_envmap::EnvMap;
 use vcut_scene::{Camera, Scene};
 use vcut_shade::Frame;
@@ -59,6 +59,10 @@ pub struct RenderArgs {
     /// Carlo over every texel of the map, to 1 % standard error per vertex) or `both`.
     #[arg(long)]
     pub compare: Option<String>,
+    /// Field samples inside an object: `occluded` (blended in as fully occluded, the default)
+    /// or `dropped` (their weight given to the others); see `vcut_data::InsideSamples`.
+    #[arg(long, default_value = "occluded")]
+    pub inside_samples: String,
 }
 
 impl RenderArgs {
@@ -78,6 +82,7 @@ impl RenderArgs {
             export_ply: None,
             compare: None,
             mode: "cuts".into(),
+            inside_samples: "occluded".into(),
         }
     }
 }
@@ -189,6 +194,12 @@ pub fn run(args: &RenderArgs) -> Result<Printed> {
     let mut out = Printed::default();
     let Opened { data, mut frame, env, scene, setup_s, .. } = open(&args.input, args.env.as_deref())?;
     out.emit("setup_s", format!("{setup_s:.3}"));
+    let inside = InsideSamples::named(&args.inside_samples)
+        .with_context(|| format!("--inside-samples {}: expected occluded or dropped", args.inside_samples))?;
+    if inside != InsideSamples::default() {
+        frame.set_inside_samples(inside)?;
+    }
+    out.emit("inside_samples", inside.name().into());
     let (move_ms, moved) = apply_edits(&mut frame, &args.brdfs, &args.moves)?;
     out.emit("move_merge_ms", format!("{move_ms:.2}"));
     out.emit("move_merged_vertices", format!("{moved}"));

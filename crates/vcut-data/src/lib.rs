@@ -32,6 +32,6 @@ pub mod file;
 pub mod precomputed;
 pub mod sections;
 
-pub use field::{FieldLayout, FieldSample, RadialSpacing};
+pub use field::{FieldLayout, FieldSample, InsideSamples, RadialSpacing};
 pub use file::{FileError, Reader, SectionId, SectionKind, Writer};
 pub use precomputed::Precomputed;

@@ -7,7 +7,10 @@
 //!   mean of V·max(0, n·ω) over its leaves: the clustering error alone.
 //!
 //! `cargo run --release -p vcut-shade --example error_sources -- FILE.vcuts [--env builtin:constant]
-//! [--eye X,Y,Z] [--move OBJECT=DX,DY,DZ]` prints `key=value` lines.
+//! [--eye X,Y,Z] [--move OBJECT=DX,DY,DZ]` prints `key=value` lines. With `--bins` it prints
+//! instead, per object, where the frame's squared error is: the share of its worst 1/5/20 % of
+//! vertices, shares by distance to the nearest field source (in its radii) and near a cube-map
+//! edge or not, and the 12 worst vertices with their field sources.
 
 use glam::Vec3;
 use rayon::prelude::*;
@@ -67,6 +70,10 @@ fn main() -> Result<(), String> {
     for o in 0..frame.object_count() {
         let positions = frame.positions(o);
         let radius = frame.object(o).1.bounds().radius;
+        if args.iter().any(|a| a == "--bins") {
+            bins(&frame, o, &positions, &shaded[o], &exact[o]);
+            continue;
+        }
         let rows: Vec<(Vec3, Vec3)> = (0..positions.len())
             .into_par_iter()
             .map(|v| {
@@ -106,6 +113,9 @@ fn main() -> Result<(), String> {
         fields_all.push(fields);
         vis_all.push(vis);
     }
+    if args.iter().any(|a| a == "--bins") {
+        return Ok(());
+    }
     println!(
         "object=all frame={:.4} exact_fields={:.4} exact_visibility={:.4}",
         errors(&shaded, &exact).0,
@@ -113,4 +123,84 @@ fn main() -> Result<(), String> {
         errors(&vis_all, &exact).0
     );
     Ok(())
+}
+
+/// Shares of an object's squared error by where its vertices sit in the fields around them.
+fn bins(frame: &Frame, o: usize, positions: &[Vec3], got: &[Vec3], exact: &[Vec3]) {
+    let total: f32 = got.iter().zip(exact).map(|(g, e)| (*g - *e).length_squared()).sum();
+    let norm: f32 = exact.iter().map(|e| e.length_squared()).sum();
+    let mut by_radius = [0.0f32; 8];
+    let mut by_edge = [0.0f32; 2];
+    let mut counts_r = [0usize; 8];
+    let mut counts_e = [0usize; 2];
+    let mut errs: Vec<f32> = Vec::new();
+    for v in 0..positions.len() {
+        let err = (got[v] - exact[v]).length_squared();
+        errs.push(err);
+        let mut best: Option<(f32, bool)> = None;
+        for (j, layout) in frame.field_sources(o, v) {
+            let d = positions[v] - (layout.center + frame.object(j).4);
+            let t = d.length() / layout.radius;
+            let a = d.abs();
+            let m = a.max_element();
+            let (x, y) = if m == a.x {
+                (a.y, a.z)
+            } else if m == a.y {
+                (a.x, a.z)
+            } else {
+                (a.x, a.y)
+            };
+            let lim = 1.0 - 1.0 / layout.resolution as f32;
+            let edge = x / m > lim || y / m > lim;
+            if best.is_none_or(|b| t < b.0) {
+                best = Some((t, edge));
+            }
+        }
+        let Some((t, edge)) = best else { continue };
+        let b = [0.5, 0.75, 1.0, 1.25, 1.5, 2.0, 3.0, f32::MAX].iter().position(|&x| t < x).unwrap();
+        by_radius[b] += err;
+        counts_r[b] += 1;
+        by_edge[edge as usize] += err;
+        counts_e[edge as usize] += 1;
+    }
+    let mut order: Vec<usize> = (0..errs.len()).collect();
+    order.sort_by(|&a, &b| errs[b].total_cmp(&errs[a]));
+    for &v in order.iter().take(12) {
+        let srcs: Vec<String> = frame
+            .field_sources(o, v)
+            .iter()
+            .map(|(j, l)| {
+                let d = positions[v] - (l.center + frame.object(*j).4);
+                format!("{}@{:.3}r", frame.object(*j).0, d.length() / l.radius)
+            })
+            .collect();
+        println!(
+            "  worst v={v} p={:.3?} got={:.3?} exact={:.3?} share={:.3} fields={:?}",
+            positions[v],
+            got[v],
+            exact[v],
+            errs[v] / total,
+            srcs
+        );
+    }
+    errs.sort_by(|a, b| b.total_cmp(a));
+    let top = |f: f32| errs[..((errs.len() as f32 * f) as usize).max(1)].iter().sum::<f32>() / total;
+    println!(
+        "bins object={} rel_l2={:.4} top1%={:.3} top5%={:.3} top20%={:.3}",
+        frame.object(o).0,
+        (total / norm).sqrt(),
+        top(0.01),
+        top(0.05),
+        top(0.2)
+    );
+    for (i, x) in ["<0.5r", "<0.75r", "<1r", "<1.25r", "<1.5r", "<2r", "<3r", ">=3r"].iter().enumerate() {
+        println!("  radius {x}: vertices={} share={:.3}", counts_r[i], by_radius[i] / total);
+    }
+    println!(
+        "  cube edge band: vertices={} share={:.3}; interior vertices={} share={:.3}",
+        counts_e[1],
+        by_edge[1] / total,
+        counts_e[0],
+        by_edge[0] / total
+    );
 }

@@ -8,7 +8,8 @@
 //! with `VS_INDEX=1` it also times the index baseline over the same path (`index_move_ms`,
 //! move + shade), between two rounds of the default merge, for a ratio in one run; with
 //! `NO_SVC_CACHE=1` every SVC is decoded at each merge instead of kept decoded. Last, a
-//! lighting change (`relight_ms`: light tree and every shading list, no merge).
+//! lighting change (`relight_ms`: light tree and every shading list, no merge) and a BRDF edit
+//! (`edit_ms`: the exponent changed, every vertex shaded).
 
 use glam::Vec3;
 use std::path::Path;
@@ -21,6 +22,14 @@ use vcut_shade::{Frame, MergeAlgorithm};
 fn median(mut v: Vec<f64>) -> f64 {
     v.sort_by(f64::total_cmp);
     v[v.len() / 2]
+}
+
+/// User + system CPU seconds of this process so far (Linux; `None` elsewhere).
+fn cpu_seconds() -> Option<f64> {
+    let stat = std::fs::read_to_string("/proc/self/stat").ok()?;
+    let fields: Vec<&str> = stat.rsplit_once(')')?.1.split_whitespace().collect();
+    let ticks: f64 = fields.get(11)?.parse::<f64>().ok()? + fields.get(12)?.parse::<f64>().ok()?;
+    Some(ticks / 100.0)
 }
 
 fn main() -> Result<(), String> {
@@ -65,6 +74,7 @@ fn main() -> Result<(), String> {
     }
     frame.set_merge_algorithm(MergeAlgorithm::Counter);
     frame.translate(o, Vec3::ZERO).map_err(|e| e.to_string())?;
+    let (cpu0, wall0) = (cpu_seconds(), Instant::now());
     for i in 1..=steps {
         let t = Instant::now();
         let merged = frame.translate(o, step * i as f32).map_err(|e| e.to_string())?;
@@ -80,6 +90,10 @@ fn main() -> Result<(), String> {
         );
         rows.push(row);
     }
+    if let (Some(a), Some(b)) = (cpu0, cpu_seconds()) {
+        // Cores busy over the path (of rayon's threads): below their count, serial parts wait.
+        println!("path_cores_busy={:.2}", (b - a) / wall0.elapsed().as_secs_f64());
+    }
     // A lighting change: the light tree again and every vertex's shading list (no merge).
     let relight: Vec<f64> = (0..5)
         .map(|_| {
@@ -89,6 +103,17 @@ fn main() -> Result<(), String> {
         })
         .collect();
     println!("relight_ms={:.2}", median(relight));
+    // A BRDF edit: the movable object's exponent toggled 15 ↔ 70, then shade (no merge).
+    let edit: Vec<f64> = (0..21)
+        .map(|i| {
+            let m = vcut_scene::Material { exponent: if i % 2 == 0 { 70.0 } else { 15.0 }, ..*frame.object(o).2 };
+            let t = Instant::now();
+            frame.set_material(o, m);
+            std::hint::black_box(frame.shade(eye));
+            t.elapsed().as_secs_f64() * 1e3
+        })
+        .collect();
+    println!("edit_ms={:.2}", median(edit));
     let col = |k: usize| median(rows.iter().map(|r| r[k]).collect());
     println!("object={}", frame.object(o).0);
     for (k, name) in ["move_ms", "keys_ms", "decode_ms", "refine_ms", "merge_ms", "shade_ms"].iter().enumerate() {

@@ -48,7 +48,10 @@ pub fn eval(m: &Material, n: Vec3, wi: Vec3, wo: Vec3) -> Vec3 {
 /// `x^a` on [0, 1] from a table of 8,193 values with linear interpolation: for a frame's inner
 /// loop, where `powf` was half the shading time. The error is at most `a(a−1)/(8·8192²)` of
 /// the lobe's peak (9e-6 at a = 70, 7e-5 at a = 200) plus f32 rounding (`1e-8·a + 2e-7`; tested); [`PowTable::new`] declines
-/// exponents above 200, where it would grow past that.
+/// exponents above 200, where it would grow past that. Values below 1e-20 are stored as 0:
+/// at high exponents most of the table is otherwise subnormal (0.28^70 < 2^-126), and every
+/// product with a subnormal costs the CPU a microcode assist — the shading of a BRDF edit to
+/// α = 70 took 25 % longer than at α = 15 for that alone.
 #[derive(Debug, Clone)]
 pub struct PowTable {
     values: Vec<f32>,
@@ -60,7 +63,10 @@ impl PowTable {
     /// The table of `x^a`, or `None` for `a > 200` (use `powf`).
     pub fn new(a: f32) -> Option<PowTable> {
         (a.is_finite() && (0.0..=200.0).contains(&a)).then(|| PowTable {
-            values: (0..=Self::STEPS).map(|i| (i as f64 / Self::STEPS as f64).powf(a as f64) as f32).collect(),
+            values: (0..=Self::STEPS)
+                .map(|i| (i as f64 / Self::STEPS as f64).powf(a as f64))
+                .map(|v| if v < 1e-20 { 0.0 } else { v as f32 })
+                .collect(),
         })
     }
 
@@ -276,6 +282,10 @@ mod tests {
             assert!(worst <= bound as f64, "a = {a}: {worst} > {bound}");
         }
         assert!(PowTable::new(201.0).is_none() && PowTable::new(f32::NAN).is_none());
+        // No subnormal values (slow to multiply), however high the exponent.
+        let t = PowTable::new(200.0).unwrap();
+        assert!(t.values.iter().all(|v| *v == 0.0 || v.is_normal()));
+        assert!((0..=1000).map(|i| t.get(i as f32 / 1000.0)).all(|v| v == 0.0 || v.is_normal()));
     }
 
     #[test]

@@ -6,8 +6,10 @@
 //! **Which fields a vertex uses.** Object j's field shadows a vertex of object o (o ≠ j) when
 //! j has a field and o or j is movable (static–static shadows are baked into the SVCs). Within
 //! 0.2r of j's centre the lookup clamps to the innermost sphere; beyond 10r j casts no shadow
-//! (its bounding cone there covers under 0.25 % of the sphere); samples inside j are dropped and
-//! the rest renormalised, and a vertex whose 8 samples are all inside j is fully occluded.
+//! (its bounding cone there covers under 0.25 % of the sphere); samples inside j blend in as
+//! fully occluded (or are dropped and the rest renormalised: [`Frame::set_inside_samples`],
+//! [`InsideSamples`] says why and by how much), and a vertex whose 8 samples are all inside j is
+//! fully occluded.
 //!
 //! **Where in a node the light is.** A merged node k holds v_k, the mean of V·max(0, n·ω) over
 //! its leaves, and the light tree the node's total radiance l_k. The paper evaluates
@@ -33,7 +35,7 @@ use rayon::prelude::*;
 use std::time::Instant;
 use vcut_cut::Cut;
 use vcut_data::sections::CutArray;
-use vcut_data::{FieldLayout, FieldSample, FileError, Precomputed};
+use vcut_data::{FieldLayout, FieldSample, FileError, InsideSamples, Precomputed};
 use vcut_dirtree::DirectionTree;
 use vcut_envmap::EnvMap;
 use vcut_lighttree::{LightTree, LightTreeBuilder};
@@ -192,6 +194,7 @@ pub struct Frame {
     specular: Vec<SpecularNode>,
     merges: u64,
     algorithm: MergeAlgorithm,
+    inside: InsideSamples,
     last_move: MoveTiming,
 }
 
@@ -436,6 +439,7 @@ impl Frame {
             nodes,
             merges: 0,
             algorithm: MergeAlgorithm::Counter,
+            inside: InsideSamples::default(),
             last_move: MoveTiming::default(),
         };
         frame.set_svc_cache(true)?;
@@ -581,8 +585,7 @@ impl Frame {
                 continue;
             }
             let Some(mut samples) = layout.lookup(p - other.translation) else { continue };
-            let kept =
-                FieldLayout::drop_inside(&mut samples, |x| other.field[x.sphere as usize].inside(x.point as usize));
+            let kept = self.inside.apply(&mut samples, |x| other.field[x.sphere as usize].inside(x.point as usize));
             keys.push(FieldKey { object: j as u32, samples: (kept > 0).then_some(samples) });
         }
         keys
@@ -778,6 +781,18 @@ impl Frame {
     /// many vertices were merged.
     pub fn translate(&mut self, o: usize, translation: Vec3) -> Result<usize, FrameError> {
         self.objects[o].translation = translation;
+        self.rekey()
+    }
+
+    /// How field lookups treat samples inside the object (default [`InsideSamples::Occluded`]);
+    /// re-merges the vertices whose field inputs change. Returns how many.
+    pub fn set_inside_samples(&mut self, inside: InsideSamples) -> Result<usize, FrameError> {
+        self.inside = inside;
+        self.rekey()
+    }
+
+    /// Looks up every vertex's field inputs again and re-merges those that changed.
+    fn rekey(&mut self) -> Result<usize, FrameError> {
         let mut total = 0;
         let mut timing = MoveTiming::default();
         for k in 0..self.objects.len() {

@@ -3,7 +3,7 @@
 use glam::Vec3;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::AtomicBool;
-use vcut_data::Precomputed;
+use vcut_data::{InsideSamples, Precomputed};
 use vcut_envmap::EnvMap;
 use vcut_precompute::PrecomputeParams;
 use vcut_precompute::run::{Job, NoProgress, precompute};
@@ -181,6 +181,30 @@ fn moves_re_merge_only_what_changed_and_edits_never_merge() {
     frame.translate(ball, moved).unwrap();
     assert!((0..n_ground).all(|v| *frame.merged(ground, v) == counter[v]));
     assert!(frame.shade(EYE) == shaded);
+}
+
+#[test]
+fn field_samples_inside_an_object_blend_in_as_occluded() {
+    // A ball resting on the ground: ground vertices around the contact have field samples
+    // inside the ball (above the ground) and outside it (below the ground, seeing more sky).
+    let scene = BALL_ABOVE_GROUND.replace("translation = [0.0, 0.8, 0.0]", "translation = [0.0, 0.5, 0.0]");
+    let dir = scratch("inside");
+    let mut d = data(&scene, &[("field_resolution", "16")], &dir.join("i.vcuts"));
+    let env = vcut_envmap::procedural::PreethamSky::default().bake(128);
+    let mut frame = Frame::new(&mut d, &env).unwrap();
+    let ground = frame.object_index("ground").unwrap();
+    let exact = exact_direction(&frame, EYE, 1e-4);
+    let error = |frame: &Frame| errors(&[frame.shade(EYE)[ground].clone()], &[exact[ground].clone()]);
+    let occluded = error(&frame);
+    // Dropping them re-merges only the vertices with inside samples, and is worse.
+    let remerged = frame.set_inside_samples(InsideSamples::Dropped).unwrap();
+    let n = frame.object(ground).1.vertex_count();
+    assert!(remerged > 0 && remerged < n, "{remerged} of {n}");
+    let dropped = error(&frame);
+    println!("occluded {occluded:?}, dropped {dropped:?}, re-merged {remerged} of {n}");
+    assert!(occluded.0 < dropped.0 && occluded.1 < dropped.1, "occluded {occluded:?}, dropped {dropped:?}");
+    frame.set_inside_samples(InsideSamples::Occluded).unwrap();
+    assert_eq!(error(&frame), occluded);
 }
 
 #[test]
