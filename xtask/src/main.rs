@@ -65,7 +65,27 @@ enum Command {
     Leaves(leaves::LeavesArgs),
 }
 
+/// `cargo xtask … | head` closes stdout early, and `println!` then panics ("failed printing to
+/// stdout: Broken pipe"). Exit quietly instead, as command-line tools do on SIGPIPE (status 141,
+/// 128 + SIGPIPE); any other panic is reported as before.
+fn quiet_on_broken_pipe() {
+    let default = std::panic::take_hook();
+    std::panic::set_hook(Box::new(move |info| {
+        let payload = info.payload();
+        let message = payload
+            .downcast_ref::<String>()
+            .map(String::as_str)
+            .or_else(|| payload.downcast_ref::<&str>().copied())
+            .unwrap_or("");
+        if message.contains("Broken pipe") {
+            std::process::exit(141);
+        }
+        default(info);
+    }));
+}
+
 fn main() {
+    quiet_on_broken_pipe();
     let cli = Cli::parse();
     let result: Result<()> = match cli.command {
         Command::Inspect(args) => inspect::run(&args),
