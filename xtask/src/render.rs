@@ -192,10 +192,11 @@ pub fn auto_camera(b: vcut_scene::Bounds) -> Camera {
 /// Runs `render`; returns what it printed.
 pub fn run(args: &RenderArgs) -> Result<Printed> {
     let mut out = Printed::default();
-    let Opened { data, mut frame, env, scene, setup_s, .. } = open(&args.input, args.env.as_deref())?;
-    out.emit("setup_s", format!("{setup_s:.3}"));
+    // Checked before the data is read and merged.
     let inside = InsideSamples::named(&args.inside_samples)
         .with_context(|| format!("--inside-samples {}: expected occluded or dropped", args.inside_samples))?;
+    let Opened { data, mut frame, env, scene, setup_s, .. } = open(&args.input, args.env.as_deref())?;
+    out.emit("setup_s", format!("{setup_s:.3}"));
     if inside != InsideSamples::default() {
         frame.set_inside_samples(inside)?;
     }

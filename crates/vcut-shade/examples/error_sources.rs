@@ -39,6 +39,7 @@ fn main() -> Result<(), String> {
     let file = args.first().ok_or(
         "usage: error_sources FILE.vcuts [--env builtin:sky|builtin:constant] [--eye X,Y,Z] [--move OBJECT=DX,DY,DZ]",
     )?;
+    let bins_only = args.iter().any(|a| a == "--bins");
     let option = |name: &str| args.iter().position(|a| a == name).and_then(|i| args.get(i + 1)).cloned();
     let env = match option("--env").as_deref() {
         None | Some("builtin:sky") => procedural::PreethamSky::default().bake(1024),
@@ -70,7 +71,7 @@ fn main() -> Result<(), String> {
     for o in 0..frame.object_count() {
         let positions = frame.positions(o);
         let radius = frame.object(o).1.bounds().radius;
-        if args.iter().any(|a| a == "--bins") {
+        if bins_only {
             bins(&frame, o, &positions, &shaded[o], &exact[o]);
             continue;
         }
@@ -113,7 +114,7 @@ fn main() -> Result<(), String> {
         fields_all.push(fields);
         vis_all.push(vis);
     }
-    if args.iter().any(|a| a == "--bins") {
+    if bins_only {
         return Ok(());
     }
     println!(

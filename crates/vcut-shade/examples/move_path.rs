@@ -24,7 +24,8 @@ fn median(mut v: Vec<f64>) -> f64 {
     v[v.len() / 2]
 }
 
-/// User + system CPU seconds of this process so far (Linux; `None` elsewhere).
+/// User + system CPU seconds of this process so far (Linux, whose clock ticks are 1/100 s;
+/// `None` elsewhere).
 fn cpu_seconds() -> Option<f64> {
     let stat = std::fs::read_to_string("/proc/self/stat").ok()?;
     let fields: Vec<&str> = stat.rsplit_once(')')?.1.split_whitespace().collect();
