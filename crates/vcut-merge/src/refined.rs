@@ -209,6 +209,11 @@ impl Refinement {
         }
     }
 
+    /// The leaf where each node ends, left to right (the last is `2^root_height`).
+    pub fn ends(&self) -> &[u32] {
+        &self.ends
+    }
+
     /// Root height of the tree.
     pub fn root_height(&self) -> u32 {
         self.root_height

@@ -7,10 +7,17 @@
 //!   mean of V·max(0, n·ω) over its leaves: the clustering error alone.
 //!
 //! `cargo run --release -p vcut-shade --example error_sources -- FILE.vcuts [--env builtin:constant]
-//! [--eye X,Y,Z] [--move OBJECT=DX,DY,DZ]` prints `key=value` lines. With `--bins` it prints
+//! [--eye X,Y,Z] [--move OBJECT=DX,DY,DZ] [--scene SPEC]` prints `key=value` lines (`--scene
+//! builtin:teapot`: that scene's environment and camera, the frame `cargo xtask bench` measures). With `--bins` it prints
 //! instead, per object, where the frame's squared error is: the share of its worst 1/5/20 % of
 //! vertices, shares by distance to the nearest field source (in its radii) and near a cube-map
 //! edge or not, and the 12 worst vertices with their field sources.
+//!
+//! With `--layouts 32x32,64x32,128x64` it prints instead the frame's error as if every field
+//! had that many spheres of 6×R² points (same radii and spacing; exact cuts computed only at
+//! the samples the vertices need, interpolated and merged as the frame does): how much denser
+//! fields would have to be for a given error, without precomputing them. `32x32` (the paper
+//! preset) reproduces the frame's own error.
 
 use glam::Vec3;
 use rayon::prelude::*;
@@ -37,16 +44,20 @@ fn vec3(s: &str) -> Result<Vec3, String> {
 fn main() -> Result<(), String> {
     let args: Vec<String> = std::env::args().skip(1).collect();
     let file = args.first().ok_or(
-        "usage: error_sources FILE.vcuts [--env builtin:sky|builtin:constant] [--eye X,Y,Z] [--move OBJECT=DX,DY,DZ]",
+        "usage: error_sources FILE.vcuts [--env builtin:sky|builtin:constant] [--eye X,Y,Z] [--move OBJECT=DX,DY,DZ] [--scene SPEC] [--bins | --layouts SxR,...]",
     )?;
     let bins_only = args.iter().any(|a| a == "--bins");
     let option = |name: &str| args.iter().position(|a| a == name).and_then(|i| args.get(i + 1)).cloned();
-    let env = match option("--env").as_deref() {
-        None | Some("builtin:sky") => procedural::PreethamSky::default().bake(1024),
-        Some("builtin:constant") => EnvMap::constant([1.0; 3]),
-        Some(other) => return Err(format!("--env {other}: builtin:sky or builtin:constant")),
+    // `--scene SPEC`: the scene's environment and first camera (the bench's frame).
+    let scene = option("--scene").map(|s| vcut_scene::Scene::open(&s).map_err(|e| e.to_string())).transpose()?;
+    let env = match (option("--env").as_deref(), &scene) {
+        (None, Some(scene)) => scene.environment.clone(),
+        (None | Some("builtin:sky"), _) => procedural::PreethamSky::default().bake(1024),
+        (Some("builtin:constant"), _) => EnvMap::constant([1.0; 3]),
+        (Some(other), _) => return Err(format!("--env {other}: builtin:sky or builtin:constant")),
     };
-    let eye = option("--eye").map(|e| vec3(&e)).transpose()?.unwrap_or(Vec3::new(0.0, 2.0, 6.0));
+    let scene_eye = scene.as_ref().and_then(|s| s.cameras.first()).map(|c| c.position);
+    let eye = option("--eye").map(|e| vec3(&e)).transpose()?.or(scene_eye).unwrap_or(Vec3::new(0.0, 2.0, 6.0));
     let mut data = Precomputed::open(Path::new(file)).map_err(|e| e.to_string())?;
     let offset = data.svc_origin_offset();
     let mut frame = Frame::new(&mut data, &env).map_err(|e| e.to_string())?;
@@ -67,6 +78,19 @@ fn main() -> Result<(), String> {
     let all = Occluder::new(&meshes.iter().collect::<Vec<_>>());
     let alone: Vec<Occluder> = meshes.iter().map(|m| Occluder::new(&[m])).collect();
     let tree = frame.tree();
+    if let Some(specs) = option("--layouts") {
+        println!("frame all={:.4}", errors(&shaded, &exact).0);
+        for spec in specs.split(',') {
+            let (s, r) = spec.split_once('x').ok_or(format!("--layouts {spec}: SPHERESxRESOLUTION"))?;
+            let parse = |x: &str| x.parse::<u32>().ok().filter(|&n| n >= 1).ok_or(format!("--layouts {spec}: {x}"));
+            let got = layout_frame(&frame, &alone, eye, parse(s)?, parse(r)?);
+            let per: Vec<String> = (0..frame.object_count())
+                .map(|o| format!("{}={:.4}", frame.object(o).0, errors(&[got[o].clone()], &[exact[o].clone()]).0))
+                .collect();
+            println!("layout={spec} all={:.4} {}", errors(&got, &exact).0, per.join(" "));
+        }
+        return Ok(());
+    }
     let (mut fields_all, mut vis_all) = (Vec::new(), Vec::new());
     for o in 0..frame.object_count() {
         let positions = frame.positions(o);
@@ -98,7 +122,7 @@ fn main() -> Result<(), String> {
                     *value = leaves[leaf..leaf + w].iter().sum::<f32>() / w as f32;
                     leaf += w;
                 }
-                (frame.shade_cut(o, v, &product, eye), frame.shade_cut(o, v, &means, eye))
+                (frame.shade_cut(o, v, &product, eye), frame.shade_cut_means(o, v, &means, eye))
             })
             .collect();
         let fields: Vec<Vec3> = rows.iter().map(|r| r.0).collect();
@@ -124,6 +148,76 @@ fn main() -> Result<(), String> {
         errors(&vis_all, &exact).0
     );
     Ok(())
+}
+
+/// The frame shaded as if every field had `spheres` spheres of 6×`resolution`² points (the
+/// same radii range and spacing): each sample an exact cut, computed only where a vertex needs
+/// it, interpolated and merged with the SVC as the frame does (samples inside an object blend
+/// in as occluded).
+fn layout_frame(frame: &Frame, alone: &[Occluder], eye: Vec3, spheres: u32, resolution: u32) -> Vec<Vec<Vec3>> {
+    use std::collections::HashMap;
+    use vcut_merge::{Group, merge};
+    let tree = frame.tree();
+    let layout_of = |l: vcut_data::FieldLayout| vcut_data::FieldLayout { spheres, resolution, ..l };
+    // Every (object, sphere, point) a vertex needs, once.
+    let mut wanted: Vec<(usize, u32, u32)> = Vec::new();
+    let mut layouts: HashMap<usize, vcut_data::FieldLayout> = HashMap::new();
+    for o in 0..frame.object_count() {
+        let positions = frame.positions(o);
+        for (v, &x) in positions.iter().enumerate() {
+            for (j, layout) in frame.field_sources(o, v) {
+                let l = layout_of(layout);
+                layouts.insert(j, l);
+                if let Some(samples) = l.lookup(x - frame.object(j).4) {
+                    wanted.extend(samples.iter().filter(|x| x.weight > 0.0).map(|x| (j, x.sphere, x.point)));
+                }
+            }
+        }
+    }
+    wanted.sort_unstable();
+    wanted.dedup();
+    let cuts: Vec<vcut_cut::Cut> = wanted
+        .par_iter()
+        .map(|&(j, s, i)| {
+            let l = layouts[&j];
+            let t = frame.object(j).4;
+            let p = l.point(s, i) + t;
+            if alone[j].inside(p) {
+                vcut_cut::Cut::root(tree.height(), 0.0).unwrap_or_else(|e| unreachable!("{e}"))
+            } else {
+                exact_point_cut(&alone[j], tree, p, l.center + t, l.radius).0
+            }
+        })
+        .collect();
+    let index: HashMap<(usize, u32, u32), usize> = wanted.iter().enumerate().map(|(k, &w)| (w, k)).collect();
+    (0..frame.object_count())
+        .map(|o| {
+            let positions = frame.positions(o);
+            (0..positions.len())
+                .into_par_iter()
+                .map(|v| {
+                    let svc = frame.svc(o, v).unwrap_or_else(|e| panic!("vertex {v}: {e}"));
+                    let svc_ref = &svc;
+                    let mut factors: Vec<(Vec<&vcut_cut::Cut>, Vec<f32>)> = Vec::new();
+                    for (j, layout) in frame.field_sources(o, v) {
+                        let Some(samples) = layout_of(layout).lookup(positions[v] - frame.object(j).4) else {
+                            continue;
+                        };
+                        let kept: Vec<_> = samples.iter().filter(|x| x.weight > 0.0).collect();
+                        factors.push((
+                            kept.iter().map(|x| &cuts[index[&(j, x.sphere, x.point)]]).collect(),
+                            kept.iter().map(|x| x.weight).collect(),
+                        ));
+                    }
+                    let mut groups = vec![Group::single(&svc_ref)];
+                    groups.extend(factors.iter().map(|(c, w)| Group { cuts: c, weights: w }));
+                    let mut out = MergedCut::default();
+                    merge(&groups, &mut out).unwrap_or_else(|e| panic!("{e}"));
+                    frame.shade_cut(o, v, &out, eye)
+                })
+                .collect()
+        })
+        .collect()
 }
 
 /// Shares of an object's squared error by where its vertices sit in the fields around them.
