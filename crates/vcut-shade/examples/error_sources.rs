@@ -17,7 +17,8 @@
 //! had that many spheres of 6×R² points (same radii and spacing; exact cuts computed only at
 //! the samples the vertices need, interpolated and merged as the frame does): how much denser
 //! fields would have to be for a given error, without precomputing them. `32x32` (the paper
-//! preset) reproduces the frame's own error.
+//! preset) reproduces the frame's own error; `32x32i0.05` also moves the innermost sphere to
+//! 0.05r (the paper: 0.2r; within it lookups clamp to it).
 
 use glam::Vec3;
 use rayon::prelude::*;
@@ -81,9 +82,16 @@ fn main() -> Result<(), String> {
     if let Some(specs) = option("--layouts") {
         println!("frame all={:.4}", errors(&shaded, &exact).0);
         for spec in specs.split(',') {
-            let (s, r) = spec.split_once('x').ok_or(format!("--layouts {spec}: SPHERESxRESOLUTION"))?;
+            let (s, rest) = spec.split_once('x').ok_or(format!("--layouts {spec}: SPHERESxRESOLUTION[iINNER]"))?;
+            let (r, inner) = match rest.split_once('i') {
+                Some((r, i)) => {
+                    let inner = i.parse::<f32>().ok().filter(|x| *x > 0.0).ok_or(format!("--layouts {spec}: {i}"))?;
+                    (r, Some(inner))
+                }
+                None => (rest, None),
+            };
             let parse = |x: &str| x.parse::<u32>().ok().filter(|&n| n >= 1).ok_or(format!("--layouts {spec}: {x}"));
-            let got = layout_frame(&frame, &alone, eye, parse(s)?, parse(r)?);
+            let got = layout_frame(&frame, &alone, eye, parse(s)?, parse(r)?, inner);
             let per: Vec<String> = (0..frame.object_count())
                 .map(|o| format!("{}={:.4}", frame.object(o).0, errors(&[got[o].clone()], &[exact[o].clone()]).0))
                 .collect();
@@ -151,14 +159,26 @@ fn main() -> Result<(), String> {
 }
 
 /// The frame shaded as if every field had `spheres` spheres of 6×`resolution`² points (the
-/// same radii range and spacing): each sample an exact cut, computed only where a vertex needs
+/// same radii range, or `inner`·r inward, and spacing): each sample an exact cut, computed only where a vertex needs
 /// it, interpolated and merged with the SVC as the frame does (samples inside an object blend
 /// in as occluded).
-fn layout_frame(frame: &Frame, alone: &[Occluder], eye: Vec3, spheres: u32, resolution: u32) -> Vec<Vec<Vec3>> {
+fn layout_frame(
+    frame: &Frame,
+    alone: &[Occluder],
+    eye: Vec3,
+    spheres: u32,
+    resolution: u32,
+    inner: Option<f32>,
+) -> Vec<Vec<Vec3>> {
     use std::collections::HashMap;
     use vcut_merge::{Group, merge};
     let tree = frame.tree();
-    let layout_of = |l: vcut_data::FieldLayout| vcut_data::FieldLayout { spheres, resolution, ..l };
+    let layout_of = |l: vcut_data::FieldLayout| vcut_data::FieldLayout {
+        spheres,
+        resolution,
+        inner: inner.unwrap_or(l.inner),
+        ..l
+    };
     // Every (object, sphere, point) a vertex needs, once.
     let mut wanted: Vec<(usize, u32, u32)> = Vec::new();
     let mut layouts: HashMap<usize, vcut_data::FieldLayout> = HashMap::new();
