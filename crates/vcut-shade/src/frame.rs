@@ -197,17 +197,19 @@ impl ObjectState {
         if let Some(r) = self.svc_refined.get(v) {
             return Some(std::borrow::Cow::Borrowed(r.ends()));
         }
-        let cut = self.svc_cut(v).ok()?;
-        Some(std::borrow::Cow::Owned(
-            cut.heights()
-                .iter()
-                .scan(0u32, |end, &h| {
-                    *end += 1u32 << h;
-                    Some(*end)
-                })
-                .collect(),
-        ))
+        Some(std::borrow::Cow::Owned(node_ends(&self.svc_cut(v).ok()?)))
     }
+}
+
+/// The leaf where each of `cut`'s nodes ends, left to right.
+fn node_ends(cut: &Cut) -> Vec<u32> {
+    cut.heights()
+        .iter()
+        .scan(0u32, |end, &h| {
+            *end += 1u32 << h;
+            Some(*end)
+        })
+        .collect()
 }
 
 /// The scene at run time: translations, materials, lighting, and the merged cuts.
@@ -821,8 +823,7 @@ impl Frame {
                         }
                         let err = |reason: String| FrameError::Cut { object: o, vertex: v, reason };
                         let svc_cut = me.svc_cut(v).map_err(err)?;
-                        let svc_ends = Refinement::new(&[&svc_cut]).map_err(|e| err(e.to_string()))?;
-                        let svc_ends = svc_ends.ends();
+                        let svc_ends = node_ends(&svc_cut);
                         let svc = IndexCut::from_cut(&svc_cut);
                         let svc_refs = [&svc];
                         let lookups: Vec<(CellKey, [f32; 8])> = keys[v].iter().filter_map(CellKey::of).collect();
@@ -846,7 +847,7 @@ impl Frame {
                                 .map(|(c, (cell, w))| IndexGroup { cuts: c, weights: &w[..usize::from(cell.len)] }),
                         );
                         baseline::merge(&groups, out).map_err(|e| err(e.to_string()))?;
-                        list.rebuild(out, normals[v], table, Some(svc_ends), &mut Vec::new());
+                        list.rebuild(out, normals[v], table, Some(&svc_ends), &mut Vec::new());
                         Ok(())
                     });
                 timing.merge_s += start.elapsed().as_secs_f64();
