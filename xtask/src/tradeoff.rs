@@ -56,6 +56,7 @@ fn sweeps(quick: bool) -> Vec<(&'static str, Vec<&'static str>)> {
             ("field_spheres", vec!["8", "24", "32"]),
             ("field_resolution", vec!["8", "24", "32"]),
             ("field_spacing", vec!["linear"]),
+            ("field_inner_flat", vec!["0.2"]),
             ("svc_values", vec!["u8", "f16", "f32"]),
         ]
     }

@@ -15,7 +15,10 @@
 //! Outside `outer`·r the object occludes nothing the field needs to hold ([`FieldLayout::lookup`]
 //! returns `None`: the caller treats the object as fully visible there, which is what its
 //! bounding cone makes nearly true: at 10r it covers 0.25 % of the sphere). Inside `inner`·r the lookup
-//! clamps to the innermost sphere. Near a cube edge the bilinear texels clamp to the face.
+//! clamps to the innermost sphere. The paper puts it at 0.2r for every object; the precompute
+//! keeps that for solid objects (receivers cannot stand inside them) and moves it inward, to
+//! 0.05r, for flat ones such as a ground, whose receivers stand near its centre
+//! (`vcut_precompute::field::layout_around`). Near a cube edge the bilinear texels clamp to the face.
 
 use glam::Vec3;
 

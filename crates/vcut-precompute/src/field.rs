@@ -229,25 +229,22 @@ pub fn leaf_solid_angles(tree: &DirectionTree) -> Vec<f64> {
     (0..tree.leaf_count()).map(|l| tree.solid_angle(tree.index(0, l as u32))).collect()
 }
 
-/// The field layout of the paper around `mesh`'s bounding sphere.
+/// The field layout of the paper around `mesh`'s bounding sphere, its innermost sphere at the
+/// mesh's smallest bounding-box half-extent kept within [`inner_flat`·r, `inner`·r]: `inner` for
+/// a solid object (within it a receiver would be inside the object), down to `inner_flat` for a
+/// flat one (a ground whose receivers stand near its centre, where lookups clamp).
 pub fn layout_around(
     mesh: &Mesh,
     spheres: u32,
     resolution: u32,
-    inner: f32,
+    [inner, inner_flat]: [f32; 2],
     outer: f32,
     spacing: vcut_data::RadialSpacing,
 ) -> FieldLayout {
     let b = mesh.bounds();
-    FieldLayout {
-        center: b.center,
-        radius: b.radius.max(f32::MIN_POSITIVE),
-        spheres,
-        resolution,
-        inner,
-        outer,
-        spacing,
-    }
+    let radius = b.radius.max(f32::MIN_POSITIVE);
+    let thin = ((b.max - b.min).min_element() * 0.5 / radius).max(inner_flat);
+    FieldLayout { center: b.center, radius, spheres, resolution, inner: thin.min(inner), outer, spacing }
 }
 
 #[cfg(test)]
@@ -310,7 +307,8 @@ mod tests {
     fn field_cuts_are_coarse_and_inside_points_are_marked() {
         let t = tree(1024);
         let ball = vcut_scene::shapes::sphere(1.0, 32, 16).unwrap();
-        let layout = layout_around(&ball, 4, 4, 0.2, 10.0, vcut_data::RadialSpacing::Linear);
+        let layout = layout_around(&ball, 4, 4, [0.2, 0.05], 10.0, vcut_data::RadialSpacing::Linear);
+        assert_eq!(layout.inner, 0.2, "a solid object keeps the paper's innermost radius");
         let field = visibility_cut_field(&ball, &t, &layout, SelectParams::field());
         assert_eq!(field.len(), 4);
         // The innermost sphere (0.2r) is inside the ball; the others are outside it.
@@ -327,5 +325,24 @@ mod tests {
                 assert!(c.len() < 1024 / 4, "{} nodes", c.len());
             }
         }
+    }
+
+    #[test]
+    fn a_flat_object_gets_the_flat_innermost_radius() {
+        let spacing = vcut_data::RadialSpacing::Geometric;
+        let ground = vcut_scene::shapes::plane(14.0, 8).unwrap();
+        assert_eq!(layout_around(&ground, 4, 4, [0.2, 0.05], 10.0, spacing).inner, 0.05);
+        // A slab a tenth as thick as it is wide: its half-thickness, within the two bounds.
+        let slab = vcut_scene::shapes::sphere(1.0, 32, 16).unwrap();
+        let slab = Mesh::from_valid_parts(
+            slab.positions().iter().map(|p| *p * Vec3::new(1.0, 0.1, 1.0)).collect(),
+            slab.normals().to_vec(),
+            slab.triangles().to_vec(),
+        )
+        .unwrap();
+        let inner = layout_around(&slab, 4, 4, [0.2, 0.05], 10.0, spacing).inner;
+        assert!((inner - 0.1).abs() < 1e-3, "{inner}");
+        // inner_flat at or above inner: the paper's one radius for every object.
+        assert_eq!(layout_around(&ground, 4, 4, [0.2, 0.2], 10.0, spacing).inner, 0.2);
     }
 }

@@ -36,6 +36,12 @@ pub struct PrecomputeParams {
     pub field_resolution: u32,
     /// Innermost field sphere radius / bounding radius.
     pub field_inner: f32,
+    /// The innermost radius for a flat object (a ground, a leaf): each field's innermost sphere
+    /// sits at its object's smallest bounding-box half-extent / r, kept within
+    /// [`field_inner_flat`, `field_inner`]. Inside it lookups clamp, which costs nothing inside a
+    /// solid object (no receivers there) but blurs the shadow a flat one casts on what stands on
+    /// it. Setting it to `field_inner` restores the paper's one radius for every object.
+    pub field_inner_flat: f32,
     /// Outermost field sphere radius / bounding radius.
     pub field_outer: f32,
     /// How the field spheres are spaced between inner and outer (geometric: a constant ratio,
@@ -74,7 +80,7 @@ pub enum ParamError {
 }
 
 /// Parameter names, in the order they are recorded.
-pub const KEYS: [&str; 16] = [
+pub const KEYS: [&str; 17] = [
     "preset",
     "directions",
     "direction_seed",
@@ -87,6 +93,7 @@ pub const KEYS: [&str; 16] = [
     "field_spheres",
     "field_resolution",
     "field_inner",
+    "field_inner_flat",
     "field_outer",
     "field_spacing",
     "field_max_error",
@@ -99,7 +106,9 @@ pub const PRESETS: [&str; 3] = ["fast", "balanced", "paper"];
 impl PrecomputeParams {
     /// The paper's setting: 32,768 directions, 32 spheres from 0.2r to 10r of 6×32×32 points,
     /// exact field cuts — with the spheres spaced geometrically, not evenly as in the paper
-    /// (`field_spacing = "linear"` restores that; see `vcut_data::field` for why and by how much).
+    /// (`field_spacing = "linear"` restores that; see `vcut_data::field` for why and by how much),
+    /// and a flat object's innermost sphere at down to 0.05r (`field_inner_flat = 0.2` restores
+    /// the paper's 0.2r for all).
     pub fn paper() -> Self {
         Self {
             preset: "paper".into(),
@@ -114,6 +123,7 @@ impl PrecomputeParams {
             field_spheres: 32,
             field_resolution: 32,
             field_inner: 0.2,
+            field_inner_flat: 0.05,
             field_outer: 10.0,
             field_spacing: RadialSpacing::Geometric,
             field_max_error: 0.0,
@@ -224,12 +234,16 @@ impl PrecomputeParams {
                 }
                 if key == "field_spheres" { self.field_spheres = n } else { self.field_resolution = n }
             }
-            "field_inner" | "field_outer" => {
+            "field_inner" | "field_inner_flat" | "field_outer" => {
                 let x: f32 = num(value, bad)?;
                 if !(x > 0.0 && x.is_finite()) {
                     return Err(bad("must be positive"));
                 }
-                if key == "field_inner" { self.field_inner = x } else { self.field_outer = x }
+                match key {
+                    "field_inner" => self.field_inner = x,
+                    "field_inner_flat" => self.field_inner_flat = x,
+                    _ => self.field_outer = x,
+                }
             }
             "field_spacing" => {
                 self.field_spacing =
@@ -327,6 +341,7 @@ impl PrecomputeParams {
             "field_spheres" => self.field_spheres.to_string(),
             "field_resolution" => self.field_resolution.to_string(),
             "field_inner" => format!("{:?}", self.field_inner),
+            "field_inner_flat" => format!("{:?}", self.field_inner_flat),
             "field_outer" => format!("{:?}", self.field_outer),
             "field_spacing" => format!("\"{}\"", self.field_spacing.name()),
             "field_max_error" => format!("{:?}", self.field_max_error),
@@ -383,7 +398,9 @@ mod tests {
         q.set("field_values", "f16").unwrap();
         q.set("shape_coding", "heights").unwrap();
         q.set("svc_max_error", "0.02").unwrap();
+        q.set("field_inner_flat", "0.1").unwrap();
         assert_eq!(PrecomputeParams::from_toml(&q.to_toml()).unwrap(), q);
+        assert!(q.set("field_inner_flat", "0").unwrap_err().to_string().contains("positive"));
     }
 
     #[test]

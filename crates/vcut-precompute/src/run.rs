@@ -362,7 +362,7 @@ pub fn precompute(job: &Job<'_>, progress: &dyn Progress, interrupt: &AtomicBool
                     &o.mesh,
                     p.field_spheres,
                     p.field_resolution,
-                    p.field_inner,
+                    [p.field_inner, p.field_inner_flat],
                     p.field_outer,
                     p.field_spacing,
                 )

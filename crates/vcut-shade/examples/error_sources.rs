@@ -18,7 +18,8 @@
 //! the samples the vertices need, interpolated and merged as the frame does): how much denser
 //! fields would have to be for a given error, without precomputing them. `32x32` (the paper
 //! preset) reproduces the frame's own error; `32x32i0.05` also moves the innermost sphere to
-//! 0.05r (the paper: 0.2r; within it lookups clamp to it).
+//! 0.05r (the paper: 0.2r; within it lookups clamp to it); `32x32i0.05@ground` changes only the
+//! object `ground`'s field (the others keep the file's layouts).
 
 use glam::Vec3;
 use rayon::prelude::*;
@@ -82,7 +83,14 @@ fn main() -> Result<(), String> {
     if let Some(specs) = option("--layouts") {
         println!("frame all={:.4}", errors(&shaded, &exact).0);
         for spec in specs.split(',') {
-            let (s, rest) = spec.split_once('x').ok_or(format!("--layouts {spec}: SPHERESxRESOLUTION[iINNER]"))?;
+            let (body, only) = match spec.split_once('@') {
+                Some((b, name)) => {
+                    (b, Some(frame.object_index(name).ok_or(format!("--layouts {spec}: no object {name}"))?))
+                }
+                None => (spec, None),
+            };
+            let (s, rest) =
+                body.split_once('x').ok_or(format!("--layouts {spec}: SPHERESxRESOLUTION[iINNER][@OBJECT]"))?;
             let (r, inner) = match rest.split_once('i') {
                 Some((r, i)) => {
                     let inner = i.parse::<f32>().ok().filter(|x| *x > 0.0).ok_or(format!("--layouts {spec}: {i}"))?;
@@ -91,7 +99,7 @@ fn main() -> Result<(), String> {
                 None => (rest, None),
             };
             let parse = |x: &str| x.parse::<u32>().ok().filter(|&n| n >= 1).ok_or(format!("--layouts {spec}: {x}"));
-            let got = layout_frame(&frame, &alone, eye, parse(s)?, parse(r)?, inner);
+            let got = layout_frame(&frame, &alone, eye, parse(s)?, parse(r)?, inner, only);
             let per: Vec<String> = (0..frame.object_count())
                 .map(|o| format!("{}={:.4}", frame.object(o).0, errors(&[got[o].clone()], &[exact[o].clone()]).0))
                 .collect();
@@ -169,15 +177,16 @@ fn layout_frame(
     spheres: u32,
     resolution: u32,
     inner: Option<f32>,
+    only: Option<usize>,
 ) -> Vec<Vec<Vec3>> {
     use std::collections::HashMap;
     use vcut_merge::{Group, merge};
     let tree = frame.tree();
-    let layout_of = |l: vcut_data::FieldLayout| vcut_data::FieldLayout {
-        spheres,
-        resolution,
-        inner: inner.unwrap_or(l.inner),
-        ..l
+    let layout_of = |j: usize, l: vcut_data::FieldLayout| {
+        if only.is_some_and(|o| o != j) {
+            return l;
+        }
+        vcut_data::FieldLayout { spheres, resolution, inner: inner.unwrap_or(l.inner), ..l }
     };
     // Every (object, sphere, point) a vertex needs, once.
     let mut wanted: Vec<(usize, u32, u32)> = Vec::new();
@@ -186,7 +195,7 @@ fn layout_frame(
         let positions = frame.positions(o);
         for (v, &x) in positions.iter().enumerate() {
             for (j, layout) in frame.field_sources(o, v) {
-                let l = layout_of(layout);
+                let l = layout_of(j, layout);
                 layouts.insert(j, l);
                 if let Some(samples) = l.lookup(x - frame.object(j).4) {
                     wanted.extend(samples.iter().filter(|x| x.weight > 0.0).map(|x| (j, x.sphere, x.point)));
@@ -220,7 +229,7 @@ fn layout_frame(
                     let svc_ref = &svc;
                     let mut factors: Vec<(Vec<&vcut_cut::Cut>, Vec<f32>)> = Vec::new();
                     for (j, layout) in frame.field_sources(o, v) {
-                        let Some(samples) = layout_of(layout).lookup(positions[v] - frame.object(j).4) else {
+                        let Some(samples) = layout_of(j, layout).lookup(positions[v] - frame.object(j).4) else {
                             continue;
                         };
                         let kept: Vec<_> = samples.iter().filter(|x| x.weight > 0.0).collect();

@@ -5,7 +5,8 @@
 //!
 //! **Which fields a vertex uses.** Object j's field shadows a vertex of object o (o ≠ j) when
 //! j has a field and o or j is movable (static–static shadows are baked into the SVCs). Within
-//! 0.2r of j's centre the lookup clamps to the innermost sphere; beyond 10r j casts no shadow
+//! 0.2r of j's centre (0.05r–0.2r for a flat j: its layout's `inner`) the lookup clamps to the
+//! innermost sphere; beyond 10r j casts no shadow
 //! (its bounding cone there covers under 0.25 % of the sphere); samples inside j blend in as
 //! fully occluded (or are dropped and the rest renormalised: [`Frame::set_inside_samples`],
 //! [`InsideSamples`] says why and by how much), and a vertex whose 8 samples are all inside j is
