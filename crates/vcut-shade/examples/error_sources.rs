@@ -19,7 +19,9 @@
 //! fields would have to be for a given error, without precomputing them. `32x32` (the paper
 //! preset) reproduces the frame's own error; `32x32i0.05` also moves the innermost sphere to
 //! 0.05r (the paper: 0.2r; within it lookups clamp to it); `32x32i0.05@ground` changes only the
-//! object `ground`'s field (the others keep the file's layouts).
+//! object `ground`'s field (the others keep the file's layouts). With `--inside-surface` a
+//! sample inside its object takes the cut where its radial line leaves the object instead of
+//! one fully occluded node (the frame's `InsideSamples::Occluded`).
 
 use glam::Vec3;
 use rayon::prelude::*;
@@ -46,7 +48,7 @@ fn vec3(s: &str) -> Result<Vec3, String> {
 fn main() -> Result<(), String> {
     let args: Vec<String> = std::env::args().skip(1).collect();
     let file = args.first().ok_or(
-        "usage: error_sources FILE.vcuts [--env builtin:sky|builtin:constant] [--eye X,Y,Z] [--move OBJECT=DX,DY,DZ] [--scene SPEC] [--bins | --layouts SxR,...]",
+        "usage: error_sources FILE.vcuts [--env builtin:sky|builtin:constant] [--eye X,Y,Z] [--move OBJECT=DX,DY,DZ] [--scene SPEC] [--bins | --layouts SxR[iINNER][@OBJECT],... [--inside-surface]]",
     )?;
     let bins_only = args.iter().any(|a| a == "--bins");
     let option = |name: &str| args.iter().position(|a| a == name).and_then(|i| args.get(i + 1)).cloned();
@@ -81,6 +83,7 @@ fn main() -> Result<(), String> {
     let alone: Vec<Occluder> = meshes.iter().map(|m| Occluder::new(&[m])).collect();
     let tree = frame.tree();
     if let Some(specs) = option("--layouts") {
+        let surface = args.iter().any(|a| a == "--inside-surface");
         println!("frame all={:.4}", errors(&shaded, &exact).0);
         for spec in specs.split(',') {
             let (body, only) = match spec.split_once('@') {
@@ -99,7 +102,7 @@ fn main() -> Result<(), String> {
                 None => (rest, None),
             };
             let parse = |x: &str| x.parse::<u32>().ok().filter(|&n| n >= 1).ok_or(format!("--layouts {spec}: {x}"));
-            let got = layout_frame(&frame, &alone, eye, parse(s)?, parse(r)?, inner, only);
+            let got = layout_frame(&frame, &alone, eye, parse(s)?, parse(r)?, inner, only, surface);
             let per: Vec<String> = (0..frame.object_count())
                 .map(|o| format!("{}={:.4}", frame.object(o).0, errors(&[got[o].clone()], &[exact[o].clone()]).0))
                 .collect();
@@ -169,7 +172,8 @@ fn main() -> Result<(), String> {
 /// The frame shaded as if every field had `spheres` spheres of 6×`resolution`² points (the
 /// same radii range, or `inner`·r inward, and spacing): each sample an exact cut, computed only where a vertex needs
 /// it, interpolated and merged with the SVC as the frame does (samples inside an object blend
-/// in as occluded).
+/// in as occluded, or with `surface` as the cut where their radial line leaves it).
+#[allow(clippy::too_many_arguments)]
 fn layout_frame(
     frame: &Frame,
     alone: &[Occluder],
@@ -178,6 +182,7 @@ fn layout_frame(
     resolution: u32,
     inner: Option<f32>,
     only: Option<usize>,
+    surface: bool,
 ) -> Vec<Vec<Vec3>> {
     use std::collections::HashMap;
     use vcut_merge::{Group, merge};
@@ -211,7 +216,17 @@ fn layout_frame(
             let l = layouts[&j];
             let t = frame.object(j).4;
             let p = l.point(s, i) + t;
-            if alone[j].inside(p) {
+            if alone[j].inside(p) && surface {
+                // The cut where the sample's radial line leaves the object.
+                let c = l.center + t;
+                let d = (p - c).normalize_or(Vec3::Y);
+                let step = 0.005 * l.radius;
+                let mut q = p;
+                while alone[j].inside(q) && (q - c).length() < l.outer * l.radius {
+                    q += d * step;
+                }
+                exact_point_cut(&alone[j], tree, q + d * step, c, l.radius).0
+            } else if alone[j].inside(p) {
                 vcut_cut::Cut::root(tree.height(), 0.0).unwrap_or_else(|e| unreachable!("{e}"))
             } else {
                 exact_point_cut(&alone[j], tree, p, l.center + t, l.radius).0
