@@ -201,6 +201,11 @@ pub fn run(args: &RenderArgs) -> Result<Printed> {
         frame.set_inside_samples(inside)?;
     }
     out.emit("inside_samples", inside.name().into());
+    // The moves build the shading lists of the vertices facing the camera (a framing camera
+    // may shift with the moves: then shading builds the few others it needs).
+    if let Ok(c) = camera(scene.as_ref(), args.camera.as_deref(), &frame) {
+        frame.set_eye(c.position);
+    }
     let (move_ms, moved) = apply_edits(&mut frame, &args.brdfs, &args.moves)?;
     out.emit("move_merge_ms", format!("{move_ms:.2}"));
     out.emit("move_merged_vertices", format!("{moved}"));

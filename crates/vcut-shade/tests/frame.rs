@@ -184,6 +184,44 @@ fn moves_re_merge_only_what_changed_and_edits_never_merge() {
 }
 
 #[test]
+fn back_facing_lists_wait_for_a_camera_that_sees_them() {
+    let dir = scratch("lazy");
+    let path = dir.join("b.vcuts");
+    let mut d = data(BALL_ABOVE_GROUND, &[], &path);
+    let env = EnvMap::constant([1.0; 3]);
+    let moved = Vec3::new(0.3, 0.1, -0.2);
+    let behind = Vec3::new(-3.0, 2.0, -5.0);
+    // Every list built: a frame moved before it was ever shaded (no eye yet).
+    let mut eager = Frame::new(&mut d, &env).unwrap();
+    let ball = eager.object_index("ball").unwrap();
+    eager.translate(ball, moved).unwrap();
+    let all_bytes = eager.shade_bytes();
+    let from_behind = eager.shade(behind);
+
+    // Shaded from EYE first: the move builds only the lists of the vertices facing EYE.
+    let mut lazy = Frame::new(&mut Precomputed::open(&path).unwrap(), &env).unwrap();
+    lazy.shade(EYE);
+    lazy.translate(ball, moved).unwrap();
+    let merges = lazy.merges();
+    assert!(lazy.shade_bytes() < all_bytes, "{} of {all_bytes} bytes", lazy.shade_bytes());
+    // Shading from behind builds the stale ones it needs on the spot, bit for bit.
+    assert!(lazy.shade(behind) == from_behind);
+    assert!(lazy.shade_bytes() < all_bytes, "shading keeps no list");
+    // `set_eye` keeps them; still no merge.
+    lazy.set_eye(behind);
+    assert!(lazy.shade_bytes() > 0 && lazy.shade(behind) == from_behind);
+    assert!(lazy.shade(EYE) == eager.shade(EYE));
+    assert_eq!(lazy.merges(), merges);
+    // A lighting change builds the lists facing the last eye (EYE) only, and shades the same.
+    let sky = EnvMap::constant([0.5, 1.0, 1.0]);
+    lazy.set_environment(&sky);
+    eager.set_environment(&sky);
+    eager.set_eye(behind);
+    assert!(lazy.shade_bytes() < eager.shade_bytes());
+    assert!(lazy.shade(behind) == eager.shade(behind));
+}
+
+#[test]
 fn field_samples_inside_an_object_blend_in_as_occluded() {
     // A ball resting on the ground: ground vertices around the contact have field samples
     // inside the ball (above the ground) and outside it (below the ground, seeing more sky).

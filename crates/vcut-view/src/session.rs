@@ -298,6 +298,9 @@ impl Session {
             return;
         }
         let start = Instant::now();
+        // Keeps the lists of the vertices now facing the camera (a move built only those facing
+        // the last one).
+        self.frame.set_eye(eye);
         self.radiance = self.frame.shade(eye);
         self.timings.shade_ms = start.elapsed().as_secs_f64() * 1e3;
         self.shaded_eye = Some(eye);
