@@ -98,9 +98,19 @@ impl Refinement {
     /// No cursors, so nothing waits on the previous node. False (nothing built) if a value is
     /// not 0 or 1.
     fn build_bitmaps(&mut self, cuts: &[&Cut], leaves: u32) -> bool {
+        // The bitmaps' buffer stays with the thread: allocating and zeroing 36 KB for each of a
+        // move's ~2,500 new cells was 7 % of refining them.
+        thread_local! {
+            static BITS: std::cell::RefCell<Vec<u64>> = const { std::cell::RefCell::new(Vec::new()) };
+        }
+        BITS.with_borrow_mut(|bits| self.build_bitmaps_in(cuts, leaves, bits))
+    }
+
+    fn build_bitmaps_in(&mut self, cuts: &[&Cut], leaves: u32, bits: &mut Vec<u64>) -> bool {
         let words = (leaves as usize).div_ceil(64);
         // Member i's ones in words [(i+1)·words, (i+2)·words), the union of starts first.
-        let mut bits = vec![0u64; words * (cuts.len() + 1)];
+        bits.clear();
+        bits.resize(words * (cuts.len() + 1), 0);
         let (starts, ones) = bits.split_at_mut(words);
         for (c, ones) in cuts.iter().zip(ones.chunks_exact_mut(words)) {
             let mut off = 0usize;
