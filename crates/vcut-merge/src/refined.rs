@@ -384,57 +384,28 @@ pub fn merge_refined(factors: &[Factor<'_>], out: &mut MergedCut) -> Result<usiz
     out.reset(root);
     let prepared: Vec<Prepared<'_>> = factors.iter().map(|&f| Prepared::new(f)).collect();
     // A frame's vertex has two or three factors (SVC × one or two cells): with their number
-    // known the cursors stay in registers.
+    // known where the walk is inlined, the cursors stay in registers.
     match prepared.as_slice() {
-        [a, b] => walk(&[a, b], root, out),
-        [a, b, c] => walk(&[a, b, c], root, out),
-        _ => walk_any(&prepared, root, out),
+        [a, b] => walk(&[a, b], &mut [a.settle(0), b.settle(0)], root, out),
+        [a, b, c] => walk(&[a, b, c], &mut [a.settle(0), b.settle(0), c.settle(0)], root, out),
+        _ => {
+            let refs: Vec<&Prepared<'_>> = prepared.iter().collect();
+            walk(&refs, &mut prepared.iter().map(|p| p.settle(0)).collect::<Vec<_>>(), root, out)
+        }
     }
     Ok(out.heights.len())
 }
 
-/// [`merge_refined`]'s walk over `N` factors.
+/// [`merge_refined`]'s walk: `cursors` start on each factor's first node.
 #[inline(always)]
-fn walk<const N: usize>(prepared: &[&Prepared<'_>; N], root: u32, out: &mut MergedCut) {
-    let mut cursors: [FactorCursor; N] = std::array::from_fn(|i| prepared[i].settle(0));
+fn walk(prepared: &[&Prepared<'_>], cursors: &mut [FactorCursor], root: u32, out: &mut MergedCut) {
     let leaves = 1u32 << root;
     let mut leaf = 0u32;
     loop {
         let mut next = u32::MAX;
         let mut zero_end = 0u32;
         let mut product = 1.0f32;
-        for c in &cursors {
-            product *= c.sum;
-            next = next.min(c.end);
-            if !c.nonzero {
-                zero_end = zero_end.max(c.end);
-            }
-        }
-        let (target, value) = if zero_end > 0 { (zero_end, 0.0) } else { (next, product) };
-        out.push((target - leaf).trailing_zeros(), u64::from(leaf), value);
-        leaf = target;
-        if leaf >= leaves {
-            break;
-        }
-        for (c, p) in cursors.iter_mut().zip(prepared) {
-            if c.end <= leaf {
-                let pos = if c.end == leaf { c.pos + 1 } else { gallop(p.ends, c.pos, leaf) };
-                *c = p.settle(pos);
-            }
-        }
-    }
-}
-
-/// [`merge_refined`]'s walk over any number of factors.
-fn walk_any(prepared: &[Prepared<'_>], root: u32, out: &mut MergedCut) {
-    let mut cursors: Vec<FactorCursor> = prepared.iter().map(|p| p.settle(0)).collect();
-    let leaves = 1u32 << root;
-    let mut leaf = 0u32;
-    loop {
-        let mut next = u32::MAX;
-        let mut zero_end = 0u32;
-        let mut product = 1.0f32;
-        for c in &cursors {
+        for c in cursors.iter() {
             product *= c.sum;
             next = next.min(c.end);
             if !c.nonzero {

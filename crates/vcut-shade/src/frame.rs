@@ -200,6 +200,11 @@ impl ObjectState {
         faces(self.mesh.normals()[v], self.mesh.positions()[v] + self.translation, eye)
     }
 
+    /// Builds vertex `v`'s shading list from its kept merged cut into `list`.
+    fn relist(&self, v: usize, nodes: &[ShadeNode], list: &mut ShadeList, below: &mut Vec<f32>) {
+        list.rebuild(&self.merged[v], self.mesh.normals()[v], nodes, self.svc_ends(v).as_deref(), below);
+    }
+
     fn svc_cut(&self, v: usize) -> Result<Cut, String> {
         let chunk = self.svc_starts.partition_point(|&s| s <= v) - 1;
         self.svc[chunk].cut(v - self.svc_starts[chunk])
@@ -741,7 +746,7 @@ impl Frame {
         let me = &self.objects[o];
         let normals = me.mesh.normals();
         let eye = self.eye();
-        let facing = |v: usize| eye.is_none_or(|e| faces(normals[v], me.mesh.positions()[v] + me.translation, e));
+        let facing = |v: usize| eye.is_none_or(|e| me.faces(v, e));
         let table = &self.nodes;
         let h = self.tree.height();
         let old = std::mem::take(cache);
@@ -984,7 +989,7 @@ impl Frame {
             let state = &*s;
             lists.par_iter_mut().enumerate().for_each_init(Vec::new, |below, (v, list)| {
                 if eye.is_none_or(|e| state.faces(v, e)) {
-                    list.rebuild(&state.merged[v], state.mesh.normals()[v], nodes, state.svc_ends(v).as_deref(), below);
+                    state.relist(v, nodes, list, below);
                 } else {
                     list.mark_stale();
                 }
@@ -1008,12 +1013,11 @@ impl Frame {
         for s in &mut self.objects {
             let mut lists = std::mem::take(&mut s.lists);
             let state = &*s;
-            lists.par_iter_mut().enumerate().filter(|(v, l)| l.stale && state.faces(*v, eye)).for_each_init(
-                Vec::new,
-                |below, (v, list)| {
-                    list.rebuild(&state.merged[v], state.mesh.normals()[v], nodes, state.svc_ends(v).as_deref(), below)
-                },
-            );
+            lists
+                .par_iter_mut()
+                .enumerate()
+                .filter(|(v, l)| l.stale && state.faces(*v, eye))
+                .for_each_init(Vec::new, |below, (v, list)| state.relist(v, nodes, list, below));
             s.lists = lists;
         }
     }
@@ -1070,6 +1074,7 @@ impl Frame {
     /// Outgoing radiance toward `eye` of every vertex of every object: B = Σ_k v_k f_r l_k over
     /// its merged cut, with the light-weighted node directions and cosines of the module
     /// documentation.
+    ///
     /// Vertices whose list is stale build it on the spot without keeping it ([`Frame::set_eye`]
     /// keeps them); `eye` becomes the eye later merges build lists for.
     pub fn shade(&self, eye: Vec3) -> Vec<Vec<Vec3>> {
@@ -1084,8 +1089,7 @@ impl Frame {
                         || (ShadeList::default(), Vec::new()),
                         |(built, below), (v, list)| {
                             if list.stale && s.faces(v, eye) {
-                                let n = s.mesh.normals()[v];
-                                built.rebuild(&s.merged[v], n, &self.nodes, s.svc_ends(v).as_deref(), below);
+                                s.relist(v, &self.nodes, built, below);
                                 self.shade_vertex(s, v, built, eye)
                             } else {
                                 self.shade_vertex(s, v, list, eye)
