@@ -22,7 +22,7 @@ use vcut_lighttree::LightTreeBuilder;
 use vcut_precompute::run::Summary;
 use vcut_scene::{Material, Motion, Scene};
 use vcut_shade::reference::{MonteCarloParams, errors, exact_direction, monte_carlo};
-use vcut_shade::{Frame, MergeAlgorithm};
+use vcut_shade::{Frame, MergeAlgorithm, SunRays};
 use vcut_sphere::{DirectionSet, RepulsionParams};
 
 /// Arguments of `bench`.
@@ -288,6 +288,16 @@ fn bench_scene(name: &str, preset: &str, data_dir: &Path, no_mc: bool, reuse: bo
     frame.set_inside_samples(InsideSamples::Dropped)?;
     let (rel_l2_dropped, max_dropped) = errors(&frame.shade(eye), &exact);
     frame.set_inside_samples(InsideSamples::Occluded)?;
+    // The knob: the sun carried by the cuts too (the paper) instead of cast by rays.
+    let sun_leaves = frame.sun_leaves();
+    frame.set_sun_rays(None);
+    let (rel_l2_cuts, max_cuts) = errors(&frame.shade(eye), &exact);
+    let cuts_path = move_path(&mut frame, movable, eye, MergeAlgorithm::Counter, 8)?;
+    frame.set_sun_rays(Some(SunRays::default()));
+    println!(
+        "{name}: the sun ({sun_leaves} leaves) through the cuts: rel L2 vs exact {rel_l2_cuts:.4}, move {:.1} ms",
+        cuts_path.move_ms
+    );
     let mc = if no_mc {
         None
     } else {
@@ -326,6 +336,10 @@ fn bench_scene(name: &str, preset: &str, data_dir: &Path, no_mc: bool, reuse: bo
         "max_err_exact": max_exact,
         "rel_l2_exact_inside_dropped": rel_l2_dropped,
         "max_err_exact_inside_dropped": max_dropped,
+        "sun_leaves": sun_leaves,
+        "rel_l2_exact_cuts_only": rel_l2_cuts,
+        "max_err_exact_cuts_only": max_cuts,
+        "move_ms_cuts_only": cuts_path.move_ms,
         "rel_l2_mc": mc.map(|m| m.0),
         "mc_reference_s": mc.map(|m| m.1),
     });

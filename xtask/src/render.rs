@@ -63,6 +63,11 @@ pub struct RenderArgs {
     /// or `dropped` (their weight given to the others); see `vcut_data::InsideSamples`.
     #[arg(long, default_value = "occluded")]
     pub inside_samples: String,
+    /// Carry the sun through the cuts too, as the paper does. By default the sun's leaves of the
+    /// light (each ≥ 100× the mean leaf, at most 16) are cast by rays at run time: exact sun
+    /// shadows, the sky from the cuts (`vcut_shade::sun`).
+    #[arg(long)]
+    pub no_sun_rays: bool,
 }
 
 impl RenderArgs {
@@ -83,6 +88,7 @@ impl RenderArgs {
             compare: None,
             mode: "cuts".into(),
             inside_samples: "occluded".into(),
+            no_sun_rays: false,
         }
     }
 }
@@ -201,6 +207,10 @@ pub fn run(args: &RenderArgs) -> Result<Printed> {
         frame.set_inside_samples(inside)?;
     }
     out.emit("inside_samples", inside.name().into());
+    if args.no_sun_rays {
+        frame.set_sun_rays(None);
+    }
+    out.emit("sun_leaves", format!("{}", frame.sun_leaves()));
     // The moves build the shading lists of the vertices facing the camera (a framing camera
     // may shift with the moves: then shading builds the few others it needs).
     if let Ok(c) = camera(scene.as_ref(), args.camera.as_deref(), &frame) {
@@ -217,6 +227,7 @@ pub fn run(args: &RenderArgs) -> Result<Printed> {
         out.emit("move_refine_ms", format!("{:.2}", t.refine_s * 1e3));
         // The merges proper, shading lists built as the nodes are emitted.
         out.emit("move_merge_only_ms", format!("{:.2}", t.merge_s * 1e3));
+        out.emit("move_sun_ms", format!("{:.2}", t.sun_s * 1e3));
     }
     let camera = camera(scene.as_ref(), args.camera.as_deref(), &frame)?;
     if args.mode != "cuts" {

@@ -22,6 +22,9 @@
 //! object `ground`'s field (the others keep the file's layouts). With `--inside-surface` a
 //! sample inside its object takes the cut where its radial line leaves the object instead of
 //! one fully occluded node (the frame's `InsideSamples::Occluded`).
+//!
+//! The cuts carry all the light here, the sun's too, as in the paper: this is about the cuts'
+//! error. `--sun-rays` keeps the frame's default instead, the sun's leaves cast by rays.
 
 use glam::Vec3;
 use rayon::prelude::*;
@@ -48,7 +51,7 @@ fn vec3(s: &str) -> Result<Vec3, String> {
 fn main() -> Result<(), String> {
     let args: Vec<String> = std::env::args().skip(1).collect();
     let file = args.first().ok_or(
-        "usage: error_sources FILE.vcuts [--env builtin:sky|builtin:constant] [--eye X,Y,Z] [--move OBJECT=DX,DY,DZ] [--scene SPEC] [--bins | --layouts SxR[iINNER][@OBJECT],... [--inside-surface]]",
+        "usage: error_sources FILE.vcuts [--env builtin:sky|builtin:constant] [--eye X,Y,Z] [--move OBJECT=DX,DY,DZ] [--scene SPEC] [--sun-rays] [--bins | --layouts SxR[iINNER][@OBJECT],... [--inside-surface]]",
     )?;
     let bins_only = args.iter().any(|a| a == "--bins");
     let option = |name: &str| args.iter().position(|a| a == name).and_then(|i| args.get(i + 1)).cloned();
@@ -65,6 +68,9 @@ fn main() -> Result<(), String> {
     let mut data = Precomputed::open(Path::new(file)).map_err(|e| e.to_string())?;
     let offset = data.svc_origin_offset();
     let mut frame = Frame::new(&mut data, &env).map_err(|e| e.to_string())?;
+    if !args.iter().any(|a| a == "--sun-rays") {
+        frame.set_sun_rays(None);
+    }
     if let Some(m) = option("--move") {
         let (name, d) = m.split_once('=').ok_or("--move OBJECT=DX,DY,DZ")?;
         let o = frame.object_index(name).ok_or(format!("no object {name}"))?;

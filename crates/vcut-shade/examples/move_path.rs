@@ -7,7 +7,8 @@
 //! `cargo run --release -p vcut-shade --example move_path -- FILE.vcuts [OBJECT] [STEPS]`;
 //! with `VS_INDEX=1` it also times the index baseline over the same path (`index_move_ms`,
 //! move + shade), between two rounds of the default merge, for a ratio in one run; with
-//! `NO_SVC_CACHE=1` every SVC is decoded at each merge instead of kept decoded. Last, a
+//! `NO_SVC_CACHE=1` every SVC is decoded at each merge instead of kept decoded; with
+//! `NO_SUN_RAYS=1` the sun goes through the cuts too (the paper) instead of being cast by rays. Last, a
 //! lighting change (`relight_ms`: light tree and every shading list, no merge) and a BRDF edit
 //! (`edit_ms`: the exponent changed, every vertex shaded).
 
@@ -41,6 +42,10 @@ fn main() -> Result<(), String> {
     let t = Instant::now();
     let mut frame = Frame::new(&mut data, &env).map_err(|e| e.to_string())?;
     println!("setup_s={:.3}", t.elapsed().as_secs_f64());
+    if std::env::var_os("NO_SUN_RAYS").is_some() {
+        frame.set_sun_rays(None);
+    }
+    println!("sun_leaves={}", frame.sun_leaves());
     if std::env::var_os("NO_SVC_CACHE").is_some() {
         frame.set_svc_cache(false).map_err(|e| e.to_string())?;
     }
@@ -52,7 +57,7 @@ fn main() -> Result<(), String> {
     let steps: usize = args.get(2).map(|s| s.parse().map_err(|e| format!("STEPS: {e}"))).transpose()?.unwrap_or(8);
     let step = Vec3::new(1.0, 0.0, 0.5) * 0.1 * frame.object(o).1.bounds().radius;
     let eye = Vec3::new(0.0, 2.0, 6.0);
-    let mut rows: Vec<[f64; 6]> = Vec::new();
+    let mut rows: Vec<[f64; 7]> = Vec::new();
     // The path, then (with VS_INDEX set) the index baseline over it and the path again: the
     // machine's speed drifts, the ratio of the two in one run does not.
     let rounds = if std::env::var_os("VS_INDEX").is_some() { 3 } else { 1 };
@@ -84,10 +89,11 @@ fn main() -> Result<(), String> {
         std::hint::black_box(frame.shade(eye));
         let shade_ms = t.elapsed().as_secs_f64() * 1e3;
         let m = frame.last_move();
-        let row = [move_ms, m.keys_s * 1e3, m.decode_s * 1e3, m.refine_s * 1e3, m.merge_s * 1e3, shade_ms];
+        let row =
+            [move_ms, m.keys_s * 1e3, m.decode_s * 1e3, m.refine_s * 1e3, m.merge_s * 1e3, shade_ms, m.sun_s * 1e3];
         println!(
-            "step {i}: {merged} vertices, move {:.1} ms (keys {:.1}, decode {:.1}, refine {:.1}, merge and lists {:.1}), shade {:.1} ms",
-            row[0], row[1], row[2], row[3], row[4], row[5]
+            "step {i}: {merged} vertices, move {:.1} ms (keys {:.1}, decode {:.1}, refine {:.1}, merge and lists {:.1}, sun {:.1}), shade {:.1} ms",
+            row[0], row[1], row[2], row[3], row[4], row[6], row[5]
         );
         rows.push(row);
     }
@@ -117,7 +123,9 @@ fn main() -> Result<(), String> {
     println!("edit_ms={:.2}", median(edit));
     let col = |k: usize| median(rows.iter().map(|r| r[k]).collect());
     println!("object={}", frame.object(o).0);
-    for (k, name) in ["move_ms", "keys_ms", "decode_ms", "refine_ms", "merge_ms", "shade_ms"].iter().enumerate() {
+    for (k, name) in
+        ["move_ms", "keys_ms", "decode_ms", "refine_ms", "merge_ms", "shade_ms", "sun_ms"].iter().enumerate()
+    {
         println!("{name}={:.2}", col(k));
     }
     let move_shade = median(rows.iter().map(|r| r[0] + r[5]).collect());

@@ -36,6 +36,15 @@
 //! vertices from 1.12 % to 0.71 % (`error_sources --scene builtin:teapot`); moves cost ~4 %
 //! more (the list walks the SVC's ends beside the cut).
 //!
+//! **The sun by rays** (the default; [`Frame::set_sun_rays`], [`crate::sun`]). The few leaves
+//! of the light that hold a sun leave the cuts' light; each vertex adds their term with the
+//! visibility cast at run time against the objects at their translations (a move casts only
+//! the object pairs whose offset changed). The sun's shadow edges are then exact instead of
+//! blurred between field samples: at the paper preset the teapot scene's error against the
+//! exact reference fell from 1.77 % to 0.25 % and the bunny's from 0.92 % to 0.18 %, for
+//! ~1 ms of rays a move (`cargo xtask bench`, `rel_l2_exact` against `rel_l2_exact_cuts_only`).
+//! The merged cuts are the same either way.
+//!
 //! **Shading lists.** After a merge (and after a lighting change) each vertex keeps the nodes
 //! that can reflect light toward a viewer — value non-zero, Ê_k above the horizon — with the
 //! weight `α (n·E_k)` (or v_k) folded in, and the diffuse sum Σ weight·l_k. A BRDF or camera
@@ -50,6 +59,7 @@
 //! camera turn after it pays for their lists once, still without merging.
 
 use crate::brdf;
+use crate::sun::{self, Placed, Sun, SunRays};
 use glam::Vec3;
 use rayon::prelude::*;
 use std::time::Instant;
@@ -107,6 +117,10 @@ pub struct MoveTiming {
     pub refine_s: f64,
     /// Merging the changed vertices and building their shading lists (SVC decode included).
     pub merge_s: f64,
+    /// Casting the sun's rays the move changed (with [`Frame::set_sun_rays`]; 0 without).
+    pub sun_s: f64,
+    /// Sun rays cast.
+    pub sun_rays: u64,
     /// Vertices re-merged.
     pub vertices: usize,
 }
@@ -220,6 +234,11 @@ impl ObjectState {
     }
 }
 
+/// The objects at their translations, as the sun's rays see them.
+fn placed(objects: &[ObjectState]) -> Vec<Placed<'_>> {
+    objects.iter().map(|s| Placed { mesh: &s.mesh, translation: s.translation }).collect()
+}
+
 /// The leaf where each of `cut`'s nodes ends, left to right.
 fn node_ends(cut: &Cut) -> Vec<u32> {
     cut.heights()
@@ -237,7 +256,13 @@ pub struct Frame {
     objects: Vec<ObjectState>,
     builder: LightTreeBuilder,
     light: LightTree,
-    /// Per tree node (level order): what shading needs.
+    /// The sun by rays, when asked for and the light has one ([`crate::sun`]).
+    sun_rays: Option<SunRays>,
+    sun: Option<Sun>,
+    /// Where the SVCs' rays start: this fraction of an object's bounding radius along the normal.
+    origin_offset: f32,
+    /// Per tree node (level order): what shading needs (under the light less the sun's leaves
+    /// when the sun is cast).
     nodes: Vec<ShadeNode>,
     /// Per tree node: what the specular loop reads ([`ShadeNode::dir`] and `light`), half a
     /// cache line each, so the nodes a frame's lists use stay in cache.
@@ -548,6 +573,9 @@ impl Frame {
             objects,
             builder,
             light,
+            sun_rays: Some(SunRays::default()),
+            sun: None,
+            origin_offset: data.svc_origin_offset(),
             specular: specular_nodes(&nodes),
             nodes,
             merges: 0,
@@ -557,6 +585,8 @@ impl Frame {
             eye: std::sync::Mutex::new(None),
         };
         frame.set_svc_cache(true)?;
+        // The sun and the shading table before the merges build the lists.
+        frame.light_state();
         for o in 0..frame.objects.len() {
             let n = frame.objects[o].mesh.vertex_count();
             let keys: Vec<Vec<FieldKey>> = (0..n).map(|v| frame.keys(o, v)).collect();
@@ -585,7 +615,7 @@ impl Frame {
         &self.tree
     }
 
-    /// The light tree in use.
+    /// The light tree of the environment (the sun's leaves included, also with sun rays on).
     pub fn light(&self) -> &LightTree {
         &self.light
     }
@@ -956,6 +986,11 @@ impl Frame {
             }
             state.keys = new_keys;
         }
+        if let Some(sun) = self.sun.as_mut() {
+            let start = Instant::now();
+            timing.sun_rays = sun.update(&placed(&self.objects));
+            timing.sun_s = start.elapsed().as_secs_f64();
+        }
         self.merges += total as u64;
         timing.vertices = total;
         self.last_move = timing;
@@ -971,12 +1006,49 @@ impl Frame {
         s.material = material;
     }
 
-    /// Rebuilds the light tree for a new or rotated environment (no merge).
+    /// Rebuilds the light tree for a new or rotated environment (no merge; with sun rays on,
+    /// the sun's rays are cast again).
     pub fn set_environment(&mut self, env: &EnvMap) {
         self.light = self.builder.build(env);
-        self.nodes = shade_nodes(&self.tree, &self.light);
-        self.specular = specular_nodes(&self.nodes);
+        self.relight();
+    }
+
+    /// Casts the sun's leaves by rays at run time instead of through the cuts (the default,
+    /// [`SunRays::default`]; `None`: the paper's cuts for all light). See [`crate::sun`]. No
+    /// merge.
+    pub fn set_sun_rays(&mut self, rays: Option<SunRays>) {
+        self.sun_rays = rays;
+        self.relight();
+    }
+
+    /// The sun-rays setting (`None`: all light through the cuts).
+    pub fn sun_rays(&self) -> Option<SunRays> {
+        self.sun_rays
+    }
+
+    /// Leaves of the light cast as the sun by rays (0 with sun rays off, or no sun).
+    pub fn sun_leaves(&self) -> usize {
+        self.sun.as_ref().map_or(0, Sun::len)
+    }
+
+    /// The sun, the shading table and every list for the current light and sun setting.
+    fn relight(&mut self) {
+        self.light_state();
         self.relist_all();
+    }
+
+    /// The sun and the shading table for the current light and sun setting.
+    fn light_state(&mut self) {
+        let leaves = self.sun_rays.map(|r| sun::sun_leaves(&self.light, &r)).unwrap_or_default();
+        if leaves.is_empty() {
+            self.sun = None;
+            self.nodes = shade_nodes(&self.tree, &self.light);
+        } else {
+            let placed = placed(&self.objects);
+            self.sun = Some(Sun::new(&self.light, &leaves, self.tree.leaf_directions(), &placed, self.origin_offset));
+            self.nodes = shade_nodes(&self.tree, &sun::without(&self.light, &leaves));
+        }
+        self.specular = specular_nodes(&self.nodes);
     }
 
     /// Rebuilds the shading lists after a lighting change: those of the vertices facing the
@@ -1034,7 +1106,7 @@ impl Frame {
     pub fn shade_cut(&self, o: usize, v: usize, cut: &MergedCut, eye: Vec3) -> Vec3 {
         let s = &self.objects[o];
         let list = ShadeList::new(cut, s.mesh.normals()[v], &self.nodes, s.svc_ends(v).as_deref());
-        self.shade_vertex(s, v, &list, eye)
+        self.shade_vertex(o, v, &list, eye)
     }
 
     /// As [`Frame::shade_cut`] for a cut whose every value is its own node's mean of
@@ -1042,10 +1114,11 @@ impl Frame {
     pub fn shade_cut_means(&self, o: usize, v: usize, cut: &MergedCut, eye: Vec3) -> Vec3 {
         let s = &self.objects[o];
         let list = ShadeList::new(cut, s.mesh.normals()[v], &self.nodes, None);
-        self.shade_vertex(s, v, &list, eye)
+        self.shade_vertex(o, v, &list, eye)
     }
 
-    fn shade_vertex(&self, s: &ObjectState, v: usize, list: &ShadeList, eye: Vec3) -> Vec3 {
+    fn shade_vertex(&self, o: usize, v: usize, list: &ShadeList, eye: Vec3) -> Vec3 {
+        let s = &self.objects[o];
         let x = s.mesh.positions()[v] + s.translation;
         let n = s.mesh.normals()[v];
         if !faces(n, x, eye) {
@@ -1055,8 +1128,9 @@ impl Frame {
         let diffuse = Vec3::from(s.material.kd) / std::f32::consts::PI * list.diffuse;
         let pow = s.pow.as_ref().map_or(brdf::Pow::Exact(s.material.exponent), brdf::Pow::Table);
         let lobe = brdf::Lobe::with_pow(&s.material, n, wo, pow);
+        let sun = self.sun.as_ref().map_or(Vec3::ZERO, |sun| sun.radiance(o, v, &s.material, n, wo));
         // One loop per lobe kind, so the match leaves the inner loop.
-        diffuse
+        sun + diffuse
             + match lobe {
                 brdf::Lobe::None => Vec3::ZERO,
                 brdf::Lobe::BlinnPhong { n, wo, scale, pow: brdf::Pow::Table(t) } => {
@@ -1073,7 +1147,7 @@ impl Frame {
 
     /// Outgoing radiance toward `eye` of every vertex of every object: B = Σ_k v_k f_r l_k over
     /// its merged cut, with the light-weighted node directions and cosines of the module
-    /// documentation.
+    /// documentation (plus the sun's leaves by rays, with [`Frame::set_sun_rays`]).
     ///
     /// Vertices whose list is stale build it on the spot without keeping it ([`Frame::set_eye`]
     /// keeps them); `eye` becomes the eye later merges build lists for.
@@ -1081,7 +1155,8 @@ impl Frame {
         *self.eye.lock().unwrap_or_else(std::sync::PoisonError::into_inner) = Some(eye);
         self.objects
             .iter()
-            .map(|s| {
+            .enumerate()
+            .map(|(o, s)| {
                 s.lists
                     .par_iter()
                     .enumerate()
@@ -1090,9 +1165,9 @@ impl Frame {
                         |(built, below), (v, list)| {
                             if list.stale && s.faces(v, eye) {
                                 s.relist(v, &self.nodes, built, below);
-                                self.shade_vertex(s, v, built, eye)
+                                self.shade_vertex(o, v, built, eye)
                             } else {
-                                self.shade_vertex(s, v, list, eye)
+                                self.shade_vertex(o, v, list, eye)
                             }
                         },
                     )

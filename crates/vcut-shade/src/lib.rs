@@ -6,6 +6,8 @@
 //!   the objects that can move relative to it, merged (`vcut-merge`) and cached; moves re-merge
 //!   only the vertices whose field inputs changed; B = Σ_k v_k f_r(ω_k, ω_o) l_k with l_k from
 //!   the light tree at the merged node's level-order index.
+//! - [`sun`]: the sun's few leaves of the light cast by rays at run time instead of carried by
+//!   the cuts (the default): exact sun shadows, the sky from the cuts.
 //! - [`reference`]: the exact-direction reference and its error metrics.
 //! - [`image`]: a headless rasteriser of per-vertex radiance, linear EXR, tone-mapped PNG
 //!   (ACES filmic, Narkowicz's fit), and the whole scene as a PLY mesh.
@@ -30,5 +32,7 @@ pub mod brdf;
 pub mod frame;
 pub mod image;
 pub mod reference;
+pub mod sun;
 
 pub use frame::{Frame, FrameError, MergeAlgorithm, MoveTiming};
+pub use sun::SunRays;

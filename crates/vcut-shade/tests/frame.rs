@@ -9,7 +9,7 @@ use vcut_precompute::PrecomputeParams;
 use vcut_precompute::run::{Job, NoProgress, precompute};
 use vcut_scene::{Material, Scene, SceneDesc};
 use vcut_shade::reference::{errors, exact_direction};
-use vcut_shade::{Frame, MergeAlgorithm};
+use vcut_shade::{Frame, MergeAlgorithm, SunRays};
 
 const BALL_ABOVE_GROUND: &str = r#"
 [[object]]
@@ -322,4 +322,59 @@ fn a_sun_inside_a_cut_node_is_shaded_where_it_is() {
         let (rel, _) = errors(&frame.shade(EYE), &exact_direction(&frame, EYE, 1e-4));
         assert!(rel < bound, "{spec}: relative L2 {rel}");
     }
+}
+
+#[test]
+fn the_sun_by_rays_meets_the_exact_reference_and_follows_moves() {
+    let dir = scratch("sun");
+    let mut d = data(BALL_ABOVE_GROUND, &[], &dir.join("b.vcuts"));
+    let offset = d.svc_origin_offset();
+    let sky = vcut_envmap::procedural::PreethamSky::default().bake(128);
+    let mut frame = Frame::new(&mut d, &sky).unwrap();
+    let ball = frame.object_index("ball").unwrap();
+    let merges = frame.merges();
+    // The default: the sun's leaves by rays.
+    assert_eq!(frame.sun_rays(), Some(SunRays::default()));
+    assert!((1..=4).contains(&frame.sun_leaves()), "{} sun leaves", frame.sun_leaves());
+    let rest = frame.shade(EYE);
+    let exact = exact_direction(&frame, EYE, offset);
+    let sun_error = errors(&rest, &exact).0;
+
+    // The paper's cuts for all light: the sun's shadow edges blur between field samples.
+    frame.set_sun_rays(None);
+    assert_eq!(frame.sun_leaves(), 0);
+    let cuts = frame.shade(EYE);
+    let cut_error = errors(&cuts, &exact).0;
+    eprintln!("relative L2 against the exact reference: cuts {cut_error}, sun by rays {sun_error}");
+    assert!(sun_error < 0.5 * cut_error, "cuts {cut_error}, sun by rays {sun_error}");
+    assert_eq!(frame.merges(), merges, "switching the sun's rays merges nothing");
+    frame.set_sun_rays(Some(SunRays::default()));
+    assert!(frame.shade(EYE) == rest);
+
+    // A move casts the rays its shadows change, and the sun's shadow follows the ball.
+    frame.translate(ball, Vec3::new(0.6, -0.2, 0.4)).unwrap();
+    assert!(frame.last_move().sun_rays > 0);
+    let moved = frame.shade(EYE);
+    let exact = exact_direction(&frame, EYE, offset);
+    let moved_error = errors(&moved, &exact).0;
+    frame.set_sun_rays(None);
+    let moved_cut_error = errors(&frame.shade(EYE), &exact).0;
+    assert!(moved_error < 0.5 * moved_cut_error, "cuts {moved_cut_error}, sun by rays {moved_error}");
+    frame.set_sun_rays(Some(SunRays::default()));
+    assert!(frame.shade(EYE) == moved, "casting every ray again gives what the move cast");
+
+    // Back to rest: bit for bit; a BRDF edit casts nothing and merges nothing.
+    frame.translate(ball, Vec3::ZERO).unwrap();
+    assert!(frame.shade(EYE) == rest, "moving back did not restore the sun's shadows");
+    let merges = frame.merges();
+    frame.set_material(ball, Material { exponent: 70.0, ..*frame.object(ball).2 });
+    assert_ne!(frame.shade(EYE)[ball], rest[ball]);
+    assert_eq!(frame.merges(), merges);
+
+    // A light without a sun has no leaves to cast: shading is the cuts', bit for bit.
+    frame.set_environment(&EnvMap::constant([1.0; 3]));
+    assert_eq!(frame.sun_leaves(), 0);
+    let flat = frame.shade(EYE);
+    frame.set_sun_rays(None);
+    assert!(frame.shade(EYE) == flat);
 }

@@ -357,6 +357,16 @@ fn panel(
                 session.set_env_rotation(rotation);
                 actions.changed = true;
             }
+            let mut sun_rays = session.sun_rays();
+            let label = format!("sun by rays ({} leaves)", session.frame().sun_leaves());
+            if ui
+                .checkbox(&mut sun_rays, label)
+                .on_hover_text("the sun's leaves cast at run time, the sky from the cuts")
+                .changed()
+            {
+                session.set_sun_rays(sun_rays);
+                actions.changed = true;
+            }
             let mut auto = session.exposure.is_none();
             ui.checkbox(&mut auto, "automatic exposure");
             let mut ev = session.exposure_in_use().max(1e-8).log2();

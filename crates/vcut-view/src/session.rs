@@ -283,6 +283,23 @@ impl Session {
         }
     }
 
+    /// Whether the sun's leaves are cast by rays (see `vcut_shade::sun`).
+    pub fn sun_rays(&self) -> bool {
+        self.frame.sun_rays().is_some()
+    }
+
+    /// Casts the sun's leaves by rays at run time (`on`, the frame's default) or carries all
+    /// light through the cuts, as the paper (no merge either way).
+    pub fn set_sun_rays(&mut self, on: bool) {
+        if on != self.sun_rays() {
+            let start = Instant::now();
+            self.frame.set_sun_rays(on.then(vcut_shade::SunRays::default));
+            self.timings.light_ms = start.elapsed().as_secs_f64() * 1e3;
+            self.invalidate_shading();
+            self.update();
+        }
+    }
+
     fn relight(&mut self) {
         let start = Instant::now();
         self.frame.set_environment(&self.env);

@@ -115,6 +115,16 @@ fn a_move_a_brdf_edit_and_a_rotation_each_change_the_frame_and_only_a_move_merge
     assert!(max_change(&edited, &rotated, ground) > 0.0);
     assert!(s.timings.light_ms > 0.0);
 
+    // The sun through the cuts instead of by rays (the default): the ground's sun shadow
+    // changes, nothing merges; by rays again, as before.
+    assert!(s.sun_rays() && s.frame().sun_leaves() > 0);
+    s.set_sun_rays(false);
+    assert!(!s.sun_rays() && s.frame().sun_leaves() == 0);
+    assert!(max_change(&rotated, s.radiance(), ground) > 0.0);
+    assert_eq!(s.frame().merges(), merges, "the sun's rays merge nothing");
+    s.set_sun_rays(true);
+    assert_eq!(s.radiance(), rotated.as_slice());
+
     // Moving back restores the merged cuts bit for bit.
     s.set_env_rotation(0.0);
     s.set_material(ball, *s.frame().object(ball).2);
