@@ -1040,12 +1040,13 @@ impl Frame {
     /// The sun and the shading table for the current light and sun setting.
     fn light_state(&mut self) {
         let leaves = self.sun_rays.map(|r| sun::sun_leaves(&self.light, &r)).unwrap_or_default();
+        // The objects' hierarchies outlive a lighting change.
+        let old = self.sun.take();
         if leaves.is_empty() {
-            self.sun = None;
             self.nodes = shade_nodes(&self.tree, &self.light);
         } else {
-            let placed = placed(&self.objects);
-            self.sun = Some(Sun::new(&self.light, &leaves, self.tree.leaf_directions(), &placed, self.origin_offset));
+            let (dirs, offset) = (self.tree.leaf_directions(), self.origin_offset);
+            self.sun = Some(Sun::new(&self.light, &leaves, dirs, &placed(&self.objects), offset, old));
             self.nodes = shade_nodes(&self.tree, &sun::without(&self.light, &leaves));
         }
         self.specular = specular_nodes(&self.nodes);

@@ -97,17 +97,22 @@ pub(crate) struct Placed<'a> {
 }
 
 impl Sun {
-    /// The sun of `light`'s leaves `leaves` (directions `dirs` of the tree's leaves) over
+    /// The sun of `light`'s leaves `leaves` (directions `tree_dirs` of the tree's leaves) over
     /// `objects`, every mask cast. `origin_offset`: the SVCs', a fraction of each object's
-    /// bounding radius.
+    /// bounding radius. `old`: the sun of an earlier light over the same objects, whose
+    /// hierarchies serve again.
     pub(crate) fn new(
         light: &LightTree,
         leaves: &[u32],
         tree_dirs: &[Vec3],
         objects: &[Placed<'_>],
         origin_offset: f32,
+        old: Option<Sun>,
     ) -> Sun {
-        let occluders: Vec<Occluder> = objects.par_iter().map(|p| Occluder::new(&[p.mesh])).collect();
+        let occluders = match old {
+            Some(old) => old.occluders,
+            None => objects.par_iter().map(|p| Occluder::new(&[p.mesh])).collect(),
+        };
         let mut sun = Sun {
             dirs: leaves.iter().map(|&l| tree_dirs[l as usize]).collect(),
             light: leaves
