@@ -54,6 +54,10 @@ pub struct ViewArgs {
     /// Re-merge at every mouse move while dragging if a move costs less than this (ms).
     #[arg(long, default_value_t = 120.0)]
     pub live_move_ms: f64,
+    /// Start with the sun through the cuts too, as the paper (the panel's "sun by rays" box
+    /// unticked); by default the sun's leaves are cast by rays at run time.
+    #[arg(long)]
+    pub no_sun_rays: bool,
     /// The plant-leaf viewer instead (`vcut-leaf`: the plant precomputed first, then the sun,
     /// method, level of detail and leaf panel); the plant options below apply.
     #[arg(long, conflicts_with_all = ["input", "scene"])]
@@ -181,6 +185,9 @@ pub fn run(args: &ViewArgs) -> Result<()> {
     let offset = data.svc_origin_offset();
     let mut session = Session::new(frame, env.clone(), &env_name, offset, OrbitCamera::from_camera(&camera));
     session.exposure = args.exposure;
+    if args.no_sun_rays {
+        session.set_sun_rays(false);
+    }
     if args.env_rotation != 0.0 {
         session.set_env_rotation(args.env_rotation);
     }
