@@ -324,7 +324,6 @@ struct ShadeNode {
 /// The shading table of every node (level order) under `light`.
 fn shade_nodes(tree: &DirectionTree, light: &LightTree) -> Vec<ShadeNode> {
     let leaves = tree.leaf_directions();
-    let luminance = |l: [f64; 3]| 0.2126 * l[0] + 0.7152 * l[1] + 0.0722 * l[2];
     // Sums over leaves, bottom-up in level order (children of k are 2k+1, 2k+2).
     let count = tree.node_count();
     let first_leaf = count - leaves.len();
@@ -332,7 +331,7 @@ fn shade_nodes(tree: &DirectionTree, light: &LightTree) -> Vec<ShadeNode> {
     let mut weighted = vec![glam::DVec3::ZERO; count];
     let mut total = vec![0.0f64; count];
     for (l, d) in leaves.iter().enumerate() {
-        let y = luminance(light.leaves()[l]).max(0.0);
+        let y = sun::luminance(light.leaves()[l]).max(0.0);
         plain[first_leaf + l] = d.as_dvec3();
         weighted[first_leaf + l] = d.as_dvec3() * y;
         total[first_leaf + l] = y;
@@ -567,7 +566,6 @@ impl Frame {
         }
         let mut builder = LightTreeBuilder::new(&tree);
         let light = builder.build(env);
-        let nodes = shade_nodes(&tree, &light);
         let mut frame = Frame {
             tree,
             objects,
@@ -576,8 +574,9 @@ impl Frame {
             sun_rays: Some(SunRays::default()),
             sun: None,
             origin_offset: data.svc_origin_offset(),
-            specular: specular_nodes(&nodes),
-            nodes,
+            // Built by `light_state` below, with the sun's leaves out when they are cast.
+            specular: Vec::new(),
+            nodes: Vec::new(),
             merges: 0,
             algorithm: MergeAlgorithm::Counter,
             inside: InsideSamples::default(),

@@ -49,8 +49,9 @@ impl Default for SunRays {
 /// Most sun leaves (one bit each in a vertex's masks).
 pub const MAX_SUN_LEAVES: usize = 64;
 
-/// Rec. 709 luminance, as the light tree's node directions weight leaves.
-fn luminance(l: [f64; 3]) -> f64 {
+/// Rec. 709 luminance, by which the shading table weights a node's leaf directions and the sun's
+/// leaves are chosen.
+pub(crate) fn luminance(l: [f64; 3]) -> f64 {
     0.2126 * l[0] + 0.7152 * l[1] + 0.0722 * l[2]
 }
 
