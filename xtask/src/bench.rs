@@ -143,6 +143,8 @@ pub struct PathTiming {
     pub merge_ms: Vec<f64>,
     /// Vertices re-merged per step, on average.
     pub merged: usize,
+    /// Vertices per step whose merge waits (facing away from the eye), on average.
+    pub deferred: usize,
 }
 
 /// Moves object `o` from rest along `steps` translations of 0.1 r along (1, 0, 0.5) with
@@ -157,17 +159,39 @@ pub fn move_path(
     let step = Vec3::new(1.0, 0.0, 0.5) * 0.1 * frame.object(o).1.bounds().radius;
     frame.set_merge_algorithm(algorithm);
     frame.translate(o, Vec3::ZERO)?;
-    let (mut times, mut merge_ms, mut merged) = (Vec::new(), Vec::new(), 0);
+    let (mut times, mut merge_ms, mut merged, mut deferred) = (Vec::new(), Vec::new(), 0, 0);
     for i in 1..=steps {
         let t = Instant::now();
         merged += frame.translate(o, step * i as f32)?;
         std::hint::black_box(frame.shade(eye));
         times.push(t.elapsed().as_secs_f64() * 1e3);
         merge_ms.push(frame.last_move().merge_s * 1e3);
+        deferred += frame.last_move().deferred;
     }
     frame.translate(o, Vec3::ZERO)?;
     frame.set_merge_algorithm(MergeAlgorithm::Counter);
-    Ok(PathTiming { move_ms: median(times), merge_ms, merged: merged / steps.max(1) })
+    let n = steps.max(1);
+    Ok(PathTiming { move_ms: median(times), merge_ms, merged: merged / n, deferred: deferred / n })
+}
+
+/// A camera turn right after a move: object `o` moved one step of [`move_path`] while shading
+/// from `eye`, then the time to set the eye `behind` (merging what the move left facing away,
+/// with deferred merges) and shade from it. Median of `runs`; returns it and the vertices the
+/// turn merged. Leaves the object at rest and `eye` set.
+pub fn turn_after_move(frame: &mut Frame, o: usize, eye: Vec3, behind: Vec3, runs: usize) -> Result<(f64, usize)> {
+    let step = Vec3::new(1.0, 0.0, 0.5) * 0.1 * frame.object(o).1.bounds().radius;
+    let (mut times, mut merged) = (Vec::new(), 0);
+    for i in 0..runs {
+        frame.set_eye(eye)?;
+        frame.translate(o, step * (1 + i % 2) as f32)?;
+        let t = Instant::now();
+        merged = frame.set_eye(behind)?;
+        std::hint::black_box(frame.shade(behind));
+        times.push(t.elapsed().as_secs_f64() * 1e3);
+    }
+    frame.set_eye(eye)?;
+    frame.translate(o, Vec3::ZERO)?;
+    Ok((median(times), merged))
 }
 
 /// Read bandwidth in GB/s: the median of 5 parallel sums over 256 MB.
@@ -271,6 +295,19 @@ fn bench_scene(name: &str, preset: &str, data_dir: &Path, no_mc: bool, reuse: bo
     let svc_decoded = move_path(&mut frame, movable, eye, MergeAlgorithm::Counter, 8)?;
     frame.set_svc_cache(true)?;
     let index = move_path(&mut frame, movable, eye, MergeAlgorithm::Index, 8)?;
+    // The knob: every vertex a move changes merged at once (no merge waits for a camera), and
+    // what a camera turn after a move costs either way.
+    let behind = Vec3::new(-eye.x, eye.y, -eye.z);
+    let (turn_ms, turn_merged) = turn_after_move(&mut frame, movable, eye, behind, 5)?;
+    frame.set_deferred_merges(false)?;
+    let eager = move_path(&mut frame, movable, eye, MergeAlgorithm::Counter, 8)?;
+    let (turn_ms_eager, _) = turn_after_move(&mut frame, movable, eye, behind, 5)?;
+    frame.set_deferred_merges(true)?;
+    println!(
+        "{name}: move {:.1} ms merging {} vertices ({} wait for a camera), eager {:.1} ms merging {}; \
+         a camera turn after a move {turn_ms:.1} ms ({turn_merged} merged), eager {turn_ms_eager:.1} ms",
+        counter.move_ms, counter.merged, counter.deferred, eager.move_ms, eager.merged
+    );
     frame.set_merge_algorithm(MergeAlgorithm::Index);
     let edit_index = edit_ms(&mut frame, movable, eye, 11);
     frame.set_merge_algorithm(MergeAlgorithm::Counter);
@@ -327,6 +364,12 @@ fn bench_scene(name: &str, preset: &str, data_dir: &Path, no_mc: bool, reuse: bo
         "merge_s_path_index": merge_s_index,
         "merge_speedup": merge_s_index / merge_s.max(1e-12),
         "vertices_merged_per_move": merged_per_move,
+        "vertices_deferred_per_move": counter.deferred,
+        "move_ms_eager": eager.move_ms,
+        "vertices_merged_per_move_eager": eager.merged,
+        "turn_ms": turn_ms,
+        "turn_merged_vertices": turn_merged,
+        "turn_ms_eager": turn_ms_eager,
         "exact_reference_ms": exact_ms,
         "edit_vs_exact_reference": edit / exact_ms,
         "move_vs_exact_reference": move_ms / exact_ms,

@@ -68,6 +68,11 @@ pub struct RenderArgs {
     /// shadows, the sky from the cuts (`vcut_shade::sun`).
     #[arg(long)]
     pub no_sun_rays: bool,
+    /// Merge every vertex a move changes at once. By default a move merges the vertices facing
+    /// the camera and leaves the others until a camera sees them (`Frame::set_deferred_merges`):
+    /// the image is the same bit for bit.
+    #[arg(long)]
+    pub eager_merges: bool,
 }
 
 impl RenderArgs {
@@ -89,6 +94,7 @@ impl RenderArgs {
             mode: "cuts".into(),
             inside_samples: "occluded".into(),
             no_sun_rays: false,
+            eager_merges: false,
         }
     }
 }
@@ -211,10 +217,11 @@ pub fn run(args: &RenderArgs) -> Result<Printed> {
         frame.set_sun_rays(None);
     }
     out.emit("sun_leaves", format!("{}", frame.sun_leaves()));
+    frame.set_deferred_merges(!args.eager_merges)?;
     // The moves build the shading lists of the vertices facing the camera (a framing camera
     // may shift with the moves: then shading builds the few others it needs).
     if let Ok(c) = camera(scene.as_ref(), args.camera.as_deref(), &frame) {
-        frame.set_eye(c.position);
+        frame.set_eye(c.position)?;
     }
     let (move_ms, moved) = apply_edits(&mut frame, &args.brdfs, &args.moves)?;
     out.emit("move_merge_ms", format!("{move_ms:.2}"));
@@ -228,8 +235,17 @@ pub fn run(args: &RenderArgs) -> Result<Printed> {
         // The merges proper, shading lists built as the nodes are emitted.
         out.emit("move_merge_only_ms", format!("{:.2}", t.merge_s * 1e3));
         out.emit("move_sun_ms", format!("{:.2}", t.sun_s * 1e3));
+        out.emit("move_deferred_vertices", format!("{}", t.deferred));
     }
     let camera = camera(scene.as_ref(), args.camera.as_deref(), &frame)?;
+    // A framing camera may have shifted with the moves: the vertices now facing it that a
+    // move left are merged here.
+    let t = Instant::now();
+    let turned = frame.set_eye(camera.position)?;
+    if turned > 0 {
+        out.emit("turn_merged_vertices", format!("{turned}"));
+        out.emit("turn_ms", format!("{:.2}", t.elapsed().as_secs_f64() * 1e3));
+    }
     if args.mode != "cuts" {
         return screen_space(args, &frame, &env, &camera, out);
     }

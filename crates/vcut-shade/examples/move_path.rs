@@ -8,7 +8,9 @@
 //! with `VS_INDEX=1` it also times the index baseline over the same path (`index_move_ms`,
 //! move + shade), between two rounds of the default merge, for a ratio in one run; with
 //! `NO_SVC_CACHE=1` every SVC is decoded at each merge instead of kept decoded; with
-//! `NO_SUN_RAYS=1` the sun goes through the cuts too (the paper) instead of being cast by rays. Last, a
+//! `NO_SUN_RAYS=1` the sun goes through the cuts too (the paper) instead of being cast by rays;
+//! with `EAGER=1` every move merges all the vertices it changes (by default those facing away
+//! from the eye wait: `Frame::set_deferred_merges`; each step prints how many). Last, a
 //! lighting change (`relight_ms`: light tree and every shading list, no merge) and a BRDF edit
 //! (`edit_ms`: the exponent changed, every vertex shaded).
 
@@ -50,6 +52,9 @@ fn main() -> Result<(), String> {
         frame.set_svc_cache(false).map_err(|e| e.to_string())?;
     }
     println!("svc_cache_mb={:.1}", frame.svc_cache_bytes() as f64 / 1e6);
+    if std::env::var_os("EAGER").is_some() {
+        frame.set_deferred_merges(false).map_err(|e| e.to_string())?;
+    }
     let o = match args.get(1) {
         Some(name) => frame.object_index(name).ok_or(format!("no object {name}"))?,
         None => (0..frame.object_count()).find(|&o| frame.object(o).3 == Motion::Movable).ok_or("nothing movable")?,
@@ -92,8 +97,8 @@ fn main() -> Result<(), String> {
         let row =
             [move_ms, m.keys_s * 1e3, m.decode_s * 1e3, m.refine_s * 1e3, m.merge_s * 1e3, shade_ms, m.sun_s * 1e3];
         println!(
-            "step {i}: {merged} vertices, move {:.1} ms (keys {:.1}, decode {:.1}, refine {:.1}, merge and lists {:.1}, sun {:.1}), shade {:.1} ms",
-            row[0], row[1], row[2], row[3], row[4], row[6], row[5]
+            "step {i}: {merged} vertices ({} wait), move {:.1} ms (keys {:.1}, decode {:.1}, refine {:.1}, merge and lists {:.1}, sun {:.1}), shade {:.1} ms",
+            m.deferred, row[0], row[1], row[2], row[3], row[4], row[6], row[5]
         );
         rows.push(row);
     }

@@ -112,6 +112,9 @@ fn moves_re_merge_only_what_changed_and_edits_never_merge() {
     let mut d = data(BALL_ABOVE_GROUND, &[], &dir.join("b.vcuts"));
     let env = EnvMap::constant([1.0; 3]);
     let mut frame = Frame::new(&mut d, &env).unwrap();
+    // Every move merges all it changes (a camera change then never merges; the default leaves
+    // the vertices facing away for later: `back_facing_merges_and_lists_wait_...`).
+    assert_eq!(frame.set_deferred_merges(false).unwrap(), 0);
     let (ground, ball) = (frame.object_index("ground").unwrap(), frame.object_index("ball").unwrap());
     let setup = frame.merges();
     assert_eq!(setup, 0, "setup merges are not counted as edits");
@@ -140,6 +143,11 @@ fn moves_re_merge_only_what_changed_and_edits_never_merge() {
     let n_ground = frame.object(ground).1.vertex_count();
     let merged = frame.translate(ball, Vec3::new(0.1, 0.0, 0.0)).unwrap();
     assert!(merged >= n_ball && merged <= n_ball + n_ground, "{merged}");
+    // A camera change after it merges nothing.
+    let merges = frame.merges();
+    assert_eq!(frame.set_eye(Vec3::new(-3.0, 2.0, -5.0)).unwrap(), 0);
+    frame.shade(Vec3::new(3.0, -2.0, 5.0));
+    assert_eq!(frame.merges(), merges);
 
     // Beyond 10r (r = 0.5) the ball casts no shadow: the ground shades as if alone.
     frame.translate(ball, Vec3::new(0.0, 0.0, 40.0)).unwrap();
@@ -184,41 +192,74 @@ fn moves_re_merge_only_what_changed_and_edits_never_merge() {
 }
 
 #[test]
-fn back_facing_lists_wait_for_a_camera_that_sees_them() {
+fn back_facing_merges_and_lists_wait_for_a_camera_that_sees_them() {
     let dir = scratch("lazy");
     let path = dir.join("b.vcuts");
     let mut d = data(BALL_ABOVE_GROUND, &[], &path);
     let env = EnvMap::constant([1.0; 3]);
     let moved = Vec3::new(0.3, 0.1, -0.2);
     let behind = Vec3::new(-3.0, 2.0, -5.0);
-    // Every list built: a frame moved before it was ever shaded (no eye yet).
+    // Every vertex merged and listed: a frame moved before it was ever shaded (no eye yet).
     let mut eager = Frame::new(&mut d, &env).unwrap();
     let ball = eager.object_index("ball").unwrap();
-    eager.translate(ball, moved).unwrap();
+    let all_changed = eager.translate(ball, moved).unwrap();
+    assert_eq!(eager.pending_merges(), 0);
     let all_bytes = eager.shade_bytes();
     let from_behind = eager.shade(behind);
 
-    // Shaded from EYE first: the move builds only the lists of the vertices facing EYE.
+    // Shaded from EYE first: the move merges and lists only the vertices facing EYE; the
+    // others wait, keeping their old cuts.
     let mut lazy = Frame::new(&mut Precomputed::open(&path).unwrap(), &env).unwrap();
+    assert!(lazy.deferred_merges(), "deferred merges are the default");
     lazy.shade(EYE);
-    lazy.translate(ball, moved).unwrap();
-    let merges = lazy.merges();
+    let now = lazy.translate(ball, moved).unwrap();
+    let waiting = lazy.pending_merges();
+    assert!(waiting > 0 && now > 0, "{now} merged, {waiting} waiting");
+    assert_eq!(now + waiting, all_changed);
+    assert_eq!(lazy.last_move().deferred, waiting);
+    assert_eq!(lazy.merges(), now as u64);
     assert!(lazy.shade_bytes() < all_bytes, "{} of {all_bytes} bytes", lazy.shade_bytes());
-    // Shading from behind builds the stale ones it needs on the spot, bit for bit.
+    // Shading from behind merges and lists the waiting vertices it needs on the spot, keeping
+    // nothing, bit for bit.
     assert!(lazy.shade(behind) == from_behind);
+    assert_eq!(lazy.pending_merges(), waiting);
+    assert_eq!(lazy.merges(), now as u64);
     assert!(lazy.shade_bytes() < all_bytes, "shading keeps no list");
-    // `set_eye` keeps them; still no merge.
-    lazy.set_eye(behind);
-    assert!(lazy.shade_bytes() > 0 && lazy.shade(behind) == from_behind);
+    // `set_eye` merges those facing it and keeps their lists; the images stay the eager ones.
+    let turned = lazy.set_eye(behind).unwrap();
+    assert!(turned > 0 && turned <= waiting, "{turned} of {waiting}");
+    assert_eq!(lazy.merges(), (now + turned) as u64);
+    assert!(lazy.shade(behind) == from_behind);
     assert!(lazy.shade(EYE) == eager.shade(EYE));
-    assert_eq!(lazy.merges(), merges);
-    // A lighting change builds the lists facing the last eye (EYE) only, and shades the same.
+    // Nothing waits for either eye now: turning between them merges nothing.
+    assert_eq!(lazy.set_eye(EYE).unwrap(), 0);
+    assert_eq!(lazy.set_eye(behind).unwrap(), 0);
+    // A lighting change builds the lists facing the last eye only, and shades the same.
     let sky = EnvMap::constant([0.5, 1.0, 1.0]);
+    lazy.set_eye(EYE).unwrap();
     lazy.set_environment(&sky);
     eager.set_environment(&sky);
-    eager.set_eye(behind);
+    eager.set_eye(behind).unwrap();
     assert!(lazy.shade_bytes() < eager.shade_bytes());
     assert!(lazy.shade(behind) == eager.shade(behind));
+    // The rest merged on request: every cut is the eager frame's, bit for bit.
+    assert_eq!(lazy.merge_pending().unwrap(), waiting - turned);
+    assert_eq!(lazy.pending_merges(), 0);
+    for o in 0..lazy.object_count() {
+        for v in 0..lazy.object(o).1.vertex_count() {
+            assert!(lazy.merged(o, v) == eager.merged(o, v), "object {o} vertex {v}");
+        }
+    }
+    // Moving back before anyone saw them: the waiting vertices' old cuts are current again.
+    lazy.translate(ball, Vec3::ZERO).unwrap();
+    let back = lazy.pending_merges();
+    lazy.translate(ball, moved).unwrap();
+    lazy.translate(ball, Vec3::ZERO).unwrap();
+    assert_eq!(lazy.pending_merges(), back);
+    // Deferral off: what waits is merged at once, and moves merge everything they change.
+    assert_eq!(lazy.set_deferred_merges(false).unwrap(), back);
+    assert_eq!(lazy.translate(ball, moved).unwrap(), all_changed);
+    assert_eq!((lazy.pending_merges(), lazy.set_eye(behind).unwrap()), (0, 0));
 }
 
 #[test]

@@ -212,6 +212,9 @@ impl App {
         }
         let Some(texture) = state.acquire() else { return };
         let draw_start = Instant::now();
+        if let Some(e) = self.session.turn_error.take() {
+            self.status = e;
+        }
         // The panel first: its width decides the scene's viewport.
         let raw = state.egui_state.take_egui_input(&state.window);
         let ctx = state.egui_ctx.clone();
@@ -382,6 +385,7 @@ fn panel(
             egui::Grid::new("timings").num_columns(2).show(ui, |ui| {
                 for (k, v) in [
                     ("merge (last move)", format!("{:.1} ms, {} vertices", t.merge_ms, t.merged_vertices)),
+                    ("merged by the camera", format!("{} vertices", t.turn_merged)),
                     ("shade", format!("{:.1} ms", t.shade_ms)),
                     ("light tree", format!("{:.1} ms", t.light_ms)),
                     ("upload", format!("{:.1} ms", t.upload_ms)),

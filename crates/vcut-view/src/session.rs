@@ -83,6 +83,10 @@ pub struct Timings {
     pub merge_ms: f64,
     /// Vertices re-merged by the last move.
     pub merged_vertices: usize,
+    /// Vertices the last camera turn merged: those a move left facing away
+    /// (`Frame::set_deferred_merges`).
+    pub turn_merged: usize,
+
     /// Last shading pass (all vertices toward the eye).
     pub shade_ms: f64,
     /// Last light-tree rebuild (environment change or rotation).
@@ -128,6 +132,9 @@ pub struct Session {
     pub timings: Timings,
     /// The selected object.
     pub selected: Option<usize>,
+    /// Why the last camera turn could not merge what a move left facing away (those vertices
+    /// shade black until a merge succeeds).
+    pub turn_error: Option<String>,
 }
 
 impl Session {
@@ -154,6 +161,7 @@ impl Session {
             colour_version: 0,
             timings: Timings::default(),
             selected,
+            turn_error: None,
         };
         s.update();
         s
@@ -317,7 +325,10 @@ impl Session {
         let start = Instant::now();
         // Keeps the lists of the vertices now facing the camera (a move built only those facing
         // the last one).
-        self.frame.set_eye(eye);
+        match self.frame.set_eye(eye) {
+            Ok(n) => (self.timings.turn_merged, self.turn_error) = (n, None),
+            Err(e) => (self.timings.turn_merged, self.turn_error) = (0, Some(e.to_string())),
+        }
         self.radiance = self.frame.shade(eye);
         self.timings.shade_ms = start.elapsed().as_secs_f64() * 1e3;
         self.shaded_eye = Some(eye);

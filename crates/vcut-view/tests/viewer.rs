@@ -125,6 +125,22 @@ fn a_move_a_brdf_edit_and_a_rotation_each_change_the_frame_and_only_a_move_merge
     s.set_sun_rays(true);
     assert_eq!(s.radiance(), rotated.as_slice());
 
+    // Turning the camera to the far side merges what the move left facing away (and only
+    // that); turning back merges nothing.
+    let merges = s.frame().merges();
+    let waiting = s.frame().pending_merges();
+    assert!(waiting > 0, "the drag left the ball's far side for later");
+    let yaw = s.camera.yaw;
+    s.camera.yaw = yaw + std::f32::consts::PI;
+    s.update();
+    let turned = s.timings.turn_merged;
+    assert!(turned > 0 && turned <= waiting, "{turned} of {waiting}");
+    assert_eq!(s.frame().merges(), merges + turned as u64);
+    assert_eq!(s.frame().pending_merges(), waiting - turned);
+    s.camera.yaw = yaw;
+    s.update();
+    assert_eq!((s.timings.turn_merged, s.frame().merges()), (0, merges + turned as u64));
+
     // Moving back restores the merged cuts bit for bit.
     s.set_env_rotation(0.0);
     s.set_material(ball, *s.frame().object(ball).2);
