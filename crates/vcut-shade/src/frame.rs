@@ -294,6 +294,8 @@ pub struct Frame {
     eye: std::sync::Mutex<Option<Vec3>>,
     /// Whether a move leaves the vertices facing away from the eye for later.
     defer: bool,
+    /// Merges [`Frame::shade`] did on the spot.
+    spot_merges: std::sync::atomic::AtomicU64,
 }
 
 /// The merged cut of a vertex inside an object (a cut of one zero node).
@@ -609,6 +611,7 @@ impl Frame {
             last_move: MoveTiming::default(),
             eye: std::sync::Mutex::new(None),
             defer: true,
+            spot_merges: std::sync::atomic::AtomicU64::new(0),
         };
         frame.set_svc_cache(true)?;
         // The sun and the shading table before the merges build the lists.
@@ -663,10 +666,18 @@ impl Frame {
         (&s.name, &s.mesh, &s.material, s.motion, s.translation)
     }
 
-    /// Vertices re-merged by moves so far (the merges at setup are not counted; BRDF, camera
-    /// and lighting edits never merge).
+    /// Vertices re-merged by moves so far, and by camera turns or [`Frame::merge_pending`]
+    /// merging what moves left waiting ([`Frame::set_deferred_merges`]; the merges at setup are
+    /// not counted, nor [`Frame::shade`]'s on-the-spot ones: [`Frame::spot_merges`]). BRDF and
+    /// lighting edits never merge.
     pub fn merges(&self) -> u64 {
         self.merges
+    }
+
+    /// Vertices [`Frame::shade`] merged on the spot without keeping them: waiting vertices
+    /// (deferred merges) facing an eye that no [`Frame::set_eye`] announced.
+    pub fn spot_merges(&self) -> u64 {
+        self.spot_merges.load(std::sync::atomic::Ordering::Relaxed)
     }
 
     /// Chooses the merge that later moves use.
@@ -1289,6 +1300,7 @@ impl Frame {
                         || (ShadeList::default(), Vec::new(), MergedCut::default()),
                         |(built, below, cut), (v, list)| {
                             if s.pending[v] && s.faces(v, eye) {
+                                self.spot_merges.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
                                 if self.merge_one(o, v, cut).is_err() {
                                     return Vec3::ZERO;
                                 }

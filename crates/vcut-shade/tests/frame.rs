@@ -147,7 +147,7 @@ fn moves_re_merge_only_what_changed_and_edits_never_merge() {
     let merges = frame.merges();
     assert_eq!(frame.set_eye(Vec3::new(-3.0, 2.0, -5.0)).unwrap(), 0);
     frame.shade(Vec3::new(3.0, -2.0, 5.0));
-    assert_eq!(frame.merges(), merges);
+    assert_eq!((frame.merges(), frame.spot_merges()), (merges, 0));
 
     // Beyond 10r (r = 0.5) the ball casts no shadow: the ground shades as if alone.
     frame.translate(ball, Vec3::new(0.0, 0.0, 40.0)).unwrap();
@@ -221,16 +221,20 @@ fn back_facing_merges_and_lists_wait_for_a_camera_that_sees_them() {
     assert!(lazy.shade_bytes() < all_bytes, "{} of {all_bytes} bytes", lazy.shade_bytes());
     // Shading from behind merges and lists the waiting vertices it needs on the spot, keeping
     // nothing, bit for bit.
+    assert_eq!(lazy.spot_merges(), 0);
     assert!(lazy.shade(behind) == from_behind);
     assert_eq!(lazy.pending_merges(), waiting);
     assert_eq!(lazy.merges(), now as u64);
+    let spot = lazy.spot_merges();
+    assert!(spot > 0 && spot <= waiting as u64, "{spot} of {waiting}");
     assert!(lazy.shade_bytes() < all_bytes, "shading keeps no list");
     // `set_eye` merges those facing it and keeps their lists; the images stay the eager ones.
     let turned = lazy.set_eye(behind).unwrap();
-    assert!(turned > 0 && turned <= waiting, "{turned} of {waiting}");
+    assert_eq!(turned as u64, spot, "set_eye merges what shading from there merged on the spot");
     assert_eq!(lazy.merges(), (now + turned) as u64);
     assert!(lazy.shade(behind) == from_behind);
     assert!(lazy.shade(EYE) == eager.shade(EYE));
+    assert_eq!(lazy.spot_merges(), spot, "nothing waits for these eyes");
     // Nothing waits for either eye now: turning between them merges nothing.
     assert_eq!(lazy.set_eye(EYE).unwrap(), 0);
     assert_eq!(lazy.set_eye(behind).unwrap(), 0);
