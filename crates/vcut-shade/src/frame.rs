@@ -1058,9 +1058,10 @@ impl Frame {
     /// the others' merges for when an eye sees them ([`Frame::set_eye`] merges and keeps them;
     /// [`Frame::shade`] merges those it needs on the spot without keeping them). A vertex facing
     /// away reflects nothing toward the eye, so the images are the same bit for bit either way;
-    /// moves get faster (the teapot scene's ~0.75×, the bunny's ~0.73×: see the README), and a camera turn after a
-    /// move merges what the move left (`false`: every move merges all it changes, and camera
-    /// changes never merge). Turning it off merges what waits now; returns how many.
+    /// moves get faster (the teapot scene's ~0.75×, the bunny's ~0.73×: see the README), and a
+    /// camera turn after a move merges what the move left (`false`: every move merges all it
+    /// changes, and camera changes never merge). Turning it off merges what waits now; returns
+    /// how many.
     pub fn set_deferred_merges(&mut self, defer: bool) -> Result<usize, FrameError> {
         self.defer = defer;
         if defer || self.pending_merges() == 0 { Ok(0) } else { self.rekey(false) }
