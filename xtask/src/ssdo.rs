@@ -205,7 +205,7 @@ fn gpu_times(
     runs: usize,
 ) -> anyhow::Result<Vec<(String, serde_json::Value)>> {
     let gpu = vcut_view::Gpu::headless()?;
-    let passes = vcut_view::ssdo::GpuSsdo::new(&gpu);
+    let passes = vcut_view::ssdo::GpuSsdo::new(&gpu)?;
     let mut out = vec![("gpu_adapter".to_string(), serde_json::json!(gpu.describe()))];
     // The three modes' frames timed in turn within each run, so a change of load on this shared
     // machine hits all of them alike; medians over the runs.
@@ -214,7 +214,7 @@ fn gpu_times(
         let mut p = params(objects);
         p.peel = mode == "ssdo-peeled";
         let method = if mode == "ssao" { Method::Ssao } else { Method::Ssdo };
-        let f = passes.frame(&gpu, objects, light, camera, &p, method, size);
+        let f = passes.frame(&gpu, objects, light, camera, &p, method, size)?;
         f.run(&gpu)?;
         frames.push((mode, f, Vec::new()));
     }

@@ -6,7 +6,8 @@
 //! the last move cost less than [`ViewOptions::live_move_ms`], otherwise once on release.
 
 use crate::camera::ray_plane;
-use crate::render::{ViewError, Viewport};
+use crate::gpu::ViewError;
+use crate::render::Viewport;
 use crate::session::{Mode, Session};
 use crate::window::WindowState;
 use glam::Vec3;
@@ -206,7 +207,14 @@ impl App {
         self.last_frame = now;
         self.session.update();
         let more_reference = self.session.step_reference(Duration::from_millis(40));
-        let upload_ms = state.scene.upload(&state.gpu, &self.session);
+        let upload_ms = match state.scene.upload(&state.gpu, &self.session) {
+            Ok(ms) => ms,
+            Err(e) => {
+                self.error = Some(e);
+                event_loop.exit();
+                return;
+            }
+        };
         if upload_ms > 0.0 {
             self.session.timings.upload_ms = upload_ms;
         }
@@ -239,11 +247,23 @@ impl App {
             let size = (self.viewport.width as u32, self.viewport.height as u32);
             let key = (self.session.colour_version(), size);
             if self.screen.as_ref().is_none_or(|(k, _)| *k != key) {
-                let passes = self.ssdo.get_or_insert_with(|| crate::ssdo::GpuSsdo::new(&state.gpu));
                 let start = Instant::now();
-                match crate::ssdo::SsdoFrame::of_session(&state.gpu, passes, &mut self.session, size) {
-                    Ok(f) => self.screen = f.map(|f| ((self.session.colour_version(), size), f)),
-                    Err(e) => self.status = e.to_string(),
+                if self.ssdo.is_none() {
+                    // An adapter lacking what the passes need: said on the status line, and the
+                    // viewer goes back to the precomputed cuts.
+                    match crate::ssdo::GpuSsdo::new(&state.gpu) {
+                        Ok(p) => self.ssdo = Some(p),
+                        Err(e) => {
+                            self.status = e.to_string();
+                            let _ = self.session.set_mode(Mode::Cuts);
+                        }
+                    }
+                }
+                if let Some(passes) = &self.ssdo {
+                    match crate::ssdo::SsdoFrame::of_session(&state.gpu, passes, &mut self.session, size) {
+                        Ok(f) => self.screen = f.map(|f| ((self.session.colour_version(), size), f)),
+                        Err(e) => self.status = e.to_string(),
+                    }
                 }
                 self.screen_ms = start.elapsed().as_secs_f64() * 1e3;
             }
@@ -263,7 +283,11 @@ impl App {
             image.as_ref(),
         );
         let repaint = output.viewport_output.values().any(|v| v.repaint_delay.is_zero());
-        state.paint_and_present(encoder, &view, texture, output);
+        if let Err(e) = state.paint_and_present(encoder, &view, texture, output) {
+            self.error = Some(e);
+            event_loop.exit();
+            return;
+        }
         self.session.timings.draw_ms = draw_start.elapsed().as_secs_f64() * 1e3;
         self.frames += 1;
 

@@ -3,8 +3,9 @@
 //! leaf tissue (σ_a, σ_s per channel, thickness), each side's gloss (ρ_s, m) and the vein maps.
 //! Left-drag orbits, right-drag pans, the wheel zooms.
 
+use crate::gpu::ViewError;
 use crate::leaf::LeafSession;
-use crate::render::{ViewError, Viewport};
+use crate::render::Viewport;
 use crate::window::WindowState;
 use glam::Vec3;
 use std::time::Instant;
@@ -100,7 +101,14 @@ impl LeafApp {
         if let Err(e) = self.session.update(self.viewport.height as u32) {
             self.status = format!("LVC map: {e}");
         }
-        let upload = state.scene.upload_leaves(&state.gpu, &self.session);
+        let upload = match state.scene.upload_leaves(&state.gpu, &self.session) {
+            Ok(ms) => ms,
+            Err(e) => {
+                self.error = Some(e);
+                event_loop.exit();
+                return;
+            }
+        };
         if upload > 0.0 {
             self.session.timings.upload_ms = upload;
         }
@@ -108,7 +116,11 @@ impl LeafApp {
         let mut encoder = state.gpu.device.create_command_encoder(&Default::default());
         state.scene.draw_leaves(&state.gpu, &mut encoder, (&view, &state.depth), &self.session, self.viewport);
         let repaint = output.viewport_output.values().any(|v| v.repaint_delay.is_zero());
-        state.paint_and_present(encoder, &view, texture, output);
+        if let Err(e) = state.paint_and_present(encoder, &view, texture, output) {
+            self.error = Some(e);
+            event_loop.exit();
+            return;
+        }
         self.session.timings.draw_ms = draw_start.elapsed().as_secs_f64() * 1e3;
         self.frames += 1;
         if self.options.max_frames.is_some_and(|n| self.frames >= n) {

@@ -4,8 +4,9 @@
 //!   light tree), the orbit camera, the display mode (precomputed cuts / exact reference
 //!   computed progressively / their difference as a heat map), and the cost of every edit.
 //!   Every edit the window offers is a method here, so tests drive the same code as a person.
-//! - [`render`]: a wgpu device on any adapter (lavapipe on a CPU-only machine), the scene
-//!   renderer — the environment map as background (bilinear lat-long lookup as
+//! - [`gpu`]: a wgpu device on any adapter (lavapipe or llvmpipe's OpenGL on a CPU-only
+//!   machine), whose errors — what an adapter lacks — are [`ViewError`]s, never panics.
+//! - [`render`]: the scene renderer — the environment map as background (bilinear lat-long lookup as
 //!   `vcut_envmap::Layout::bilinear`), meshes with interpolated per-vertex colours, and the CPU
 //!   renderer's display transform (exposure, ACES filmic in Narkowicz's fit, sRGB) — and
 //!   [`render::screenshot`], the same frame rendered with no window and read back.
@@ -20,6 +21,7 @@
 
 pub mod app;
 pub mod camera;
+pub mod gpu;
 pub mod leaf;
 pub mod leaf_app;
 pub mod render;
@@ -29,7 +31,8 @@ mod window;
 
 pub use app::{ViewOptions, run_window};
 pub use camera::OrbitCamera;
+pub use gpu::{Gpu, ViewError};
 pub use leaf::{LeafSession, LeafTimings};
 pub use leaf_app::{LeafViewOptions, run_leaf_window};
-pub use render::{Gpu, SceneRenderer, ViewError, leaf_screenshot, screenshot};
+pub use render::{SceneRenderer, leaf_screenshot, screenshot};
 pub use session::{Display, Mode, Session, Timings};

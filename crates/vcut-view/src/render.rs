@@ -1,110 +1,13 @@
-//! The GPU side: a wgpu device (any adapter, lavapipe included), the scene renderer
-//! (environment background + meshes with per-vertex colours, the CPU renderer's display
-//! transform), and headless rendering to an image.
+//! The scene renderer (environment background + meshes with per-vertex colours, the CPU
+//! renderer's display transform) on a [`Gpu`], and headless rendering to an image.
 
 use crate::camera::OrbitCamera;
+use crate::gpu::{Gpu, ViewError};
 use crate::leaf::LeafSession;
 use crate::session::{Display, Session};
 use glam::Mat3;
 use std::time::Instant;
 use vcut_envmap::{EnvMap, Layout};
-
-/// Why the viewer could not run.
-#[derive(Debug, thiserror::Error)]
-pub enum ViewError {
-    /// No wgpu adapter at all.
-    #[error(
-        "no GPU adapter found ({0}). On a machine without a GPU install a CPU Vulkan driver \
-         (Debian/Ubuntu: `apt-get install mesa-vulkan-drivers libvulkan1`), or select a backend \
-         with WGPU_BACKEND=vulkan|gl"
-    )]
-    NoAdapter(String),
-    /// The adapter refused a device.
-    #[error("the GPU adapter '{adapter}' refused a device: {reason}")]
-    Device {
-        /// The adapter.
-        adapter: String,
-        /// Why.
-        reason: String,
-    },
-    /// No window system to open a window on.
-    #[error(
-        "cannot open a window ({0}): no display. Run under a desktop session or Xvfb \
-         (`Xvfb :99 & DISPLAY=:99 cargo xtask view …`), or render without a window with \
-         `cargo xtask view FILE --screenshot out.png`"
-    )]
-    NoDisplay(String),
-    /// A window or surface error.
-    #[error("window: {0}")]
-    Window(String),
-    /// Reading the rendered image back failed.
-    #[error("reading the image back from the GPU: {0}")]
-    Readback(String),
-    /// Writing an image.
-    #[error(transparent)]
-    Image(#[from] vcut_shade::image::ImageError),
-}
-
-/// A wgpu device and queue.
-pub struct Gpu {
-    /// The instance.
-    pub instance: wgpu::Instance,
-    /// The adapter.
-    pub adapter: wgpu::Adapter,
-    /// The device.
-    pub device: wgpu::Device,
-    /// Its queue.
-    pub queue: wgpu::Queue,
-}
-
-impl Gpu {
-    /// A device for rendering without a window: the default adapter, else the fallback
-    /// (software) one. Honours `WGPU_BACKEND`.
-    pub fn headless() -> Result<Gpu, ViewError> {
-        let instance = wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle_from_env());
-        Self::with_instance(instance, None)
-    }
-
-    /// A device on `instance` able to present to `surface` (if given).
-    pub fn with_instance(instance: wgpu::Instance, surface: Option<&wgpu::Surface<'_>>) -> Result<Gpu, ViewError> {
-        let mut errors = Vec::new();
-        let mut adapter = None;
-        for force_fallback_adapter in [false, true] {
-            let options = wgpu::RequestAdapterOptions {
-                power_preference: wgpu::PowerPreference::HighPerformance,
-                force_fallback_adapter,
-                compatible_surface: surface,
-                apply_limit_buckets: false,
-            };
-            match pollster::block_on(instance.request_adapter(&options)) {
-                Ok(a) => {
-                    adapter = Some(a);
-                    break;
-                }
-                Err(e) => errors.push(e.to_string()),
-            }
-        }
-        let adapter = adapter.ok_or_else(|| ViewError::NoAdapter(errors.join("; ")))?;
-        let desc = wgpu::DeviceDescriptor {
-            label: Some("vcut-view"),
-            required_limits: wgpu::Limits::downlevel_defaults().using_resolution(adapter.limits()),
-            ..Default::default()
-        };
-        let (device, queue) = pollster::block_on(adapter.request_device(&desc))
-            .map_err(|e| ViewError::Device { adapter: describe(&adapter), reason: e.to_string() })?;
-        Ok(Gpu { instance, adapter, device, queue })
-    }
-
-    /// "name (backend, device type)".
-    pub fn describe(&self) -> String {
-        describe(&self.adapter)
-    }
-}
-
-fn describe(adapter: &wgpu::Adapter) -> String {
-    let info = adapter.get_info();
-    format!("{} ({:?}, {:?})", info.name, info.backend, info.device_type)
-}
 
 #[repr(C)]
 #[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
@@ -142,6 +45,10 @@ impl Viewport {
 
 /// Depth format of the scene pass.
 pub const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
+
+/// The environment's texels (only read with `textureLoad`, never rendered to: every adapter
+/// samples 32-bit floats, though OpenGL cannot render to them).
+const ENV_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
 
 struct ObjectBuffers {
     vertices: wgpu::Buffer,
@@ -185,7 +92,14 @@ fn background_texels(env: &EnvMap, max_width: u32) -> (u32, u32, Vec<[f32; 4]>) 
 
 impl SceneRenderer {
     /// A renderer drawing into targets of `format`.
-    pub fn new(gpu: &Gpu, format: wgpu::TextureFormat, env: &EnvMap) -> SceneRenderer {
+    pub fn new(gpu: &Gpu, format: wgpu::TextureFormat, env: &EnvMap) -> Result<SceneRenderer, ViewError> {
+        gpu.require_format(format, wgpu::TextureUsages::RENDER_ATTACHMENT, "draw the scene")?;
+        gpu.require_format(DEPTH_FORMAT, wgpu::TextureUsages::RENDER_ATTACHMENT, "draw the scene")?;
+        gpu.require_format(ENV_FORMAT, wgpu::TextureUsages::TEXTURE_BINDING, "draw the environment")?;
+        gpu.checked("build the scene renderer", || Self::build(gpu, format, env))
+    }
+
+    fn build(gpu: &Gpu, format: wgpu::TextureFormat, env: &EnvMap) -> SceneRenderer {
         let device = &gpu.device;
         let shader = device.create_shader_module(wgpu::include_wgsl!("shaders/scene.wgsl"));
         let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
@@ -224,7 +138,7 @@ impl SceneRenderer {
                 binding: 0,
                 visibility: wgpu::ShaderStages::FRAGMENT,
                 ty: wgpu::BindingType::Texture {
-                    sample_type: wgpu::TextureSampleType::Float { filterable: false },
+                    sample_type: wgpu::TextureSampleType::Uint,
                     view_dimension: wgpu::TextureViewDimension::D2,
                     multisampled: false,
                 },
@@ -329,7 +243,7 @@ impl SceneRenderer {
             mip_level_count: 1,
             sample_count: 1,
             dimension: wgpu::TextureDimension::D2,
-            format: wgpu::TextureFormat::Rgba32Float,
+            format: ENV_FORMAT,
             usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
             view_formats: &[],
         });
@@ -358,7 +272,11 @@ impl SceneRenderer {
 
     /// Uploads what changed in `session` since the last call (environment texels, vertex
     /// positions, colours); returns the milliseconds spent.
-    pub fn upload(&mut self, gpu: &Gpu, session: &Session) -> f64 {
+    pub fn upload(&mut self, gpu: &Gpu, session: &Session) -> Result<f64, ViewError> {
+        gpu.checked("upload the frame", || self.upload_unchecked(gpu, session))
+    }
+
+    fn upload_unchecked(&mut self, gpu: &Gpu, session: &Session) -> f64 {
         let start = Instant::now();
         let versions = (session.env_version(), session.geometry_version(), session.colour_version());
         if self.uploaded.is_some_and(|u| u.0 != versions.0) {
@@ -530,7 +448,11 @@ impl SceneRenderer {
 
     /// Uploads a leaf session's drawn triangles and two-sided radiance when it re-shaded (and
     /// its environment the first time); returns the milliseconds spent.
-    pub fn upload_leaves(&mut self, gpu: &Gpu, session: &LeafSession) -> f64 {
+    pub fn upload_leaves(&mut self, gpu: &Gpu, session: &LeafSession) -> Result<f64, ViewError> {
+        gpu.checked("upload the leaves", || self.upload_leaves_unchecked(gpu, session))
+    }
+
+    fn upload_leaves_unchecked(&mut self, gpu: &Gpu, session: &LeafSession) -> f64 {
         let start = Instant::now();
         if self.leaves.as_ref().is_some_and(|(_, v)| *v == session.version()) {
             return 0.0;
@@ -622,13 +544,13 @@ pub fn depth_view(gpu: &Gpu, width: u32, height: u32) -> wgpu::TextureView {
 pub fn screenshot(gpu: &Gpu, session: &mut Session, width: u32, height: u32) -> Result<image::RgbaImage, ViewError> {
     let (width, height) = (width.max(1), height.max(1));
     let screen = if session.mode().screen_space() {
-        crate::ssdo::SsdoFrame::of_session(gpu, &crate::ssdo::GpuSsdo::new(gpu), session, (width, height))?
+        crate::ssdo::SsdoFrame::of_session(gpu, &crate::ssdo::GpuSsdo::new(gpu)?, session, (width, height))?
     } else {
         None
     };
     let session = &*session;
-    let mut renderer = SceneRenderer::new(gpu, SCREENSHOT_FORMAT, session.env());
-    renderer.upload(gpu, session);
+    let mut renderer = SceneRenderer::new(gpu, SCREENSHOT_FORMAT, session.env())?;
+    renderer.upload(gpu, session)?;
     let image = screen.as_ref().map(|f| f.output());
     read_back(gpu, (width, height), |encoder, view, depth| {
         let viewport = Viewport::full(width, height);
@@ -646,8 +568,8 @@ pub fn leaf_screenshot(
 ) -> Result<image::RgbaImage, ViewError> {
     let (width, height) = (width.max(1), height.max(1));
     session.update(height).map_err(|e| ViewError::Readback(format!("LVC map: {e}")))?;
-    let mut renderer = SceneRenderer::new(gpu, SCREENSHOT_FORMAT, session.env());
-    renderer.upload_leaves(gpu, session);
+    let mut renderer = SceneRenderer::new(gpu, SCREENSHOT_FORMAT, session.env())?;
+    renderer.upload_leaves(gpu, session)?;
     let session = &*session;
     read_back(gpu, (width, height), |encoder, view, depth| {
         renderer.draw_leaves(gpu, encoder, (view, depth), session, Viewport::full(width, height));
@@ -657,60 +579,31 @@ pub fn leaf_screenshot(
 /// Format of headless renders (the shader encodes sRGB).
 const SCREENSHOT_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8Unorm;
 
-/// Records `draw` into a fresh `width × height` target and reads it back.
+/// Records `draw` into a fresh `width × height` target, submits it and reads the image back.
 fn read_back(
     gpu: &Gpu,
     (width, height): (u32, u32),
     draw: impl FnOnce(&mut wgpu::CommandEncoder, &wgpu::TextureView, &wgpu::TextureView),
 ) -> Result<image::RgbaImage, ViewError> {
-    let texture = gpu.device.create_texture(&wgpu::TextureDescriptor {
-        label: Some("screenshot"),
-        size: wgpu::Extent3d { width, height, depth_or_array_layers: 1 },
-        mip_level_count: 1,
-        sample_count: 1,
-        dimension: wgpu::TextureDimension::D2,
-        format: SCREENSHOT_FORMAT,
-        usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
-        view_formats: &[],
-    });
-    let view = texture.create_view(&Default::default());
-    let depth = depth_view(gpu, width, height);
-    let row = (4 * width).next_multiple_of(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT);
-    let readback = gpu.device.create_buffer(&wgpu::BufferDescriptor {
-        label: Some("readback"),
-        size: u64::from(row) * u64::from(height),
-        usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-        mapped_at_creation: false,
-    });
-    let mut encoder = gpu.device.create_command_encoder(&Default::default());
-    draw(&mut encoder, &view, &depth);
-    encoder.copy_texture_to_buffer(
-        wgpu::TexelCopyTextureInfo {
-            texture: &texture,
-            mip_level: 0,
-            origin: wgpu::Origin3d::ZERO,
-            aspect: wgpu::TextureAspect::All,
-        },
-        wgpu::TexelCopyBufferInfo {
-            buffer: &readback,
-            layout: wgpu::TexelCopyBufferLayout { offset: 0, bytes_per_row: Some(row), rows_per_image: Some(height) },
-        },
-        wgpu::Extent3d { width, height, depth_or_array_layers: 1 },
-    );
-    gpu.queue.submit([encoder.finish()]);
-    let (tx, rx) = std::sync::mpsc::channel();
-    readback.map_async(wgpu::MapMode::Read, .., move |r| {
-        let _ = tx.send(r);
-    });
-    gpu.device.poll(wgpu::PollType::wait_indefinitely()).map_err(|e| ViewError::Readback(e.to_string()))?;
-    rx.recv().map_err(|e| ViewError::Readback(e.to_string()))?.map_err(|e| ViewError::Readback(e.to_string()))?;
-    let data = readback.get_mapped_range(..).map_err(|e| ViewError::Readback(e.to_string()))?;
-    let mut pixels = Vec::with_capacity((4 * width * height) as usize);
-    for y in 0..height as usize {
-        pixels.extend_from_slice(&data[y * row as usize..y * row as usize + 4 * width as usize]);
-    }
-    drop(data);
-    readback.unmap();
+    let texture = gpu.checked("render a screenshot", || {
+        let texture = gpu.device.create_texture(&wgpu::TextureDescriptor {
+            label: Some("screenshot"),
+            size: wgpu::Extent3d { width, height, depth_or_array_layers: 1 },
+            mip_level_count: 1,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D2,
+            format: SCREENSHOT_FORMAT,
+            usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
+            view_formats: &[],
+        });
+        let view = texture.create_view(&Default::default());
+        let depth = depth_view(gpu, width, height);
+        let mut encoder = gpu.device.create_command_encoder(&Default::default());
+        draw(&mut encoder, &view, &depth);
+        gpu.queue.submit([encoder.finish()]);
+        texture
+    })?;
+    let pixels = gpu.read_texture(&texture, (width, height), 4)?;
     image::RgbaImage::from_raw(width, height, pixels).ok_or_else(|| ViewError::Readback("size mismatch".into()))
 }
 

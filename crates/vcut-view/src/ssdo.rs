@@ -2,14 +2,21 @@
 //! CPU — two-layer G-buffer, sun shadow map, sampling, bounce, blur, composite — over the same
 //! inputs (objects, lighting, samples, parameters), so the two images can be compared.
 
-use crate::render::{Gpu, ViewError};
+use crate::gpu::{Gpu, ViewError};
 use crate::session::{Mode, Session};
 use glam::Vec3;
 use vcut_scene::Camera;
 use vcut_ssdo::{Lighting, Method, Object, Params, SampleSets};
 
-const F32X4: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
+/// Every colour texture of the passes: four 32-bit floats stored as their bits (the shader's
+/// `ld` and `st`) — as exact as Rgba32Float, and renderable on every adapter, where OpenGL
+/// (llvmpipe included) cannot render to Rgba32Float.
+const PACKED: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Uint;
 const DEPTH: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
+/// The sun's shadow map: its depths as f32 bits beside the depth buffer (OpenGL shaders cannot
+/// read a depth texture with `textureLoad`), cleared to the bits of 1.0 as a depth buffer is.
+const SHADOW: wgpu::TextureFormat = wgpu::TextureFormat::R32Uint;
+const SHADOW_CLEAR: wgpu::Color = wgpu::Color { r: 1_065_353_216.0, g: 0.0, b: 0.0, a: 0.0 };
 /// Side of the sun's shadow map (as the CPU's `Lighting::new`).
 const SHADOW_SIZE: u32 = 2048;
 
@@ -59,6 +66,8 @@ struct Draw {
 struct Pass {
     label: &'static str,
     targets: Vec<wgpu::TextureView>,
+    /// What the targets are cleared to.
+    clear: wgpu::Color,
     depth: Option<wgpu::TextureView>,
     draw: Option<Draw>,
 }
@@ -88,7 +97,17 @@ fn view(t: &wgpu::Texture) -> wgpu::TextureView {
 
 fn table(gpu: &Gpu, label: &str, size: usize, texels: &[Vec3]) -> wgpu::Texture {
     let s = size as u32;
-    let t = texture(gpu, label, (s, s), F32X4, wgpu::TextureUsages::COPY_DST);
+    // Only read: no render-attachment use.
+    let t = gpu.device.create_texture(&wgpu::TextureDescriptor {
+        label: Some(label),
+        size: wgpu::Extent3d { width: s.max(1), height: s.max(1), depth_or_array_layers: 1 },
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format: PACKED,
+        usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
+        view_formats: &[],
+    });
     let data: Vec<[f32; 4]> = texels.iter().map(|c| [c.x, c.y, c.z, 1.0]).collect();
     gpu.queue.write_texture(
         wgpu::TexelCopyTextureInfo {
@@ -123,8 +142,29 @@ fn bind_group(
 }
 
 impl GpuSsdo {
-    /// Compiles the passes.
-    pub fn new(gpu: &Gpu) -> GpuSsdo {
+    /// Compiles the passes, or says what the adapter lacks for them.
+    pub fn new(gpu: &Gpu) -> Result<GpuSsdo, ViewError> {
+        const WHAT: &str = "run the screen-space (SSAO/SSDO) passes";
+        let usages = wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING;
+        gpu.require_format(PACKED, usages, WHAT)?;
+        gpu.require_format(DEPTH, usages, WHAT)?;
+        gpu.require_format(SHADOW, usages, WHAT)?;
+        gpu.require_downlevel(wgpu::DownlevelFlags::FRAGMENT_STORAGE, WHAT)?;
+        let limits = gpu.device.limits();
+        if limits.max_color_attachments < 2 || limits.max_color_attachment_bytes_per_sample < 32 {
+            return Err(ViewError::Unsupported {
+                adapter: gpu.describe(),
+                what: WHAT.into(),
+                lacks: format!(
+                    "two 16-byte colour targets per pass (it allows {} targets, {} bytes per sample)",
+                    limits.max_color_attachments, limits.max_color_attachment_bytes_per_sample
+                ),
+            });
+        }
+        gpu.checked("compile the screen-space passes", || Self::compile(gpu))
+    }
+
+    fn compile(gpu: &Gpu) -> GpuSsdo {
         let device = &gpu.device;
         let shader = device.create_shader_module(wgpu::include_wgsl!("shaders/ssdo.wgsl"));
         let vertex = wgpu::VertexBufferLayout {
@@ -141,47 +181,74 @@ impl GpuSsdo {
                 bias: Default::default(),
             })
         };
-        let make = |label: &str, vs: &str, fs: Option<&str>, targets: usize, mesh: bool, depth: bool| {
-            let target =
-                Some(wgpu::ColorTargetState { format: F32X4, blend: None, write_mask: wgpu::ColorWrites::ALL });
-            let targets = vec![target; targets];
-            let buffers = [Some(vertex.clone())];
-            device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-                label: Some(label),
-                layout: None,
-                vertex: wgpu::VertexState {
-                    module: &shader,
-                    entry_point: Some(vs),
-                    compilation_options: Default::default(),
-                    buffers: if mesh { &buffers } else { &[] },
-                },
-                primitive: wgpu::PrimitiveState { cull_mode: None, ..Default::default() },
-                depth_stencil: if depth { depth_state(DEPTH) } else { None },
-                multisample: Default::default(),
-                fragment: fs.map(|fs| wgpu::FragmentState {
-                    module: &shader,
-                    entry_point: Some(fs),
-                    compilation_options: Default::default(),
-                    targets: &targets,
-                }),
-                multiview_mask: None,
-                cache: None,
-            })
-        };
+        let make =
+            |label: &str, vs: &str, fs: Option<&str>, targets: &[wgpu::TextureFormat], mesh: bool, depth: bool| {
+                let targets: Vec<Option<wgpu::ColorTargetState>> = targets
+                    .iter()
+                    .map(|&format| {
+                        Some(wgpu::ColorTargetState { format, blend: None, write_mask: wgpu::ColorWrites::ALL })
+                    })
+                    .collect();
+                let buffers = [Some(vertex.clone())];
+                device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+                    label: Some(label),
+                    layout: None,
+                    vertex: wgpu::VertexState {
+                        module: &shader,
+                        entry_point: Some(vs),
+                        compilation_options: Default::default(),
+                        buffers: if mesh { &buffers } else { &[] },
+                    },
+                    primitive: wgpu::PrimitiveState { cull_mode: None, ..Default::default() },
+                    depth_stencil: if depth { depth_state(DEPTH) } else { None },
+                    multisample: Default::default(),
+                    fragment: fs.map(|fs| wgpu::FragmentState {
+                        module: &shader,
+                        entry_point: Some(fs),
+                        compilation_options: Default::default(),
+                        targets: &targets,
+                    }),
+                    multiview_mask: None,
+                    cache: None,
+                })
+            };
         GpuSsdo {
-            gbuffer: make("gbuffer", "vs_gbuffer", Some("fs_gbuffer"), 2, true, true),
-            gbuffer_second: make("gbuffer second layer", "vs_gbuffer", Some("fs_gbuffer_second"), 2, true, true),
-            shadow: make("shadow", "vs_shadow", None, 0, true, true),
-            sample: make("sample", "vs_fullscreen", Some("fs_sample"), 2, false, false),
-            indirect: make("indirect", "vs_fullscreen", Some("fs_indirect"), 1, false, false),
-            blur: make("blur", "vs_fullscreen", Some("fs_blur"), 2, false, false),
-            composite: make("composite", "vs_fullscreen", Some("fs_composite"), 1, false, false),
+            gbuffer: make("gbuffer", "vs_gbuffer", Some("fs_gbuffer"), &[PACKED; 2], true, true),
+            gbuffer_second: make(
+                "gbuffer second layer",
+                "vs_gbuffer",
+                Some("fs_gbuffer_second"),
+                &[PACKED; 2],
+                true,
+                true,
+            ),
+            shadow: make("shadow", "vs_shadow", Some("fs_shadow"), &[SHADOW], true, true),
+            sample: make("sample", "vs_fullscreen", Some("fs_sample"), &[PACKED; 2], false, false),
+            indirect: make("indirect", "vs_fullscreen", Some("fs_indirect"), &[PACKED], false, false),
+            blur: make("blur", "vs_fullscreen", Some("fs_blur"), &[PACKED; 2], false, false),
+            composite: make("composite", "vs_fullscreen", Some("fs_composite"), &[PACKED], false, false),
         }
     }
 
     /// Builds a `width × height` frame of `method` over `objects` seen by `camera`.
     #[allow(clippy::too_many_arguments)]
     pub fn frame(
+        &self,
+        gpu: &Gpu,
+        objects: &[Object],
+        light: &Lighting,
+        camera: &Camera,
+        params: &Params,
+        method: Method,
+        size: (u32, u32),
+    ) -> Result<SsdoFrame, ViewError> {
+        gpu.checked("set up a screen-space frame", || {
+            self.build_frame(gpu, objects, light, camera, params, method, size)
+        })
+    }
+
+    #[allow(clippy::too_many_arguments)]
+    fn build_frame(
         &self,
         gpu: &Gpu,
         objects: &[Object],
@@ -274,20 +341,21 @@ impl GpuSsdo {
             .collect();
         let none = wgpu::TextureUsages::empty();
         let g1: Vec<wgpu::Texture> =
-            ["g position", "g normal"].iter().map(|l| texture(gpu, l, size, F32X4, none)).collect();
+            ["g position", "g normal"].iter().map(|l| texture(gpu, l, size, PACKED, none)).collect();
         let g2: Vec<wgpu::Texture> =
-            ["g2 position", "g2 normal"].iter().map(|l| texture(gpu, l, size, F32X4, none)).collect();
+            ["g2 position", "g2 normal"].iter().map(|l| texture(gpu, l, size, PACKED, none)).collect();
         let depth1 = texture(gpu, "depth", size, DEPTH, none);
         let depth2 = texture(gpu, "depth 2", size, DEPTH, none);
-        let shadow = texture(gpu, "shadow", (SHADOW_SIZE, SHADOW_SIZE), DEPTH, none);
+        let shadow_depth = texture(gpu, "shadow depth", (SHADOW_SIZE, SHADOW_SIZE), DEPTH, none);
+        let shadow = texture(gpu, "shadow", (SHADOW_SIZE, SHADOW_SIZE), SHADOW, none);
         let cone_t = table(gpu, "cone", cone.size(), cone.texels());
         let irr_t = table(gpu, "irradiance", irr.size(), irr.texels());
-        let env = texture(gpu, "env term", size, F32X4, none);
-        let sun_t = texture(gpu, "sun term", size, F32X4, none);
-        let indirect = texture(gpu, "indirect", size, F32X4, none);
-        let blur_h: Vec<wgpu::Texture> = (0..2).map(|_| texture(gpu, "blur h", size, F32X4, none)).collect();
-        let blur_v: Vec<wgpu::Texture> = (0..2).map(|_| texture(gpu, "blur v", size, F32X4, none)).collect();
-        let out = texture(gpu, "ssdo out", size, F32X4, wgpu::TextureUsages::COPY_SRC);
+        let env = texture(gpu, "env term", size, PACKED, none);
+        let sun_t = texture(gpu, "sun term", size, PACKED, none);
+        let indirect = texture(gpu, "indirect", size, PACKED, none);
+        let blur_h: Vec<wgpu::Texture> = (0..2).map(|_| texture(gpu, "blur h", size, PACKED, none)).collect();
+        let blur_v: Vec<wgpu::Texture> = (0..2).map(|_| texture(gpu, "blur v", size, PACKED, none)).collect();
+        let out = texture(gpu, "ssdo out", size, PACKED, wgpu::TextureUsages::COPY_SRC);
 
         let gviews: Vec<wgpu::TextureView> = g1.iter().chain(&g2).map(view).collect();
         // Group 1 holds the G-buffer; each pass's layout (derived from its shader) has only the
@@ -334,6 +402,8 @@ impl GpuSsdo {
             Pass {
                 label: "g-buffer",
                 targets: g1.iter().map(view).collect(),
+
+                clear: wgpu::Color::TRANSPARENT,
                 depth: Some(view(&depth1)),
                 draw: Some(Draw {
                     pipeline: self.gbuffer.clone(),
@@ -346,6 +416,8 @@ impl GpuSsdo {
             Pass {
                 label: "g-buffer second layer",
                 targets: g2.iter().map(view).collect(),
+
+                clear: wgpu::Color::TRANSPARENT,
                 depth: Some(view(&depth2)),
                 draw: peel.then(|| Draw {
                     pipeline: self.gbuffer_second.clone(),
@@ -356,8 +428,9 @@ impl GpuSsdo {
             },
             Pass {
                 label: "shadow map",
-                targets: Vec::new(),
-                depth: Some(view(&shadow)),
+                targets: vec![view(&shadow)],
+                clear: SHADOW_CLEAR,
+                depth: Some(view(&shadow_depth)),
                 draw: sun.is_some().then(|| Draw {
                     pipeline: self.shadow.clone(),
                     groups: vec![u_group(&self.shadow, Some(&u_main))],
@@ -379,6 +452,8 @@ impl GpuSsdo {
         commands.push(Pass {
             label: "sampling",
             targets: vec![view(&env), view(&sun_t)],
+
+            clear: wgpu::Color::TRANSPARENT,
             depth: None,
             draw: Some(fullscreen(&self.sample, Some(&u_main), &all, &[(0, &cone_v), (1, &irr_v), (3, &shadow_v)])),
         });
@@ -386,30 +461,38 @@ impl GpuSsdo {
         commands.push(Pass {
             label: "bounce",
             targets: vec![view(&indirect)],
+
+            clear: wgpu::Color::TRANSPARENT,
             depth: None,
             draw: bounce.then(|| fullscreen(&self.indirect, Some(&u_main), &all, &[(0, &env_v), (1, &sun_v)])),
         });
         commands.push(Pass {
             label: "blur horizontal",
             targets: blur_h.iter().map(view).collect(),
+
+            clear: wgpu::Color::TRANSPARENT,
             depth: None,
             draw: Some(fullscreen(&self.blur, Some(&u_h), &[0, 1], &[(0, &env_v), (1, &ind_v)])),
         });
         commands.push(Pass {
             label: "blur vertical",
             targets: blur_v.iter().map(view).collect(),
+
+            clear: wgpu::Color::TRANSPARENT,
             depth: None,
             draw: Some(fullscreen(&self.blur, Some(&u_v), &[0, 1], &[(0, &bh[0]), (1, &bh[1])])),
         });
         commands.push(Pass {
             label: "composite",
             targets: vec![view(&out)],
+
+            clear: wgpu::Color::TRANSPARENT,
             depth: None,
             draw: Some(fullscreen(&self.composite, None, &[0], &[(0, &bv[0]), (1, &bv[1]), (2, &sun_v)])),
         });
         let mut resources = g1;
         resources.extend(g2);
-        resources.extend([depth1, depth2, shadow, cone_t, irr_t, env, sun_t, indirect]);
+        resources.extend([depth1, depth2, shadow_depth, shadow, cone_t, irr_t, env, sun_t, indirect]);
         resources.extend(blur_h);
         resources.extend(blur_v);
         SsdoFrame { width: w, height: h, commands, out, _resources: resources }
@@ -437,6 +520,11 @@ impl SsdoFrame {
     }
 
     fn submit(&self, gpu: &Gpu, passes: &[Pass]) -> Result<(), ViewError> {
+        gpu.checked("run the screen-space passes", || self.encode_and_submit(gpu, passes))?;
+        gpu.wait()
+    }
+
+    fn encode_and_submit(&self, gpu: &Gpu, passes: &[Pass]) {
         let mut encoder = gpu.device.create_command_encoder(&Default::default());
         for p in passes {
             let attachments: Vec<Option<wgpu::RenderPassColorAttachment<'_>>> = p
@@ -447,10 +535,7 @@ impl SsdoFrame {
                         view: v,
                         depth_slice: None,
                         resolve_target: None,
-                        ops: wgpu::Operations {
-                            load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
-                            store: wgpu::StoreOp::Store,
-                        },
+                        ops: wgpu::Operations { load: wgpu::LoadOp::Clear(p.clear), store: wgpu::StoreOp::Store },
                     })
                 })
                 .collect();
@@ -481,11 +566,9 @@ impl SsdoFrame {
             }
         }
         gpu.queue.submit([encoder.finish()]);
-        gpu.device.poll(wgpu::PollType::wait_indefinitely()).map_err(|e| ViewError::Readback(e.to_string()))?;
-        Ok(())
     }
 
-    /// The composited linear radiance (Rgba32Float; w = 1 where a surface is).
+    /// The composited linear radiance (Rgba32Uint holding f32 bits; w = 1 where a surface is).
     pub fn output(&self) -> wgpu::TextureView {
         view(&self.out)
     }
@@ -505,53 +588,18 @@ impl SsdoFrame {
         };
         let camera = session.camera.camera();
         let (objects, light, params) = session.screen_space_inputs();
-        let frame = passes.frame(gpu, objects, light, &camera, &params, method, size);
+        let frame = passes.frame(gpu, objects, light, &camera, &params, method, size)?;
         frame.run(gpu)?;
         Ok(Some(frame))
     }
 
     /// Reads the composited linear radiance back: per pixel (RGB, covered).
     pub fn read(&self, gpu: &Gpu) -> Result<(Vec<Vec3>, Vec<bool>), ViewError> {
-        let (w, h) = (self.width, self.height);
-        let row = (16 * w).next_multiple_of(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT);
-        let buffer = gpu.device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("ssdo readback"),
-            size: u64::from(row) * u64::from(h),
-            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
-        let mut encoder = gpu.device.create_command_encoder(&Default::default());
-        encoder.copy_texture_to_buffer(
-            wgpu::TexelCopyTextureInfo {
-                texture: &self.out,
-                mip_level: 0,
-                origin: wgpu::Origin3d::ZERO,
-                aspect: wgpu::TextureAspect::All,
-            },
-            wgpu::TexelCopyBufferInfo {
-                buffer: &buffer,
-                layout: wgpu::TexelCopyBufferLayout { offset: 0, bytes_per_row: Some(row), rows_per_image: Some(h) },
-            },
-            wgpu::Extent3d { width: w, height: h, depth_or_array_layers: 1 },
-        );
-        gpu.queue.submit([encoder.finish()]);
-        let (tx, rx) = std::sync::mpsc::channel();
-        buffer.map_async(wgpu::MapMode::Read, .., move |r| {
-            let _ = tx.send(r);
-        });
-        gpu.device.poll(wgpu::PollType::wait_indefinitely()).map_err(|e| ViewError::Readback(e.to_string()))?;
-        rx.recv().map_err(|e| ViewError::Readback(e.to_string()))?.map_err(|e| ViewError::Readback(e.to_string()))?;
-        let data = buffer.get_mapped_range(..).map_err(|e| ViewError::Readback(e.to_string()))?;
-        let (mut rgb, mut covered) = (Vec::with_capacity((w * h) as usize), Vec::with_capacity((w * h) as usize));
-        for y in 0..h as usize {
-            let line: &[f32] = bytemuck::cast_slice(&data[y * row as usize..y * row as usize + 16 * w as usize]);
-            for px in line.chunks(4) {
-                rgb.push(Vec3::new(px[0], px[1], px[2]));
-                covered.push(px[3] > 0.5);
-            }
-        }
-        drop(data);
-        buffer.unmap();
-        Ok((rgb, covered))
+        let bytes = gpu.read_texture(&self.out, (self.width, self.height), 16)?;
+        let texels: Vec<[f32; 4]> = bytes
+            .chunks_exact(16)
+            .map(|t| std::array::from_fn(|i| f32::from_le_bytes([t[4 * i], t[4 * i + 1], t[4 * i + 2], t[4 * i + 3]])))
+            .collect();
+        Ok((texels.iter().map(|t| Vec3::new(t[0], t[1], t[2])).collect(), texels.iter().map(|t| t[3] > 0.5).collect()))
     }
 }

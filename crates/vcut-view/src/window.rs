@@ -1,7 +1,8 @@
 //! What every window of the viewer shares: the winit window and its wgpu surface, the device,
 //! the scene renderer, and egui — created, resized, and painted over the scene then presented.
 
-use crate::render::{Gpu, SceneRenderer, ViewError, depth_view};
+use crate::gpu::{Gpu, ViewError};
+use crate::render::{SceneRenderer, depth_view};
 use std::sync::Arc;
 use vcut_envmap::EnvMap;
 use winit::event::{ElementState, MouseScrollDelta, WindowEvent};
@@ -36,7 +37,9 @@ impl WindowState {
         let attributes =
             Window::default_attributes().with_title(title).with_inner_size(winit::dpi::LogicalSize::new(1280.0, 800.0));
         let window = Arc::new(event_loop.create_window(attributes).map_err(|e| ViewError::Window(e.to_string()))?);
-        let instance = wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle_from_env());
+        // OpenGL (EGL) needs the display the window lives on to present to it.
+        let display = Box::new(event_loop.owned_display_handle());
+        let instance = wgpu::Instance::new(wgpu::InstanceDescriptor::new_with_display_handle_from_env(display));
         let surface = instance.create_surface(window.clone()).map_err(|e| ViewError::Window(e.to_string()))?;
         let gpu = Gpu::with_instance(instance, Some(&surface))?;
         let size = window.inner_size();
@@ -48,8 +51,8 @@ impl WindowState {
         if let Some(f) = format {
             config.format = f;
         }
-        surface.configure(&gpu.device, &config);
-        let scene = SceneRenderer::new(&gpu, config.format, env);
+        gpu.checked("configure the window's surface", || surface.configure(&gpu.device, &config))?;
+        let scene = SceneRenderer::new(&gpu, config.format, env)?;
         let depth = depth_view(&gpu, config.width, config.height);
         let egui_ctx = egui::Context::default();
         let egui_state = egui_winit::State::new(
@@ -120,8 +123,19 @@ impl WindowState {
     }
 
     /// Paints egui's `output` over `view` after the scene recorded in `encoder`, submits, and
-    /// presents `texture`.
+    /// presents `texture`; fails with what wgpu reported while drawing the frame.
     pub fn paint_and_present(
+        &mut self,
+        encoder: wgpu::CommandEncoder,
+        view: &wgpu::TextureView,
+        texture: wgpu::SurfaceTexture,
+        output: egui::FullOutput,
+    ) -> Result<(), ViewError> {
+        self.paint(encoder, view, texture, output);
+        self.gpu.take_errors("draw a frame")
+    }
+
+    fn paint(
         &mut self,
         mut encoder: wgpu::CommandEncoder,
         view: &wgpu::TextureView,

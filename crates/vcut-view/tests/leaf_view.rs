@@ -46,7 +46,7 @@ fn cpu_image(s: &LeafSession, w: u32, h: u32) -> Vec<u8> {
 
 #[test]
 fn the_leaf_screenshot_matches_the_cpu_renderer_and_follows_every_edit() {
-    let Some(gpu) = gpu() else { return };
+    let Some(gpu) = gpu("the_leaf_screenshot_matches_the_cpu_renderer_and_follows_every_edit") else { return };
     let mut s = session();
     let (w, h) = (320, 240);
     let shot = |s: &mut LeafSession| vcut_view::leaf_screenshot(&gpu, s, w, h).unwrap();

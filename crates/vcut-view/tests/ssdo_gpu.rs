@@ -33,7 +33,7 @@ fn ground(half: f32, n: u32, albedo: Vec3) -> Object {
 
 #[test]
 fn the_gpu_passes_match_the_cpu_implementation() {
-    let Some(gpu) = gpu() else { return };
+    let Some(gpu) = gpu("the_gpu_passes_match_the_cpu_implementation") else { return };
     let ball = vcut_scene::shapes::sphere(0.5, 32, 16).unwrap();
     let objects = vec![
         ground(2.0, 16, Vec3::splat(0.6)),
@@ -49,7 +49,7 @@ fn the_gpu_passes_match_the_cpu_implementation() {
         fov_y_deg: 45.0,
     };
     let light = Lighting::new(&sky, &objects, 16);
-    let passes = GpuSsdo::new(&gpu);
+    let passes = GpuSsdo::new(&gpu).unwrap();
     let (w, h) = (160usize, 120usize);
     let g = GBuffer::new(&objects, &camera, w, h);
     // 32 samples: beyond the 24 whose occlusion the sampling pass hands to the bounce pass.
@@ -62,7 +62,7 @@ fn the_gpu_passes_match_the_cpu_implementation() {
         p.peel = peel;
         p.samples = samples;
         let cpu = render(&g, &light, &SampleSets::halton(p.samples, p.sets), &p, method);
-        let frame = passes.frame(&gpu, &objects, &light, &camera, &p, method, (w as u32, h as u32));
+        let frame = passes.frame(&gpu, &objects, &light, &camera, &p, method, (w as u32, h as u32)).unwrap();
         frame.run(&gpu).unwrap();
         let (rgb, covered) = frame.read(&gpu).unwrap();
         let same_cover = covered.iter().zip(&cpu.covered).filter(|(a, b)| a == b).count() as f64 / covered.len() as f64;

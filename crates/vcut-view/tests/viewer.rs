@@ -207,7 +207,7 @@ fn cpu_image(s: &Session, width: u32, height: u32) -> Vec<u8> {
 
 #[test]
 fn the_gpu_screenshot_matches_the_cpu_renderer_and_follows_every_edit() {
-    let Some(gpu) = gpu() else { return };
+    let Some(gpu) = gpu("the_gpu_screenshot_matches_the_cpu_renderer_and_follows_every_edit") else { return };
     let mut s = session("screenshot");
     let (w, h) = (320, 240);
     let shot = |s: &mut Session| vcut_view::screenshot(&gpu, s, w, h).unwrap();

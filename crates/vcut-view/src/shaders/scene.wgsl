@@ -120,13 +120,13 @@ fn fs_background(in: BgOut) -> @location(0) vec4<f32> {
     return background(in.pos);
 }
 
-// A per-pixel linear image of the viewport (the screen-space methods' output; w: covered),
-// displayed over the background.
-@group(1) @binding(0) var image: texture_2d<f32>;
+// A per-pixel linear image of the viewport (the screen-space methods' output, 32-bit floats
+// packed as Rgba32Uint; w: covered), displayed over the background.
+@group(1) @binding(0) var image: texture_2d<u32>;
 
 @fragment
 fn fs_image(in: BgOut) -> @location(0) vec4<f32> {
-    let c = textureLoad(image, vec2<i32>(in.pos.xy - u.viewport.xy), 0);
+    let c = bitcast<vec4<f32>>(textureLoad(image, vec2<i32>(in.pos.xy - u.viewport.xy), 0));
     if (c.w > 0.5) {
         return vec4<f32>(display_radiance(c.xyz), 1.0);
     }

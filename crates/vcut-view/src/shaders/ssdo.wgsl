@@ -1,6 +1,10 @@
 // Screen-space directional occlusion and SSAO as render passes: the GPU twin of vcut-ssdo
 // (crates/vcut-ssdo/src/ssdo.rs), formula for formula. Passes: G-buffer (two layers), sun
 // shadow map, sampling, indirect bounce, separable geometry-aware blur (two passes), composite.
+//
+// Every colour texture is Rgba32Uint holding 32-bit floats as their bits (`ld` reads them,
+// `st` writes them): exact like Rgba32Float, and renderable on every adapter — OpenGL (llvmpipe
+// included) cannot render to Rgba32Float.
 
 struct Uniforms {
     view_proj: mat4x4<f32>,
@@ -24,6 +28,16 @@ struct Uniforms {
 @group(0) @binding(0) var<uniform> u: Uniforms;
 
 const PI: f32 = 3.14159265358979;
+
+// A packed texel as the floats it holds.
+fn ld(t: texture_2d<u32>, q: vec2<i32>) -> vec4<f32> {
+    return bitcast<vec4<f32>>(textureLoad(t, q, 0));
+}
+
+// Floats as a packed texel.
+fn st(v: vec4<f32>) -> vec4<u32> {
+    return bitcast<vec4<u32>>(v);
+}
 
 // ---- geometry: G-buffer layers and the shadow map ----
 
@@ -49,9 +63,9 @@ fn vs_gbuffer(@location(0) p: vec3<f32>, @location(1) n: vec3<f32>, @location(2)
 
 // 32 bytes per pixel (the downlevel limit): albedo comes from the object's entry in `albedos`.
 struct GTargets {
-    @location(0) position: vec4<f32>,
+    @location(0) position: vec4<u32>,
     // xyz: the normal facing the camera; w: object index + 1.
-    @location(1) normal: vec4<f32>,
+    @location(1) normal: vec4<u32>,
 };
 
 fn gbuffer_targets(in: GOut) -> GTargets {
@@ -60,8 +74,8 @@ fn gbuffer_targets(in: GOut) -> GTargets {
         n = -n;
     }
     var out: GTargets;
-    out.position = vec4<f32>(in.world, in.w);
-    out.normal = vec4<f32>(n, f32(in.object + 1u));
+    out.position = st(vec4<f32>(in.world, in.w));
+    out.normal = st(vec4<f32>(n, f32(in.object + 1u)));
     return out;
 }
 
@@ -73,7 +87,7 @@ fn fs_gbuffer(in: GOut) -> GTargets {
 // The second layer: the nearest surface clearly behind the first (g_position, bound below).
 @fragment
 fn fs_gbuffer_second(in: GOut) -> GTargets {
-    let f = textureLoad(g_position, vec2<i32>(in.pos.xy), 0);
+    let f = ld(g_position, vec2<i32>(in.pos.xy));
     if (f.w > 0.0 && in.w <= f.w * (1.0 + 1e-4)) {
         discard;
     }
@@ -86,6 +100,13 @@ fn vs_shadow(@location(0) p: vec3<f32>, @location(1) n: vec3<f32>, @location(2) 
     return vec4<f32>(v.x / u.size.w, v.y / u.size.w, -v.z / u.p3.x, 1.0);
 }
 
+// The shadow map's depths as f32 bits in an R32Uint target (cleared to the bits of 1.0, as a
+// depth buffer): OpenGL shaders cannot `textureLoad` a depth texture.
+@fragment
+fn fs_shadow(@builtin(position) pos: vec4<f32>) -> @location(0) u32 {
+    return bitcast<u32>(pos.z);
+}
+
 // ---- full-screen passes ----
 
 @vertex
@@ -95,20 +116,20 @@ fn vs_fullscreen(@builtin(vertex_index) i: u32) -> @builtin(position) vec4<f32> 
     return vec4<f32>(x, y, 0.0, 1.0);
 }
 
-@group(1) @binding(0) var g_position: texture_2d<f32>;
-@group(1) @binding(1) var g_normal: texture_2d<f32>;
+@group(1) @binding(0) var g_position: texture_2d<u32>;
+@group(1) @binding(1) var g_normal: texture_2d<u32>;
 @group(1) @binding(2) var<storage, read> albedos: array<vec4<f32>>;
-@group(1) @binding(3) var g_second: texture_2d<f32>;
+@group(1) @binding(3) var g_second: texture_2d<u32>;
 @group(1) @binding(4) var<storage, read> samples: array<vec4<f32>>;
 
 // Pass-specific inputs.
-@group(2) @binding(0) var in_a: texture_2d<f32>;
-@group(2) @binding(1) var in_b: texture_2d<f32>;
-@group(2) @binding(2) var in_c: texture_2d<f32>;
-@group(2) @binding(3) var shadow_map: texture_depth_2d;
+@group(2) @binding(0) var in_a: texture_2d<u32>;
+@group(2) @binding(1) var in_b: texture_2d<u32>;
+@group(2) @binding(2) var in_c: texture_2d<u32>;
+@group(2) @binding(3) var shadow_map: texture_2d<u32>;
 
 fn albedo_at(q: vec2<i32>) -> vec3<f32> {
-    return albedos[u32(textureLoad(g_normal, q, 0).w) - 1u].xyz;
+    return albedos[u32(ld(g_normal, q).w) - 1u].xyz;
 }
 
 fn basis(n: vec3<f32>) -> mat2x3<f32> {
@@ -146,16 +167,16 @@ fn occluder(s: vec3<f32>) -> vec2<i32> {
         return none;
     }
     let q = vec2<i32>(i32(x), i32(y));
-    let front = textureLoad(g_position, q, 0);
+    let front = ld(g_position, q);
     if (front.w <= 0.0) {
         return none;
     }
-    let n = textureLoad(g_normal, q, 0).xyz;
+    let n = ld(g_normal, q).xyz;
     if (dot(s - front.xyz, n) >= -0.02 * u.p0.x || front.w >= c.w) {
         return none;
     }
     if (u.p1.z == 1u) {
-        let back = textureLoad(g_second, q, 0);
+        let back = ld(g_second, q);
         if (back.w > 0.0 && c.w >= back.w) {
             return none;
         }
@@ -176,7 +197,7 @@ fn oct_encode(d: vec3<f32>) -> vec2<f32> {
 }
 
 // Bilinear octahedral lookup (vcut_ssdo::light::Octahedral::get).
-fn oct_get(t: texture_2d<f32>, size: u32, d: vec3<f32>) -> vec3<f32> {
+fn oct_get(t: texture_2d<u32>, size: u32, d: vec3<f32>) -> vec3<f32> {
     let uv = oct_encode(d);
     let n = f32(size);
     let x = clamp((uv.x * 0.5 + 0.5) * n - 0.5, 0.0, n - 1.0);
@@ -187,8 +208,8 @@ fn oct_get(t: texture_2d<f32>, size: u32, d: vec3<f32>) -> vec3<f32> {
     let y1 = min(y0 + 1, i32(size) - 1);
     let fx = x - f32(x0);
     let fy = y - f32(y0);
-    let a = textureLoad(t, vec2<i32>(x0, y0), 0).xyz * (1.0 - fx) + textureLoad(t, vec2<i32>(x1, y0), 0).xyz * fx;
-    let b = textureLoad(t, vec2<i32>(x0, y1), 0).xyz * (1.0 - fx) + textureLoad(t, vec2<i32>(x1, y1), 0).xyz * fx;
+    let a = ld(t, vec2<i32>(x0, y0)).xyz * (1.0 - fx) + ld(t, vec2<i32>(x1, y0)).xyz * fx;
+    let b = ld(t, vec2<i32>(x0, y1)).xyz * (1.0 - fx) + ld(t, vec2<i32>(x1, y1)).xyz * fx;
     return a * (1.0 - fy) + b * fy;
 }
 
@@ -207,7 +228,7 @@ fn sun_lit(p: vec3<f32>) -> f32 {
                 lit += 1.0;
                 continue;
             }
-            let stored = textureLoad(shadow_map, vec2<i32>(px, py), 0);
+            let stored = bitcast<f32>(textureLoad(shadow_map, vec2<i32>(px, py), 0).x);
             // Cleared to 1: nothing drawn there.
             if (stored >= 1.0 || z <= stored * u.p3.x + u.p0.w) {
                 lit += 1.0;
@@ -247,8 +268,8 @@ fn sample_at(f: Frame, i: u32, position: vec3<f32>, n: vec3<f32>) -> Sample {
 }
 
 struct SampleOut {
-    @location(0) env: vec4<f32>,
-    @location(1) sun: vec4<f32>,
+    @location(0) env: vec4<u32>,
+    @location(1) sun: vec4<u32>,
 };
 
 // in_a: the cone table, in_b: the irradiance table.
@@ -256,11 +277,11 @@ struct SampleOut {
 fn fs_sample(@builtin(position) frag: vec4<f32>) -> SampleOut {
     var out: SampleOut;
     let q = vec2<i32>(frag.xy);
-    let g = textureLoad(g_position, q, 0);
+    let g = ld(g_position, q);
     if (g.w <= 0.0) {
         return out;
     }
-    let n = textureLoad(g_normal, q, 0).xyz;
+    let n = ld(g_normal, q).xyz;
     let albedo = albedo_at(q);
     var gathered = vec3<f32>(0.0);
     var visible_cos = 0.0;
@@ -297,22 +318,23 @@ fn fs_sample(@builtin(position) frag: vec4<f32>) -> SampleOut {
     } else {
         env = albedo / PI * gathered * (2.0 * PI / nf);
     }
-    out.env = vec4<f32>(env, occluded / nf);
+    out.env = st(vec4<f32>(env, occluded / nf));
+    var sun = vec3<f32>(0.0);
     if (u.sun_dir.w > 0.0) {
         let c = dot(n, u.sun_dir.xyz);
         if (c > 0.0) {
-            out.sun = vec4<f32>(albedo / PI * u.sun_irradiance.xyz * c * sun_lit(g.xyz), 0.0);
+            sun = albedo / PI * u.sun_irradiance.xyz * c * sun_lit(g.xyz);
         }
     }
-    out.sun.w = f32(mask);
+    out.sun = st(vec4<f32>(sun, f32(mask)));
     return out;
 }
 
 // What the sender stored at pixel k sends to the receiver at p with normal n: its pixel's
 // direct radiance (in_a + in_b) through a patch of `area`, back-facing senders ignored.
 fn bounce(p: vec3<f32>, n: vec3<f32>, k: vec2<i32>, area: f32, d_min2: f32) -> vec3<f32> {
-    let sender = textureLoad(g_position, k, 0).xyz;
-    let sender_n = textureLoad(g_normal, k, 0).xyz;
+    let sender = ld(g_position, k).xyz;
+    let sender_n = ld(g_normal, k).xyz;
     let d = sender - p;
     let d2 = dot(d, d);
     if (d2 <= 0.0) {
@@ -324,19 +346,19 @@ fn bounce(p: vec3<f32>, n: vec3<f32>, k: vec2<i32>, area: f32, d_min2: f32) -> v
     if (cos_r <= 0.0 || cos_s <= 0.0) {
         return vec3<f32>(0.0);
     }
-    let light = textureLoad(in_a, k, 0).xyz + textureLoad(in_b, k, 0).xyz;
+    let light = ld(in_a, k).xyz + ld(in_b, k).xyz;
     return light * (area * cos_s * cos_r / max(d2, d_min2));
 }
 
 // in_a: the environment term, in_b: the sun term (both unblurred).
 @fragment
-fn fs_indirect(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
+fn fs_indirect(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<u32> {
     let q = vec2<i32>(frag.xy);
-    let g = textureLoad(g_position, q, 0);
+    let g = ld(g_position, q);
     if (g.w <= 0.0) {
-        return vec4<f32>(0.0);
+        return st(vec4<f32>(0.0));
     }
-    let n = textureLoad(g_normal, q, 0).xyz;
+    let n = ld(g_normal, q).xyz;
     let albedo = albedo_at(q);
     let nf = f32(u.p1.x);
     let area = u.p0.z * PI * u.p0.x * u.p0.x / nf;
@@ -346,7 +368,7 @@ fn fs_indirect(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
     // again (no depth tests), one iteration per set bit — the fragments shaded together then
     // loop as often as the most occluded of them, not N times. Beyond 24 samples the rest are
     // tested here.
-    var mask = u32(textureLoad(in_b, q, 0).w);
+    var mask = u32(ld(in_b, q).w);
     let f = frame_at(q, n);
     loop {
         if (mask == 0u) {
@@ -364,12 +386,12 @@ fn fs_indirect(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
             sum += bounce(g.xyz, n, k, area, d_min2);
         }
     }
-    return vec4<f32>(albedo / PI * sum, 1.0);
+    return st(vec4<f32>(albedo / PI * sum, 1.0));
 }
 
 struct Pair {
-    @location(0) a: vec4<f32>,
-    @location(1) b: vec4<f32>,
+    @location(0) a: vec4<u32>,
+    @location(1) b: vec4<u32>,
 };
 
 // One direction of the separable blur of (in_a, in_b); the direction is p3.yz.
@@ -377,11 +399,11 @@ struct Pair {
 fn fs_blur(@builtin(position) frag: vec4<f32>) -> Pair {
     var out: Pair;
     let q = vec2<i32>(frag.xy);
-    let c = textureLoad(g_position, q, 0);
+    let c = ld(g_position, q);
     if (c.w <= 0.0) {
         return out;
     }
-    let cn = textureLoad(g_normal, q, 0).xyz;
+    let cn = ld(g_normal, q).xyz;
     let r = i32(u.p2.y);
     let stride = vec2<i32>(i32(u.p3.y), i32(u.p3.z));
     let inv_sigma = 1.0 / max(0.25 * u.p0.x, 1e-6);
@@ -393,20 +415,20 @@ fn fs_blur(@builtin(position) frag: vec4<f32>) -> Pair {
         if (p.x < 0 || p.y < 0 || p.x >= i32(u.size.x) || p.y >= i32(u.size.y)) {
             continue;
         }
-        let s = textureLoad(g_position, p, 0);
+        let s = ld(g_position, p);
         if (s.w <= 0.0) {
             continue;
         }
         let dd = (s.w - c.w) * inv_sigma;
-        let wn = pow(max(dot(cn, textureLoad(g_normal, p, 0).xyz), 0.0), 8.0);
+        let wn = pow(max(dot(cn, ld(g_normal, p).xyz), 0.0), 8.0);
         let wt = exp(-0.5 * dd * dd) * wn;
-        acc_a += textureLoad(in_a, p, 0).xyz * wt;
-        acc_b += textureLoad(in_b, p, 0).xyz * wt;
+        acc_a += ld(in_a, p).xyz * wt;
+        acc_b += ld(in_b, p).xyz * wt;
         wsum += wt;
     }
     if (wsum > 0.0) {
-        out.a = vec4<f32>(acc_a / wsum, 1.0);
-        out.b = vec4<f32>(acc_b / wsum, 1.0);
+        out.a = st(vec4<f32>(acc_a / wsum, 1.0));
+        out.b = st(vec4<f32>(acc_b / wsum, 1.0));
     } else {
         out.a = textureLoad(in_a, q, 0);
         out.b = textureLoad(in_b, q, 0);
@@ -416,9 +438,9 @@ fn fs_blur(@builtin(position) frag: vec4<f32>) -> Pair {
 
 // in_a: blurred environment term, in_b: blurred bounce, in_c: the sun term. Linear radiance.
 @fragment
-fn fs_composite(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
+fn fs_composite(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<u32> {
     let q = vec2<i32>(frag.xy);
-    let covered = textureLoad(g_position, q, 0).w > 0.0;
-    let c = textureLoad(in_a, q, 0).xyz + textureLoad(in_b, q, 0).xyz + textureLoad(in_c, q, 0).xyz;
-    return vec4<f32>(c, select(0.0, 1.0, covered));
+    let covered = ld(g_position, q).w > 0.0;
+    let c = ld(in_a, q).xyz + ld(in_b, q).xyz + ld(in_c, q).xyz;
+    return st(vec4<f32>(c, select(0.0, 1.0, covered)));
 }
