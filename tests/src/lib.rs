@@ -4,11 +4,15 @@
 use std::path::{Path, PathBuf};
 
 /// The shared assets folder, or `None` after printing a notice that `test` was skipped.
+///
+/// The notice goes straight to the process's stderr: the test harness captures `println!` and
+/// `eprintln!` and shows them only for failing tests, and a skip must be seen.
 pub fn assets_or_skip(test: &str) -> Option<PathBuf> {
     match vcut_scene::assets::dir() {
         Some(d) => Some(d),
         None => {
-            println!("SKIPPED {test}: shared assets folder not found (set VCUT_ASSETS)");
+            use std::io::Write;
+            let _ = writeln!(std::io::stderr(), "SKIPPED {test}: shared assets folder not found (set VCUT_ASSETS)");
             None
         }
     }

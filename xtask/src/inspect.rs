@@ -90,6 +90,12 @@ pub fn run(args: &InspectArgs) -> Result<()> {
         let base = std::env::current_dir().context("current directory")?;
         desc.instantiate(&base, Path::new(t))?
     } else {
+        if ext.as_deref() == Some("toml") {
+            // The [precompute] table is checked here too, as precompute will read it.
+            let desc = SceneDesc::read(Path::new(t))?;
+            vcut_precompute::PrecomputeParams::resolve(None, desc.precompute.as_ref(), &[])
+                .with_context(|| format!("{t}: [precompute]"))?;
+        }
         Scene::open(t)?
     };
     let load_s = start.elapsed().as_secs_f64();

@@ -16,10 +16,11 @@ use vcut_leaf::lod::{Lod, LodParams};
 use vcut_leaf::lvc::{Content, Lvc, LvcParams};
 use vcut_leaf::material::LeafMaterial;
 use vcut_leaf::plant::{PlantParams, plant};
-use vcut_leaf::prt::{PrtParams, Transfer};
+use vcut_leaf::prt::PrtParams;
 use vcut_leaf::reference::{ReferenceParams, reference, rel_l2};
 use vcut_leaf::scene::LeafScene;
 use vcut_leaf::shade::{LeafData, Lighting, Shader, SunMethod, TwoSided, sun_at, sun_direction};
+use vcut_leaf::store::{Inputs, Reuse};
 use vcut_scene::Camera;
 use vcut_scene::raster::Target;
 use vcut_shade::image::{Image, auto_exposure, pixel_errors, write_png};
@@ -83,6 +84,14 @@ pub struct PlantArgs {
     /// No parameter maps on the procedural leaves.
     #[arg(long)]
     pub no_maps: bool,
+    /// Where the precomputed maps and transfer are kept (a `.vleaf` file, reused while it holds
+    /// this plant's; resumed after an interrupted run). Default:
+    /// target/vleaf/<plant>-<inputs' CRC-32>.vleaf.
+    #[arg(long)]
+    pub leaf_data: Option<PathBuf>,
+    /// Compute the leaf data again even if the file holds it.
+    #[arg(long)]
+    pub fresh: bool,
 }
 
 /// Arguments of `cargo xtask leaves`.
@@ -218,26 +227,61 @@ fn bar(len: usize, what: &str) -> ProgressBar {
 pub struct Precomputed {
     /// The LVC maps and the SH transfer.
     pub data: LeafData,
-    /// Seconds: LVC, PRT.
+    /// Seconds: LVC, PRT (0 when loaded).
     pub seconds: (f64, f64),
+    /// Where they are saved, and what loading, resuming or computing them did.
+    pub file: PathBuf,
+    /// What the store did.
+    pub outcome: vcut_leaf::store::Outcome,
 }
 
-/// Precomputes the LVC maps (every sun direction, or only `suns`) and the transfer.
-pub fn precompute(scene: &LeafScene, lvc: &LvcParams, prt: &PrtParams, suns: Option<&[usize]>) -> Precomputed {
-    let n = scene.vertex_count();
-    let t = Instant::now();
-    let pb = bar(n, "LVC");
-    let lvc = match suns {
-        None => Lvc::compute(scene, lvc, |d, _| pb.set_position(d as u64)),
-        Some(s) => Lvc::compute_suns(scene, lvc, s, |d, _| pb.set_position(d as u64)),
+/// The `.vleaf` file of these inputs: `--leaf-data`, else `target/vleaf/<plant>-<inputs' CRC>.vleaf`.
+pub fn data_path(args: &PlantArgs, inputs: &Inputs<'_>) -> PathBuf {
+    args.leaf_data.clone().unwrap_or_else(|| {
+        let stem: String = Path::new(&args.plant)
+            .file_stem()
+            .map(|s| s.to_string_lossy().into_owned())
+            .unwrap_or_else(|| "plant".into())
+            .chars()
+            .filter(|c| c.is_alphanumeric() || *c == '-' || *c == '_')
+            .collect();
+        PathBuf::from("target/vleaf").join(inputs.file_name(&stem))
+    })
+}
+
+/// The LVC maps (every sun direction, or only `suns`) and the transfer of `scene`, in `file`:
+/// loaded when it holds them (and `reuse` allows), else computed — resuming a partial file —
+/// and saved there.
+pub fn precompute(
+    scene: &LeafScene,
+    (lvc, prt): (&LvcParams, &PrtParams),
+    suns: Option<&[usize]>,
+    file: &Path,
+    reuse: Reuse,
+) -> Result<Precomputed> {
+    let inputs = Inputs { scene, lvc: *lvc, prt: *prt, suns };
+    let bars = [bar(scene.vertex_count(), "LVC"), bar(scene.vertex_count(), "PRT")];
+    let progress = |stage: &str, done: usize, _total: usize| {
+        bars[usize::from(stage == "PRT")].set_position(done as u64);
     };
-    pb.finish_and_clear();
-    let lvc_s = t.elapsed().as_secs_f64();
-    let t = Instant::now();
-    let pb = bar(n, "PRT");
-    let transfer = Transfer::compute(scene, prt, |d, _| pb.set_position(d as u64));
-    pb.finish_and_clear();
-    Precomputed { data: LeafData { lvc, transfer }, seconds: (lvc_s, t.elapsed().as_secs_f64()) }
+    let (data, outcome) = vcut_leaf::store::precompute(&inputs, file, reuse, &progress)?;
+    bars.iter().for_each(ProgressBar::finish_and_clear);
+    if let Some(why) = &outcome.replaced {
+        println!("leaf data: not reused ({why}); computed again");
+    }
+    Ok(Precomputed { data, seconds: (outcome.lvc_s, outcome.prt_s), file: file.into(), outcome })
+}
+
+/// Prints where the leaf data is and what was done to get it, as key=value lines.
+pub fn print_store(pre: &Precomputed) {
+    println!("leaf_data={}", pre.file.display());
+    println!("leaf_data_loaded={}", pre.outcome.loaded);
+    println!("leaf_data_bytes={}", pre.outcome.file_bytes);
+    if pre.outcome.loaded {
+        println!("leaf_data_load_s={:.3}", pre.outcome.load_s);
+    } else {
+        println!("lvc_chunks_resumed={}", pre.outcome.lvc_chunks_resumed);
+    }
 }
 
 /// The sun direction the arguments ask for, as (elevation, azimuth) degrees, if any.
@@ -325,7 +369,10 @@ pub fn run(args: &LeavesArgs) -> Result<()> {
     let sun = light.sun.context("the environment has no sun: the leaf renderer's direct pass needs one")?;
     println!("sun_dir={:?}", sun.dir.to_array());
     let (lvc_params, prt) = params(p);
-    let pre = precompute(&scene, &lvc_params, &prt, None);
+    let inputs = Inputs { scene: &scene, lvc: lvc_params, prt, suns: None };
+    let reuse = if p.fresh { Reuse::Never } else { Reuse::IfMatching };
+    let pre = precompute(&scene, (&lvc_params, &prt), None, &data_path(p, &inputs), reuse)?;
+    print_store(&pre);
     println!("lvc_s={:.3}", pre.seconds.0);
     println!("lvc_raw_bytes={}", pre.data.lvc.raw_bytes());
     println!("lvc_rle_bytes={}", pre.data.lvc.compressed_bytes());
@@ -505,7 +552,9 @@ pub fn bench(quick: bool, out: &Path) -> Result<serde_json::Value> {
     // The 100k plant: everything precomputed.
     let scene = plant(&PlantParams::with_vertices(big), &m)?;
     println!("vertices={}", scene.vertex_count());
-    let pre = precompute(&scene, &lvc_params, &PrtParams { rays: prt_rays, ..PrtParams::default() }, None);
+    // Timed: computed every run (Reuse::Never), and saved beside the report.
+    let prt_params = PrtParams { rays: prt_rays, ..PrtParams::default() };
+    let pre = precompute(&scene, (&lvc_params, &prt_params), None, &out.join("plant-100k.vleaf"), Reuse::Never)?;
     let cam = camera(&scene);
     let f = frame_figures(&scene, &pre, &light, cam.position, 7)?;
     // The cosine-baked maps, for their ratio (the paper's byte content), on the same plant.
@@ -546,8 +595,9 @@ pub fn bench(quick: bool, out: &Path) -> Result<serde_json::Value> {
     // The 500k plant: shading needs the current sun direction's map only.
     let huge_scene = plant(&PlantParams::with_vertices(huge), &m)?;
     let j = pre.data.lvc.sun_index(sun.dir);
+    let huge_prt = PrtParams { rays: 16, bounces: 2, ..PrtParams::default() };
     let huge_pre =
-        precompute(&huge_scene, &lvc_params, &PrtParams { rays: 16, bounces: 2, ..PrtParams::default() }, Some(&[j]));
+        precompute(&huge_scene, (&lvc_params, &huge_prt), Some(&[j]), &out.join("plant-500k.vleaf"), Reuse::Never)?;
     let fh = frame_figures(&huge_scene, &huge_pre, &light, camera(&huge_scene).position, 5)?;
     let rle_ratio = pre.data.lvc.raw_bytes() as f64 / pre.data.lvc.compressed_bytes().max(1) as f64;
     for (k, v) in [

@@ -104,7 +104,7 @@ fn resolve_params(args: &PrecomputeArgs, desc: Option<&SceneDesc>) -> Result<Pre
     let pairs: Vec<(&str, &str)> = overrides.iter().map(|(k, v)| (k.as_str(), v.as_str())).collect();
     let table = desc.and_then(|d| d.precompute.as_ref());
     PrecomputeParams::resolve(args.preset.as_deref(), table, &pairs)
-        .with_context(|| format!("precompute parameters for {}", args.scene))
+        .with_context(|| format!("{}: [precompute] and the command line's parameters", args.scene))
 }
 
 /// indicatif bars, one per stage.

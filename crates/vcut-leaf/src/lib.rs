@@ -14,7 +14,9 @@
 //! - [`lod`]: coarser meshes of each leaf (meshoptimizer) with Gaussian-averaged transfer, chosen
 //!   per leaf by its size on screen;
 //! - [`plant`]: a procedural plant of any leaf count; [`scene`]: leaves and opaque surfaces
-//!   flattened for all of the above.
+//!   flattened for all of the above;
+//! - [`store`]: the maps and the transfer saved in a `.vleaf` file (checksummed sections,
+//!   atomic, resumed chunk by chunk after a kill or a full disk) and loaded instead of computed.
 //!
 //! # Invariants
 //! R, T ≥ 0 and R + T ≤ 1 for every slab, whatever its parameters; the LVC maps decode
@@ -44,3 +46,4 @@ pub mod scene;
 pub mod sh;
 pub mod shade;
 pub mod slab;
+pub mod store;

@@ -118,26 +118,24 @@ pub struct Lvc {
     data: Vec<u8>,
 }
 
-/// Vertices whose visibility is computed together (bounds memory: chunk × 6R² bytes).
-const CHUNK: usize = 2048;
+/// Vertices whose visibility is computed together (bounds memory: chunk × 6R² bytes); also the
+/// unit of a checkpoint ([`Lvc::compute_chunked`]).
+pub const CHUNK: usize = 2048;
 
-impl Lvc {
-    /// Traces every vertex's visibility over the cube's directions and convolves it with the sun
-    /// disk; `progress(done, total)` after each chunk of vertices.
-    pub fn compute(scene: &LeafScene, params: &LvcParams, progress: impl FnMut(usize, usize)) -> Lvc {
-        let all: Vec<usize> = (0..CubeDirections { resolution: params.resolution.max(1) }.len()).collect();
-        Lvc::compute_suns(scene, params, &all, progress)
-    }
+/// What the precompute of a set of sun directions needs besides the scene: the cube's
+/// directions, each disk's texels, which texels are traced.
+struct Plan {
+    dirs: CubeDirections,
+    ray_dirs: Vec<Vec3>,
+    masks: Vec<Vec<(u32, f32)>>,
+    wanted: Vec<bool>,
+    traced: Vec<usize>,
+    slot: Vec<u32>,
+    content: Content,
+}
 
-    /// [`Lvc::compute`] for the sun directions `suns` only (maps of the others are left empty):
-    /// what a frame at one sun direction needs, for scenes too large to precompute whole in a
-    /// bench. Only the texels the chosen disks cover are traced.
-    pub fn compute_suns(
-        scene: &LeafScene,
-        params: &LvcParams,
-        suns: &[usize],
-        mut progress: impl FnMut(usize, usize),
-    ) -> Lvc {
+impl Plan {
+    fn new(params: &LvcParams, suns: &[usize]) -> Plan {
         let dirs = CubeDirections { resolution: params.resolution.max(1) };
         let ray_dirs: Vec<Vec3> = (0..dirs.len()).map(|i| dirs.direction(i)).collect();
         let masks = disk_masks(dirs, params);
@@ -154,57 +152,196 @@ impl Lvc {
         for (k, &t) in traced.iter().enumerate() {
             slot[t] = k as u32;
         }
+        Plan { dirs, ray_dirs, masks, wanted, traced, slot, content: params.content }
+    }
+
+    /// Chunk `k`'s checkpoint: traces its vertices, convolves them with every wanted disk, and
+    /// continues each direction's encoder (left as it was: the checkpoint carries the states).
+    fn compute_chunk(&self, scene: &LeafScene, k: usize, encoders: &[Encoder]) -> Vec<u8> {
         let n = scene.vertex_count();
+        let (start, end) = (k * CHUNK, ((k + 1) * CHUNK).min(n));
         let occ = scene.occluder();
         let eps = scene.ray_offset();
-        let mut encoders: Vec<Encoder> = (0..dirs.len()).map(|_| Encoder::new()).collect();
-        for start in (0..n).step_by(CHUNK) {
-            let end = (start + CHUNK).min(n);
-            // Visibility of the chunk's vertices along each traced direction, vertex-major.
-            let vis: Vec<Vec<u8>> = (start..end)
-                .into_par_iter()
-                .map(|v| {
-                    let (p, nrm) = (scene.positions()[v], scene.normals()[v]);
-                    traced
-                        .iter()
-                        .map(|&t| {
-                            let d = ray_dirs[t];
-                            let side = if nrm.dot(d) >= 0.0 { nrm } else { -nrm };
-                            u8::from(!occ.occluded(p + side * eps, d, f32::INFINITY))
-                        })
-                        .collect()
-                })
-                .collect();
-            // Re-bin per sun direction: each direction's encoder takes the chunk's column.
-            encoders.par_iter_mut().enumerate().for_each(|(j, enc)| {
-                if !wanted[j] {
-                    return;
+        // Visibility of the chunk's vertices along each traced direction, vertex-major.
+        let vis: Vec<Vec<u8>> = (start..end)
+            .into_par_iter()
+            .map(|v| {
+                let (p, nrm) = (scene.positions()[v], scene.normals()[v]);
+                self.traced
+                    .iter()
+                    .map(|&t| {
+                        let d = self.ray_dirs[t];
+                        let side = if nrm.dot(d) >= 0.0 { nrm } else { -nrm };
+                        u8::from(!occ.occluded(p + side * eps, d, f32::INFINITY))
+                    })
+                    .collect()
+            })
+            .collect();
+        // Re-bin per sun direction: each direction's encoder takes the chunk's column.
+        let pieces: Vec<Option<(Vec<u8>, Vec<u8>)>> = encoders
+            .par_iter()
+            .enumerate()
+            .map(|(j, enc)| {
+                if !self.wanted[j] {
+                    return None;
                 }
-                for (k, row) in vis.iter().enumerate() {
-                    let nrm = scene.normals()[start + k];
+                let mut enc = enc.clone();
+                for (i, row) in vis.iter().enumerate() {
+                    let nrm = scene.normals()[start + i];
                     let mut acc = 0.0f32;
-                    for &(t, w) in &masks[j] {
-                        let visible = f32::from(row[slot[t as usize] as usize]);
-                        acc += match params.content {
+                    for &(t, w) in &self.masks[j] {
+                        let visible = f32::from(row[self.slot[t as usize] as usize]);
+                        acc += match self.content {
                             Content::Visibility => w * visible,
-                            Content::CosineBaked => w * visible * nrm.dot(ray_dirs[t as usize]).abs(),
+                            Content::CosineBaked => w * visible * nrm.dot(self.ray_dirs[t as usize]).abs(),
                         };
                     }
                     enc.push((acc.clamp(0.0, 1.0) * 255.0).round() as u8);
                 }
-            });
-            progress(end, n);
+                Some((enc.take_output(), enc.state()))
+            })
+            .collect();
+        let mut out = Vec::new();
+        for (emitted, state) in pieces.into_iter().flatten() {
+            put_varint(&mut out, emitted.len() as u64);
+            out.extend_from_slice(&emitted);
+            out.push(state.len() as u8);
+            out.extend_from_slice(&state);
         }
-        let mut offsets = Vec::with_capacity(dirs.len() + 1);
+        out
+    }
+
+    /// Takes chunk checkpoint `payload`: appends what it emitted to each wanted direction's
+    /// stream and sets the encoders to its states.
+    fn apply(&self, payload: &[u8], encoders: &mut [Encoder], streams: &mut [Vec<u8>]) -> Result<(), LvcError> {
+        let mut at = 0usize;
+        for j in (0..self.dirs.len()).filter(|&j| self.wanted[j]) {
+            let len = get_varint(payload, &mut at).ok_or(LvcError::Checkpoint { at })?;
+            let emitted = usize::try_from(len)
+                .ok()
+                .and_then(|len| payload.get(at..at.checked_add(len)?))
+                .ok_or(LvcError::Checkpoint { at })?;
+            at += emitted.len();
+            let state_len = usize::from(*payload.get(at).ok_or(LvcError::Checkpoint { at })?);
+            let state = payload.get(at + 1..at + 1 + state_len).ok_or(LvcError::Checkpoint { at })?;
+            at += 1 + state_len;
+            streams[j].extend_from_slice(emitted);
+            encoders[j] = Encoder::from_state(state).map_err(|source| LvcError::Rle { direction: j, source })?;
+        }
+        if at != payload.len() {
+            return Err(LvcError::Checkpoint { at });
+        }
+        Ok(())
+    }
+}
+
+/// Why LVC checkpoints could not be taken back.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum LvcError {
+    /// A checkpoint's bytes end early or run on.
+    #[error("LVC checkpoint malformed at byte {at}")]
+    Checkpoint {
+        /// Where.
+        at: usize,
+    },
+    /// A direction's encoder state is malformed.
+    #[error("LVC checkpoint, sun direction {direction}: {source}")]
+    Rle {
+        /// The sun direction.
+        direction: usize,
+        /// What is wrong.
+        source: RleError,
+    },
+    /// The checkpoints' streams do not decode to the vertex count.
+    #[error("LVC map of sun direction {direction}: {source}")]
+    Map {
+        /// The sun direction.
+        direction: usize,
+        /// What is wrong.
+        source: RleError,
+    },
+}
+
+fn put_varint(out: &mut Vec<u8>, mut x: u64) {
+    while x >= 0x80 {
+        out.push((x as u8) | 0x80);
+        x >>= 7;
+    }
+    out.push(x as u8);
+}
+
+fn get_varint(b: &[u8], at: &mut usize) -> Option<u64> {
+    let mut x = 0u64;
+    for shift in (0..64).step_by(7) {
+        let byte = *b.get(*at)?;
+        *at += 1;
+        x |= u64::from(byte & 0x7f) << shift;
+        if byte < 0x80 {
+            return Some(x);
+        }
+    }
+    None
+}
+
+impl Lvc {
+    /// Traces every vertex's visibility over the cube's directions and convolves it with the sun
+    /// disk; `progress(done, total)` after each chunk of vertices.
+    pub fn compute(scene: &LeafScene, params: &LvcParams, progress: impl FnMut(usize, usize)) -> Lvc {
+        let all: Vec<usize> = (0..CubeDirections { resolution: params.resolution.max(1) }.len()).collect();
+        Lvc::compute_suns(scene, params, &all, progress)
+    }
+
+    /// [`Lvc::compute`] for the sun directions `suns` only (maps of the others are left empty):
+    /// what a frame at one sun direction needs, for scenes too large to precompute whole in a
+    /// bench. Only the texels the chosen disks cover are traced.
+    pub fn compute_suns(
+        scene: &LeafScene,
+        params: &LvcParams,
+        suns: &[usize],
+        progress: impl FnMut(usize, usize),
+    ) -> Lvc {
+        let run = Lvc::compute_chunked(scene, params, suns, |_, compute| Ok::<_, LvcError>(compute()), progress);
+        run.unwrap_or_else(|e| unreachable!("checkpoints made here take back: {e}"))
+    }
+
+    /// [`Lvc::compute_suns`] in checkpoints of [`CHUNK`] vertices: for chunk `k`,
+    /// `checkpoint(k, compute)` returns the chunk's bytes — `compute()`'s, or the same bytes kept
+    /// from an earlier run (a `.vleaf` file resumes so). Each direction's run-length stream goes
+    /// on across chunks (a checkpoint holds what a chunk emitted and its encoders' states), so
+    /// the maps are byte-identical however the run was split. `checkpoint`'s error stops it.
+    pub fn compute_chunked<E: From<LvcError>>(
+        scene: &LeafScene,
+        params: &LvcParams,
+        suns: &[usize],
+        mut checkpoint: impl FnMut(usize, &dyn Fn() -> Vec<u8>) -> Result<Vec<u8>, E>,
+        mut progress: impl FnMut(usize, usize),
+    ) -> Result<Lvc, E> {
+        let plan = Plan::new(params, suns);
+        let n = scene.vertex_count();
+        let mut encoders: Vec<Encoder> = (0..plan.dirs.len()).map(|_| Encoder::new()).collect();
+        let mut streams: Vec<Vec<u8>> = vec![Vec::new(); plan.dirs.len()];
+        for k in 0..n.div_ceil(CHUNK) {
+            let payload = checkpoint(k, &|| plan.compute_chunk(scene, k, &encoders))?;
+            plan.apply(&payload, &mut encoders, &mut streams)?;
+            progress(((k + 1) * CHUNK).min(n), n);
+        }
+        let mut offsets = Vec::with_capacity(plan.dirs.len() + 1);
         let mut data = Vec::new();
-        for (j, enc) in encoders.into_iter().enumerate() {
+        for (j, (enc, stream)) in encoders.into_iter().zip(streams).enumerate() {
             offsets.push(data.len());
-            if wanted[j] {
+            if plan.wanted[j] {
+                data.extend(stream);
                 data.extend(enc.finish());
             }
         }
         offsets.push(data.len());
-        Lvc { params: *params, vertices: n, offsets, data }
+        let lvc = Lvc { params: *params, vertices: n, offsets, data };
+        // Taken-back checkpoints must decode to whole maps (a computed one always does).
+        let mut map = vec![0u8; n];
+        for j in (0..plan.dirs.len()).filter(|&j| plan.wanted[j]) {
+            lvc.decode(j, &mut map).map_err(|source| LvcError::Map { direction: j, source })?;
+        }
+        Ok(lvc)
     }
 
     /// The parameters it was computed with.

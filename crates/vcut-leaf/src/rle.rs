@@ -30,6 +30,12 @@ pub enum RleError {
         /// Bytes expected.
         expected: usize,
     },
+    /// An encoder state ([`Encoder::state`]) that no encoder can be in.
+    #[error("malformed run-length encoder state ({len} bytes)")]
+    State {
+        /// Its length.
+        len: usize,
+    },
 }
 
 const SPAN: usize = 64;
@@ -100,6 +106,34 @@ impl Encoder {
         self.run_len = 1;
     }
 
+    /// Takes the bytes encoded so far; the stream goes on after them (a checkpoint stores
+    /// these and [`Encoder::state`]).
+    pub fn take_output(&mut self) -> Vec<u8> {
+        std::mem::take(&mut self.out)
+    }
+
+    /// What was pushed but is not encoded yet: `[run byte, run length, literal span…]`, at most
+    /// 65 bytes. [`Encoder::from_state`] continues from it exactly as this encoder would.
+    pub fn state(&self) -> Vec<u8> {
+        let mut s = Vec::with_capacity(2 + self.literal.len());
+        s.push(self.run_byte);
+        s.push(self.run_len as u8);
+        s.extend_from_slice(&self.literal);
+        s
+    }
+
+    /// An encoder (with no output taken yet) in `state`, as [`Encoder::state`] wrote it; a state
+    /// no encoder can be in is an error.
+    pub fn from_state(state: &[u8]) -> Result<Encoder, RleError> {
+        let bad = RleError::State { len: state.len() };
+        let [run_byte, run_len, literal @ ..] = state else { return Err(bad) };
+        let cap = if *run_byte == 0 || *run_byte == 255 { SPAN } else { MAX_RUN };
+        if usize::from(*run_len) > cap || literal.len() >= SPAN {
+            return Err(bad);
+        }
+        Ok(Encoder { out: Vec::new(), literal: literal.to_vec(), run_byte: *run_byte, run_len: usize::from(*run_len) })
+    }
+
     /// The encoded stream.
     pub fn finish(mut self) -> Vec<u8> {
         if self.run_len > 0 {
@@ -164,6 +198,37 @@ mod tests {
             prop_assert_eq!(out, bytes.clone());
             // Never worse than one control byte per 64 literals.
             prop_assert!(e.len() <= bytes.len() + bytes.len().div_ceil(64));
+        }
+
+        #[test]
+        fn a_stream_checkpointed_anywhere_continues_to_the_same_bytes(
+            bytes in proptest::collection::vec(prop_oneof![Just(0u8), Just(255u8), Just(9u8), any::<u8>()], 0..600),
+            cuts in proptest::collection::vec(0usize..600, 0..6),
+        ) {
+            let mut cuts: Vec<usize> = cuts.into_iter().filter(|&c| c <= bytes.len()).collect();
+            cuts.sort_unstable();
+            let mut e = Encoder::new();
+            let (mut out, mut at) = (Vec::new(), 0);
+            for c in cuts.into_iter().chain([bytes.len()]) {
+                for &b in &bytes[at..c] {
+                    e.push(b);
+                }
+                at = c;
+                out.extend(e.take_output());
+                e = Encoder::from_state(&e.state()).unwrap();
+            }
+            out.extend(e.finish());
+            prop_assert_eq!(out, encode(&bytes));
+        }
+
+        #[test]
+        fn encoder_states_from_garbage_are_refused_or_work(state in proptest::collection::vec(any::<u8>(), 0..80), tail in proptest::collection::vec(any::<u8>(), 0..100)) {
+            if let Ok(mut e) = Encoder::from_state(&state) {
+                for b in &tail {
+                    e.push(*b);
+                }
+                let _ = e.finish();
+            }
         }
 
         #[test]

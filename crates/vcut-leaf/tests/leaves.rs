@@ -150,7 +150,12 @@ fn leaf_edits_change_the_frame_without_a_new_precompute() {
 #[test]
 fn the_shared_potted_plant_renders_as_leaves() {
     let Some(dir) = vcut_scene::assets::dir() else {
-        println!("SKIPPED the_shared_potted_plant_renders_as_leaves: shared assets folder not found (set VCUT_ASSETS)");
+        // Straight to stderr: the harness shows captured output only for failing tests.
+        use std::io::Write;
+        let _ = writeln!(
+            std::io::stderr(),
+            "SKIPPED the_shared_potted_plant_renders_as_leaves: shared assets folder not found (set VCUT_ASSETS)"
+        );
         return;
     };
     let path = dir.join("plants/polyhaven_potted_plant_04_1k/potted_plant_04_1k.gltf");

@@ -28,14 +28,15 @@
 //! fov_y_deg = 40.0
 //! ```
 //!
-//! Relative paths resolve against the scene file's folder; `asset:REL` resolves through
-//! [`crate::assets::locate`]. A file source can yield several objects (glTF nodes, OBJ groups:
+//! Every key, its default, unit and range: `docs/scene-file.md`; the checks are in
+//! [`crate::check`]. Relative paths resolve against the scene file's folder; `asset:REL`
+//! resolves through [`crate::assets::locate`]. A file source can yield several objects (glTF nodes, OBJ groups:
 //! `split`); they are named `NAME/CHILD`.
 
 use crate::loaders::{GltfObjects, ObjObjects};
 use crate::material::Material;
 use crate::mesh::{Mesh, MeshOptions, Weld};
-use crate::{Camera, Motion, Scene, SceneError, SceneObject, assets, shapes, teapot};
+use crate::{Budget, Builtin, Camera, Motion, Scene, SceneError, SceneObject, assets, shapes, teapot};
 use glam::{EulerRot, Mat4, Quat, Vec3};
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
@@ -103,6 +104,9 @@ impl Default for EnvironmentDesc {
         }
     }
 }
+
+/// The built-in maps `[environment] source` can name.
+pub const ENVIRONMENT_BUILTINS: &str = "builtin:sky, builtin:studio, builtin:constant";
 
 /// How a file source is split into objects.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
@@ -206,8 +210,16 @@ impl SceneDesc {
         toml::to_string_pretty(self).unwrap_or_default()
     }
 
-    /// Builds the scene; relative paths resolve against `base`, errors name `file`.
+    /// Builds the scene within the memory available now ([`Budget::available`]); relative
+    /// paths resolve against `base`, errors name `file`.
     pub fn instantiate(&self, base: &Path, file: &Path) -> Result<Scene, SceneError> {
+        self.instantiate_within(base, file, &Budget::available())
+    }
+
+    /// Builds the scene after checking every value ([`SceneDesc::check`]) with the memory its
+    /// built-in shapes and maps take held to `budget`.
+    pub fn instantiate_within(&self, base: &Path, file: &Path, budget: &Budget) -> Result<Scene, SceneError> {
+        self.check(file, budget)?;
         let environment = self.environment.load(base, file)?;
         let mut objects = Vec::new();
         for (i, o) in self.objects.iter().enumerate() {
@@ -253,6 +265,7 @@ fn resolve(source: &str, base: &Path, file: &Path) -> Result<PathBuf, SceneError
 impl EnvironmentDesc {
     /// Loads or bakes the map, then applies rotation and intensity.
     pub fn load(&self, base: &Path, file: &Path) -> Result<EnvMap, SceneError> {
+        self.check(file, &Budget::available(), &mut 0)?;
         let mut map = match self.source.as_str() {
             "builtin:sky" => {
                 let mut sky =
@@ -265,10 +278,7 @@ impl EnvironmentDesc {
             "builtin:studio" => procedural::Studio::default().bake(self.resolution),
             "builtin:constant" => EnvMap::constant([1.0; 3]),
             s if s.starts_with("builtin:") => {
-                return Err(SceneError::UnknownBuiltin {
-                    name: s.into(),
-                    known: "builtin:sky, builtin:studio, builtin:constant",
-                });
+                return Err(SceneError::UnknownBuiltin { name: s.into(), known: ENVIRONMENT_BUILTINS });
             }
             s => {
                 let path = resolve(s, base, file)?;
@@ -285,6 +295,7 @@ impl EnvironmentDesc {
 impl ObjectDesc {
     /// Builds or loads the object(s) this entry names, transformed to world space.
     pub fn load(&self, base: &Path, file: &Path, index: usize) -> Result<Vec<SceneObject>, SceneError> {
+        self.check(file, index, &Budget::available(), &mut 0)?;
         let bad =
             |reason: String| SceneError::SceneFile { path: file.into(), reason: format!("object {index}: {reason}") };
         let res = self.resolution;
@@ -292,63 +303,47 @@ impl ObjectDesc {
         let shape = |r: Result<Mesh, crate::mesh::MeshError>| {
             r.map_err(|source| SceneError::Mesh { path: file.into(), object: self.source.clone(), source })
         };
-        let mut parts: Vec<(String, Mesh, Option<Material>)> = match self.source.as_str() {
-            "builtin:teapot" => {
-                let (m, _) = teapot::teapot(res.unwrap_or(12)).map_err(|source| SceneError::Mesh {
-                    path: file.into(),
-                    object: "teapot".into(),
-                    source,
-                })?;
-                vec![("teapot".into(), m, None)]
-            }
-            "builtin:sphere" => {
-                let rings = res.unwrap_or(32);
-                vec![("sphere".into(), shape(shapes::sphere(size.unwrap_or(1.0), 2 * rings, rings))?, None)]
-            }
-            "builtin:torus" => {
-                let n = res.unwrap_or(32);
-                let r = size.unwrap_or(1.0);
-                vec![("torus".into(), shape(shapes::torus(r, 0.3 * r, 2 * n, n))?, None)]
-            }
-            "builtin:box" => {
-                let e = size.unwrap_or(1.0);
-                vec![("box".into(), shape(shapes::cuboid(Vec3::splat(e), res.unwrap_or(8)))?, None)]
-            }
-            "builtin:plane" => {
-                vec![("plane".into(), shape(shapes::plane(size.unwrap_or(10.0), res.unwrap_or(64)))?, None)]
-            }
-            s if s.starts_with("builtin:") => {
-                return Err(SceneError::UnknownBuiltin {
-                    name: s.into(),
-                    known: "builtin:teapot, builtin:sphere, builtin:torus, builtin:box, builtin:plane",
-                });
-            }
-            "" => return Err(bad("no source".into())),
-            s => {
-                let path = resolve(s, base, file)?;
-                let (g, o) = match self.split {
-                    Some(Split::MeshNodes) | None => (GltfObjects::MeshNodes, ObjObjects::File),
-                    Some(Split::TopLevelNodes) => (GltfObjects::TopLevelNodes, ObjObjects::File),
-                    Some(Split::Groups) => (GltfObjects::MeshNodes, ObjObjects::Groups),
-                    Some(Split::File) => (GltfObjects::TopLevelNodes, ObjObjects::File),
-                };
-                let weld = self.weld.map_or(Weld::None, Weld::Within);
-                let out = crate::loaders::load_file(&path, g, o, MeshOptions { weld, ..Default::default() })?;
-                let mut parts: Vec<_> = out.objects.into_iter().map(|o| (o.name, o.mesh, Some(o.material))).collect();
-                if self.split == Some(Split::File) && parts.len() > 1 {
-                    let (name, mut first, mat) = parts.remove(0);
-                    for (_, m, _) in &parts {
-                        first.append(m);
-                    }
-                    parts = vec![(name, first, mat)];
+        let mut parts: Vec<(String, Mesh, Option<Material>)> =
+            match (Builtin::named(&self.source), self.source.as_str()) {
+                (Some(b), _) => {
+                    let r = res.unwrap_or(b.default_resolution());
+                    let s = size.unwrap_or(b.default_size());
+                    let (name, mesh) = match b {
+                        Builtin::Teapot => ("teapot", teapot::teapot(r).map(|m| m.0)),
+                        Builtin::Sphere => ("sphere", shapes::sphere(s, 2 * r, r)),
+                        Builtin::Torus => ("torus", shapes::torus(s, 0.3 * s, 2 * r, r)),
+                        Builtin::Box => ("box", shapes::cuboid(Vec3::splat(s), r)),
+                        Builtin::Plane => ("plane", shapes::plane(s, r)),
+                    };
+                    vec![(name.into(), shape(mesh)?, None)]
                 }
-                parts
-            }
-        };
+                (None, s) if s.starts_with("builtin:") => {
+                    return Err(SceneError::UnknownBuiltin { name: s.into(), known: Builtin::KNOWN });
+                }
+                (None, "") => return Err(bad("no source".into())),
+                (None, s) => {
+                    let path = resolve(s, base, file)?;
+                    let (g, o) = match self.split {
+                        Some(Split::MeshNodes) | None => (GltfObjects::MeshNodes, ObjObjects::File),
+                        Some(Split::TopLevelNodes) => (GltfObjects::TopLevelNodes, ObjObjects::File),
+                        Some(Split::Groups) => (GltfObjects::MeshNodes, ObjObjects::Groups),
+                        Some(Split::File) => (GltfObjects::TopLevelNodes, ObjObjects::File),
+                    };
+                    let weld = self.weld.map_or(Weld::None, Weld::Within);
+                    let out = crate::loaders::load_file(&path, g, o, MeshOptions { weld, ..Default::default() })?;
+                    let mut parts: Vec<_> =
+                        out.objects.into_iter().map(|o| (o.name, o.mesh, Some(o.material))).collect();
+                    if self.split == Some(Split::File) && parts.len() > 1 {
+                        let (name, mut first, mat) = parts.remove(0);
+                        for (_, m, _) in &parts {
+                            first.append(m);
+                        }
+                        parts = vec![(name, first, mat)];
+                    }
+                    parts
+                }
+            };
         if let Some(h) = self.stand_height {
-            if !(h.is_finite() && h > 0.0) {
-                return Err(bad(format!("stand_height = {h} must be > 0")));
-            }
             let b = crate::mesh::Bounds::of_points(parts.iter().flat_map(|p| p.1.positions().iter().copied()));
             let tall = (b.max.y - b.min.y).max(f32::MIN_POSITIVE);
             let m = Mat4::from_scale(Vec3::splat(h / tall))
@@ -356,9 +351,6 @@ impl ObjectDesc {
             for p in &mut parts {
                 p.1.transform(m);
             }
-        }
-        if !(self.scale.is_finite() && self.scale != 0.0) {
-            return Err(bad(format!("scale = {} must be finite and non-zero", self.scale)));
         }
         let r = self.rotation_deg.map(f32::to_radians);
         let xf = Mat4::from_scale_rotation_translation(
@@ -368,9 +360,6 @@ impl ObjectDesc {
         );
         if !xf.is_finite() {
             return Err(bad("non-finite transform".into()));
-        }
-        if let Some(m) = &self.material {
-            m.validate().map_err(|e| bad(format!("material: {e}")))?;
         }
         let single = parts.len() == 1;
         let own = self.name.clone();

@@ -9,7 +9,9 @@
 //!   ([`material`]).
 //! - **Built-ins**: the Utah teapot from its 32 Bézier patches ([`teapot`]), sphere, torus, box
 //!   and plane ([`shapes`]); built-in scenes `teapot`, `bunny`, `spheres` ([`scenes`]).
-//! - **Scene files** (TOML, [`desc`]) compose all of these with an environment map and cameras.
+//! - **Scene files** (TOML, [`desc`]) compose all of these with an environment map and cameras;
+//!   every value is range-checked and every tessellation and baked map held to a memory
+//!   estimate before anything is built ([`check`], [`budget`]).
 //!
 //! # Invariants
 //! Objects are in world space at rest; names are unique within a scene. This crate knows nothing
@@ -25,6 +27,8 @@
 //! ```
 
 pub mod assets;
+pub mod budget;
+pub mod check;
 pub mod desc;
 pub mod loaders;
 pub mod material;
@@ -34,6 +38,8 @@ pub mod scenes;
 pub mod shapes;
 pub mod teapot;
 
+pub use budget::Budget;
+pub use check::Builtin;
 pub use desc::SceneDesc;
 pub use material::{BrdfModel, Material};
 pub use mesh::{Bounds, Mesh, MeshError, MeshOptions, MeshReport, Weld};
@@ -124,6 +130,21 @@ pub enum SceneError {
     UnknownFormat {
         /// The file.
         path: PathBuf,
+    },
+    /// A value of the scene file is out of range (not finite, of the wrong sign, beyond its
+    /// limits, or needing more memory than there is).
+    #[error("{}: {table}: {key} = {value}: {reason}", path.display())]
+    Value {
+        /// The scene file.
+        path: PathBuf,
+        /// The table: `[environment]`, `object 2 ('teapot')`, `camera 0 ('main')`.
+        table: String,
+        /// The key.
+        key: String,
+        /// The value given.
+        value: String,
+        /// What is wrong.
+        reason: String,
     },
     /// The scene file is malformed.
     #[error("{}: {reason}", path.display())]
