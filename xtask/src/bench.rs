@@ -20,6 +20,7 @@ use std::time::Instant;
 use vcut_data::{InsideSamples, Precomputed};
 use vcut_lighttree::LightTreeBuilder;
 use vcut_precompute::run::Summary;
+use vcut_scene::budget::human;
 use vcut_scene::{Material, Motion, Scene};
 use vcut_shade::reference::{MonteCarloParams, errors, exact_direction, monte_carlo};
 use vcut_shade::{Frame, MergeAlgorithm, SunRays};
@@ -63,6 +64,74 @@ pub struct BenchArgs {
     /// Only redraw the trade-off plots from `OUT/tradeoff.csv`.
     #[arg(long)]
     pub plot_only: bool,
+    /// Print the estimate of the bench's precomputes (time, data bytes, peak memory) and stop.
+    #[arg(long)]
+    pub dry_run: bool,
+    /// Run even when the estimate exceeds the free memory or disk.
+    #[arg(long)]
+    pub force: bool,
+}
+
+/// Seconds of each precompute's own work timed for the bench's estimate.
+const ESTIMATE_SAMPLE_S: f64 = 1.0;
+
+/// The bench's precomputes — each scene's (unless reused), the trade-off sweep's, the leaf
+/// section's — estimated before anything else runs; prints each and the total, and checks the
+/// largest peak memory and the total data against what is free. The frames, references and
+/// screen-space timings come on top (they are not estimated).
+fn estimate(args: &BenchArgs, data_dir: &Path) -> Result<()> {
+    let mut rows: Vec<(String, f64, u64, u64)> = Vec::new();
+    for name in &args.scenes {
+        let preset = scene_preset(args.quick, name);
+        let file = data_dir.join(format!("{name}-{preset}.vcuts"));
+        if args.reuse && file.exists() && file.with_extension("summary.json").exists() {
+            continue;
+        }
+        let mut a = crate::precompute::PrecomputeArgs::new(&format!("builtin:{name}"), preset);
+        a.output = Some(file);
+        let e = crate::precompute::estimate_only(&a, ESTIMATE_SAMPLE_S)?;
+        rows.push((format!("{name} at {preset}"), e.seconds, e.output_bytes, e.peak_bytes));
+    }
+    if !args.no_tradeoff {
+        let base = if args.quick { "fast" } else { "balanced" };
+        for (key, value, a) in crate::tradeoff::variants("teapot", base, args.quick, data_dir) {
+            let e = crate::precompute::estimate_only(&a, ESTIMATE_SAMPLE_S)?;
+            rows.push((format!("trade-off teapot {key} = {value}"), e.seconds, e.output_bytes, e.peak_bytes));
+        }
+    }
+    if !args.no_leaves {
+        for (label, e) in crate::leaves::bench_estimates(args.quick, ESTIMATE_SAMPLE_S)? {
+            rows.push((label, e.lvc_seconds + e.prt_seconds, e.output_bytes, e.peak_bytes));
+        }
+    }
+    for (label, s, bytes, peak) in &rows {
+        println!("estimate: {label}: {s:.1} s, {}, peak {}", human(*bytes), human(*peak));
+    }
+    let seconds: f64 = rows.iter().map(|r| r.1).sum();
+    let bytes: u64 = rows.iter().map(|r| r.2).sum();
+    let peak = rows.iter().map(|r| r.3).max().unwrap_or(0);
+    println!(
+        "estimate: the bench's {} precomputes about {:.1} min on {} threads, {} of data, peak memory {} \
+         (the frames, references and screen-space timings come on top)",
+        rows.len(),
+        seconds / 60.0,
+        rayon::current_num_threads(),
+        human(bytes),
+        human(peak)
+    );
+    println!("estimate_precompute_s={seconds:.1}");
+    println!("estimate_data_mb={:.1}", bytes as f64 / 1e6);
+    println!("estimate_peak_mb={:.1}", peak as f64 / 1e6);
+    crate::resources::check("the bench", peak, (data_dir, bytes), args.force)
+}
+
+/// The preset a scene is benched at.
+fn scene_preset(quick: bool, name: &str) -> &'static str {
+    match (quick, name) {
+        (false, _) => "paper",
+        (true, "teapot") => "balanced",
+        (true, _) => "fast",
+    }
 }
 
 /// A row of the paper's Table 1 (Core2 Quad Q9650 + GTX 280).
@@ -253,6 +322,7 @@ fn precompute_figures(name: &str, preset: &str, data_dir: &Path, reuse: bool) ->
     args.fresh = true;
     let t = Instant::now();
     let (file, summary) = crate::precompute::run(&args)?;
+    let summary = summary.context("precompute ran as a dry run")?;
     let precompute_s = t.elapsed().as_secs_f64();
     let (rays_per_s, raw_rays_per_s) = rays(&summary);
     let cut_bytes: u64 = summary.sizes.iter().map(|z| z.bytes).sum();
@@ -483,6 +553,10 @@ pub fn run(args: &BenchArgs) -> Result<()> {
         return Ok(());
     }
     let data_dir = args.out.join("data");
+    estimate(args, &data_dir)?;
+    if args.dry_run {
+        return Ok(());
+    }
     std::fs::create_dir_all(&data_dir).with_context(|| format!("creating {}", data_dir.display()))?;
     let started = Instant::now();
 
@@ -522,11 +596,7 @@ pub fn run(args: &BenchArgs) -> Result<()> {
 
     let mut scenes = serde_json::Map::new();
     for name in &args.scenes {
-        let preset = match (args.quick, name.as_str()) {
-            (false, _) => "paper",
-            (true, "teapot") => "balanced",
-            (true, _) => "fast",
-        };
+        let preset = scene_preset(args.quick, name);
         scenes.insert(name.clone(), bench_scene(name, preset, &data_dir, args.no_mc, args.reuse)?);
     }
     for s in scenes.values_mut() {

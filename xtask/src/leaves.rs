@@ -20,8 +20,9 @@ use vcut_leaf::prt::PrtParams;
 use vcut_leaf::reference::{ReferenceParams, reference, rel_l2};
 use vcut_leaf::scene::LeafScene;
 use vcut_leaf::shade::{LeafData, Lighting, Shader, SunMethod, TwoSided, sun_at, sun_direction};
-use vcut_leaf::store::{Inputs, Reuse};
+use vcut_leaf::store::{Inputs, LeafEstimate, Reuse};
 use vcut_scene::Camera;
+use vcut_scene::budget::human;
 use vcut_scene::raster::Target;
 use vcut_shade::image::{Image, auto_exposure, pixel_errors, write_png};
 
@@ -92,6 +93,34 @@ pub struct PlantArgs {
     /// Compute the leaf data again even if the file holds it.
     #[arg(long)]
     pub fresh: bool,
+    /// Print the estimate of computing the leaf data (vertices, rays, time, file bytes, peak
+    /// memory) and stop.
+    #[arg(long)]
+    pub dry_run: bool,
+    /// Compute even when the estimate exceeds the free memory or disk.
+    #[arg(long)]
+    pub force: bool,
+    /// Seconds of the precompute's own work to time for the estimate.
+    #[arg(long, default_value_t = 2.0)]
+    pub estimate_seconds: f64,
+}
+
+/// What computing the leaf data takes, printed before it starts (unless it is only loaded).
+#[derive(Clone, Copy)]
+pub struct EstimateArgs {
+    /// Stop after the estimate.
+    pub dry_run: bool,
+    /// Compute even when it does not fit.
+    pub force: bool,
+    /// Seconds to sample.
+    pub seconds: f64,
+}
+
+impl PlantArgs {
+    /// The estimate options.
+    pub fn estimate(&self) -> EstimateArgs {
+        EstimateArgs { dry_run: self.dry_run, force: self.force, seconds: self.estimate_seconds }
+    }
 }
 
 /// Arguments of `cargo xtask leaves`.
@@ -250,16 +279,32 @@ pub fn data_path(args: &PlantArgs, inputs: &Inputs<'_>) -> PathBuf {
 }
 
 /// The LVC maps (every sun direction, or only `suns`) and the transfer of `scene`, in `file`:
-/// loaded when it holds them (and `reuse` allows), else computed — resuming a partial file —
-/// and saved there.
+/// loaded when it holds them (and `reuse` allows), else estimated (printed, checked against the
+/// free memory and disk), computed — resuming a partial file — and saved there. `None` after a
+/// dry run.
 pub fn precompute(
     scene: &LeafScene,
     (lvc, prt): (&LvcParams, &PrtParams),
     suns: Option<&[usize]>,
     file: &Path,
     reuse: Reuse,
-) -> Result<Precomputed> {
+    est: EstimateArgs,
+) -> Result<Option<Precomputed>> {
     let inputs = Inputs { scene, lvc: *lvc, prt: *prt, suns };
+    let loads = reuse == Reuse::IfMatching && file.exists() && vcut_leaf::store::holds(file, &inputs).is_ok();
+    let estimate = (!loads).then(|| {
+        vcut_leaf::store::estimate(&inputs, std::time::Duration::from_secs_f64(est.seconds.clamp(0.0, 600.0)))
+    });
+    if let Some(e) = &estimate {
+        print_estimate(e);
+        crate::resources::check("the leaf precompute", e.peak_bytes, (file, e.output_bytes), est.force)?;
+        if est.dry_run {
+            return Ok(None);
+        }
+    } else if est.dry_run {
+        println!("estimate: nothing to compute: {} holds this plant's leaf data", file.display());
+        return Ok(None);
+    }
     let bars = [bar(scene.vertex_count(), "LVC"), bar(scene.vertex_count(), "PRT")];
     let progress = |stage: &str, done: usize, _total: usize| {
         bars[usize::from(stage == "PRT")].set_position(done as u64);
@@ -269,7 +314,46 @@ pub fn precompute(
     if let Some(why) = &outcome.replaced {
         println!("leaf data: not reused ({why}); computed again");
     }
-    Ok(Precomputed { data, seconds: (outcome.lvc_s, outcome.prt_s), file: file.into(), outcome })
+    let pre = Precomputed { data, seconds: (outcome.lvc_s, outcome.prt_s), file: file.into(), outcome };
+    if let Some(e) = &estimate {
+        print_against(e, &pre);
+    }
+    Ok(Some(pre))
+}
+
+/// The estimate as a sentence and key=value lines.
+fn print_estimate(e: &LeafEstimate) {
+    let (lv, pv, ss) = e.sampled;
+    println!(
+        "estimate: {} vertices, {:.1} M rays; about {:.1} s on {} threads (LVC {:.1} s, PRT {:.1} s); file {}; \
+         peak memory {} (from a {ss:.1} s sample of {lv} + {pv} vertices)",
+        e.vertices,
+        (e.lvc_rays + e.prt_rays) as f64 / 1e6,
+        e.lvc_seconds + e.prt_seconds,
+        rayon::current_num_threads(),
+        e.lvc_seconds,
+        e.prt_seconds,
+        human(e.output_bytes),
+        human(e.peak_bytes),
+    );
+    println!("estimate_vertices={}", e.vertices);
+    println!("estimate_rays={}", e.lvc_rays + e.prt_rays);
+    println!("estimate_lvc_s={:.2}", e.lvc_seconds);
+    println!("estimate_prt_s={:.2}", e.prt_seconds);
+    println!("estimate_output_mb={:.3}", e.output_bytes as f64 / 1e6);
+    println!("estimate_peak_mb={:.1}", e.peak_bytes as f64 / 1e6);
+    println!("estimate_sample_s={ss:.2}");
+}
+
+/// The computed figures against the estimate's.
+fn print_against(e: &LeafEstimate, pre: &Precomputed) {
+    let peak = vcut_scene::budget::peak_memory().unwrap_or(0);
+    println!("peak_rss_mb={:.1}", peak as f64 / 1e6);
+    println!("estimate_vs_actual_s={:.3}", (e.lvc_seconds + e.prt_seconds) / (pre.seconds.0 + pre.seconds.1).max(1e-9));
+    println!("estimate_vs_actual_output={:.3}", e.output_bytes as f64 / pre.outcome.file_bytes.max(1) as f64);
+    if peak > 0 {
+        println!("estimate_vs_actual_peak={:.3}", e.peak_bytes as f64 / peak as f64);
+    }
 }
 
 /// Prints where the leaf data is and what was done to get it, as key=value lines.
@@ -371,7 +455,9 @@ pub fn run(args: &LeavesArgs) -> Result<()> {
     let (lvc_params, prt) = params(p);
     let inputs = Inputs { scene: &scene, lvc: lvc_params, prt, suns: None };
     let reuse = if p.fresh { Reuse::Never } else { Reuse::IfMatching };
-    let pre = precompute(&scene, (&lvc_params, &prt), None, &data_path(p, &inputs), reuse)?;
+    let Some(pre) = precompute(&scene, (&lvc_params, &prt), None, &data_path(p, &inputs), reuse, p.estimate())? else {
+        return Ok(());
+    };
     print_store(&pre);
     println!("lvc_s={:.3}", pre.seconds.0);
     println!("lvc_raw_bytes={}", pre.data.lvc.raw_bytes());
@@ -537,10 +623,46 @@ pub fn frame_figures(
     Ok(FrameFigures { decode_ms: median(decode), shade_ms: median(shade) })
 }
 
+/// The `leaves` section's precomputes, estimated from samples of `seconds` each: the large
+/// plant's maps (twice: as stored and cosine-baked) and transfer, the larger plant's one sun
+/// direction. Returns (label, estimate) per precompute.
+pub fn bench_estimates(quick: bool, seconds: f64) -> Result<Vec<(String, LeafEstimate)>> {
+    let m = LeafMaterial::default();
+    let (big, huge, prt_rays) = if quick { (10_000, 50_000, 64) } else { (100_000, 500_000, 128) };
+    let lvc = LvcParams::default();
+    let budget = std::time::Duration::from_secs_f64(seconds);
+    let scene = plant(&PlantParams::with_vertices(big), &m)?;
+    let main = vcut_leaf::store::estimate(
+        &Inputs { scene: &scene, lvc, prt: PrtParams { rays: prt_rays, ..PrtParams::default() }, suns: None },
+        budget,
+    );
+    // The cosine-baked maps: the same rays again, no transfer.
+    let baked = LeafEstimate { prt_rays: 0, prt_seconds: 0.0, output_bytes: 0, ..main };
+    let huge_scene = plant(&PlantParams::with_vertices(huge), &m)?;
+    // The built-in sky's sun, as the bench lights the plant.
+    let sun_dir = vcut_envmap::procedural::PreethamSky::default().sun_dir.normalize();
+    let sun = [vcut_leaf::lvc::CubeDirections { resolution: lvc.resolution }.nearest(sun_dir)];
+    let one = vcut_leaf::store::estimate(
+        &Inputs {
+            scene: &huge_scene,
+            lvc,
+            prt: PrtParams { rays: 16, bounces: 2, ..PrtParams::default() },
+            suns: Some(&sun),
+        },
+        budget,
+    );
+    Ok(vec![
+        (format!("leaves: {} vertices, every sun direction", main.vertices), main),
+        ("leaves: the same maps cosine-baked".into(), baked),
+        (format!("leaves: {} vertices, one sun direction", one.vertices), one),
+    ])
+}
+
 /// The `leaves` section of `cargo xtask bench`: RLE ratio, decode and shade times for a 100k-vertex
 /// plant (and shade time for 500k), errors against the path-traced reference. `quick` runs a
 /// smaller plant so CI stays short (the keys then say which size they measured).
 pub fn bench(quick: bool, out: &Path) -> Result<serde_json::Value> {
+    let est = EstimateArgs { dry_run: false, force: false, seconds: 2.0 };
     println!("== leaves: LVC + PRT against the path-traced reference");
     let m = LeafMaterial::default();
     let env = vcut_envmap::procedural::PreethamSky::default().bake(512);
@@ -554,7 +676,8 @@ pub fn bench(quick: bool, out: &Path) -> Result<serde_json::Value> {
     println!("vertices={}", scene.vertex_count());
     // Timed: computed every run (Reuse::Never), and saved beside the report.
     let prt_params = PrtParams { rays: prt_rays, ..PrtParams::default() };
-    let pre = precompute(&scene, (&lvc_params, &prt_params), None, &out.join("plant-100k.vleaf"), Reuse::Never)?;
+    let pre = precompute(&scene, (&lvc_params, &prt_params), None, &out.join("plant-100k.vleaf"), Reuse::Never, est)?
+        .context("the bench never runs dry")?;
     let cam = camera(&scene);
     let f = frame_figures(&scene, &pre, &light, cam.position, 7)?;
     // The cosine-baked maps, for their ratio (the paper's byte content), on the same plant.
@@ -596,8 +719,15 @@ pub fn bench(quick: bool, out: &Path) -> Result<serde_json::Value> {
     let huge_scene = plant(&PlantParams::with_vertices(huge), &m)?;
     let j = pre.data.lvc.sun_index(sun.dir);
     let huge_prt = PrtParams { rays: 16, bounces: 2, ..PrtParams::default() };
-    let huge_pre =
-        precompute(&huge_scene, (&lvc_params, &huge_prt), Some(&[j]), &out.join("plant-500k.vleaf"), Reuse::Never)?;
+    let huge_pre = precompute(
+        &huge_scene,
+        (&lvc_params, &huge_prt),
+        Some(&[j]),
+        &out.join("plant-500k.vleaf"),
+        Reuse::Never,
+        est,
+    )?
+    .context("the bench never runs dry")?;
     let fh = frame_figures(&huge_scene, &huge_pre, &light, camera(&huge_scene).position, 5)?;
     let rle_ratio = pre.data.lvc.raw_bytes() as f64 / pre.data.lvc.compressed_bytes().max(1) as f64;
     for (k, v) in [

@@ -7,6 +7,7 @@ mod inspect;
 mod leaves;
 mod precompute;
 mod render;
+mod resources;
 mod ssdo;
 mod tradeoff;
 mod view;

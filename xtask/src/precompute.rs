@@ -9,7 +9,9 @@ use std::sync::atomic::AtomicBool;
 use std::time::Instant;
 use vcut_data::file::SectionId;
 use vcut_precompute::PrecomputeParams;
-use vcut_precompute::run::{Job, Progress, Summary, precompute};
+use vcut_precompute::estimate::{Estimate, estimate};
+use vcut_precompute::run::{Job, Progress, Summary, precompute_with};
+use vcut_scene::budget::human;
 use vcut_scene::{Scene, SceneDesc};
 
 /// Arguments of `precompute`.
@@ -55,6 +57,16 @@ pub struct PrecomputeArgs {
     /// Discard a partial file from an earlier run instead of resuming it.
     #[arg(long)]
     pub fresh: bool,
+    /// Print the estimate (vertices, field points, rays, time, output bytes, peak memory) and
+    /// stop.
+    #[arg(long)]
+    pub dry_run: bool,
+    /// Run even when the estimate exceeds the free memory or disk.
+    #[arg(long)]
+    pub force: bool,
+    /// Seconds of the run's own work to time for the estimate.
+    #[arg(long, default_value_t = 2.0)]
+    pub estimate_seconds: f64,
 }
 
 impl PrecomputeArgs {
@@ -74,6 +86,9 @@ impl PrecomputeArgs {
             set: Vec::new(),
             cache_dir: "target/vcut-cache".into(),
             fresh: false,
+            dry_run: false,
+            force: false,
+            estimate_seconds: 2.0,
         }
     }
 }
@@ -176,11 +191,16 @@ pub fn cached_or_run(scene: &str, preset: &str) -> Result<PathBuf> {
     }
 }
 
-/// Runs `precompute`; returns the output path and the summary.
-pub fn run(args: &PrecomputeArgs) -> Result<(PathBuf, Summary)> {
-    if let Some(t) = args.threads {
-        rayon::ThreadPoolBuilder::new().num_threads(t).build_global().context("--threads")?;
-    }
+/// What a `precompute` command line resolves to: the scene, the parameters, the output.
+struct Resolved {
+    scene: Scene,
+    params: PrecomputeParams,
+    environment: String,
+    output: PathBuf,
+    load_s: f64,
+}
+
+fn resolve(args: &PrecomputeArgs) -> Result<Resolved> {
     let desc = if args.scene.ends_with(".toml") { Some(SceneDesc::read(Path::new(&args.scene))?) } else { None };
     let params = resolve_params(args, desc.as_ref())?;
     let t = Instant::now();
@@ -196,6 +216,30 @@ pub fn run(args: &PrecomputeArgs) -> Result<(PathBuf, Summary)> {
     let stem = scene_stem(&args.scene);
     let output =
         args.output.clone().unwrap_or_else(|| PathBuf::from(format!("target/vcuts/{stem}-{}.vcuts", params.preset)));
+    Ok(Resolved { scene, params, environment, output, load_s })
+}
+
+/// The estimate of the precompute `args` describe, from a sample of `seconds` (nothing run).
+pub fn estimate_only(args: &PrecomputeArgs, seconds: f64) -> Result<Estimate> {
+    let r = resolve(args)?;
+    let job = Job {
+        scene: &r.scene,
+        scene_source: args.scene.clone(),
+        environment: r.environment.clone(),
+        params: r.params.clone(),
+        cache_dir: Some(args.cache_dir.clone()),
+        output: r.output.clone(),
+    };
+    Ok(estimate(&job, std::time::Duration::from_secs_f64(seconds))?.0)
+}
+
+/// Runs `precompute` (with `--dry-run`, only its estimate); returns the output path and the
+/// summary.
+pub fn run(args: &PrecomputeArgs) -> Result<(PathBuf, Option<Summary>)> {
+    if let Some(t) = args.threads {
+        rayon::ThreadPoolBuilder::new().num_threads(t).build_global().context("--threads")?;
+    }
+    let Resolved { scene, params, environment, output, load_s } = resolve(args)?;
     let partial = vcut_data::file::partial_path(&output);
     if args.fresh && partial.exists() {
         std::fs::remove_file(&partial).with_context(|| format!("removing {}", partial.display()))?;
@@ -220,11 +264,58 @@ pub fn run(args: &PrecomputeArgs) -> Result<(PathBuf, Summary)> {
         cache_dir: Some(args.cache_dir.clone()),
         output: output.clone(),
     };
+    let budget = std::time::Duration::from_secs_f64(args.estimate_seconds.clamp(0.0, 600.0));
+    let (estimate, setup) = estimate(&job, budget)?;
+    print_estimate(&estimate);
+    crate::resources::check("precompute", estimate.peak_bytes, (&output, estimate.output_bytes), args.force)?;
+    if args.dry_run {
+        return Ok((output, None));
+    }
     let bars = Bars { multi: MultiProgress::new(), current: Mutex::new(None) };
     let t = Instant::now();
-    let summary = precompute(&job, &bars, &AtomicBool::new(false))?;
+    let summary = precompute_with(&job, Some(setup), &bars, &AtomicBool::new(false))?;
     print_summary(&output, &summary, t.elapsed().as_secs_f64(), &params);
-    Ok((output, summary))
+    print_against(&estimate, &summary);
+    Ok((output, Some(summary)))
+}
+
+/// The estimate as a sentence and key=value lines.
+fn print_estimate(e: &Estimate) {
+    let (sv, sp, ss) = e.sampled;
+    println!(
+        "estimate: {} vertices, {} field points, {:.1} M rays; about {:.1} s on {} threads; output {}; peak memory {} \
+         (from a {ss:.1} s sample of {sv} vertices and {sp} points)",
+        e.vertices,
+        e.field_points,
+        (e.svc_rays + e.field_rays) as f64 / 1e6,
+        e.seconds,
+        rayon::current_num_threads(),
+        human(e.output_bytes),
+        human(e.peak_bytes),
+    );
+    println!("estimate_vertices={}", e.vertices);
+    println!("estimate_field_points={}", e.field_points);
+    println!("estimate_rays={}", e.svc_rays + e.field_rays);
+    println!("estimate_s={:.2}", e.seconds);
+    println!("estimate_svc_s={:.2}", e.svc_seconds);
+    println!("estimate_fields_s={:.2}", e.field_seconds);
+    println!("estimate_output_mb={:.3}", mb(e.output_bytes));
+    println!("estimate_peak_mb={:.1}", mb(e.peak_bytes));
+    println!("estimate_sample_s={ss:.2}");
+}
+
+/// The run's figures against the estimate's: actual peak memory and each ratio.
+fn print_against(e: &Estimate, s: &Summary) {
+    let ray_s: f64 = s.stages.iter().filter(|st| st.name != "directions").map(|st| st.seconds).sum();
+    let rays: u64 = s.stages.iter().map(|st| st.rays.rays_cast).sum();
+    let peak = vcut_scene::budget::peak_memory().unwrap_or(0);
+    println!("peak_rss_mb={:.1}", mb(peak));
+    println!("estimate_vs_actual_s={:.3}", e.seconds / ray_s.max(1e-9));
+    println!("estimate_vs_actual_rays={:.3}", (e.svc_rays + e.field_rays) as f64 / rays.max(1) as f64);
+    println!("estimate_vs_actual_output={:.3}", e.output_bytes as f64 / s.file_bytes.max(1) as f64);
+    if peak > 0 {
+        println!("estimate_vs_actual_peak={:.3}", e.peak_bytes as f64 / peak as f64);
+    }
 }
 
 fn mb(b: u64) -> f64 {

@@ -62,6 +62,31 @@ fn sweeps(quick: bool) -> Vec<(&'static str, Vec<&'static str>)> {
     }
 }
 
+/// Every precompute of the sweeps on `scene_name` from `base`: (knob, value, its arguments, the
+/// output in `data_dir`).
+pub fn variants(
+    scene_name: &str,
+    base: &str,
+    quick: bool,
+    data_dir: &Path,
+) -> Vec<(&'static str, &'static str, crate::precompute::PrecomputeArgs)> {
+    let all: Vec<(&str, &str)> =
+        sweeps(quick).into_iter().flat_map(|(k, vs)| vs.into_iter().map(move |v| (k, v))).collect();
+    all.into_iter()
+        .enumerate()
+        .map(|(i, (key, value))| {
+            let preset = if key == "preset" { value } else { base };
+            let mut args = crate::precompute::PrecomputeArgs::new(&format!("builtin:{scene_name}"), preset);
+            if key != "preset" {
+                args.set.push(format!("{key}={value}"));
+            }
+            args.output = Some(data_dir.join(format!("tradeoff-{scene_name}-{i}.vcuts")));
+            args.fresh = true;
+            (key, value, args)
+        })
+        .collect()
+}
+
 /// Marks the points not dominated in (x, error): lower is better in both.
 fn pareto(points: &[(f64, f64)]) -> Vec<bool> {
     points
@@ -79,20 +104,13 @@ pub fn run(scene_name: &str, base: &str, quick: bool, data_dir: &Path, no_mc: bo
     let mut exact_by_n: BTreeMap<usize, Vec<Vec<Vec3>>> = BTreeMap::new();
     let mut mc: Option<Vec<Vec<Vec3>>> = None;
     let mut points = Vec::new();
-    let all: Vec<(&str, &str)> =
-        sweeps(quick).into_iter().flat_map(|(k, vs)| vs.into_iter().map(move |v| (k, v))).collect();
-    for (i, (key, value)) in all.iter().enumerate() {
+    let all = variants(scene_name, base, quick, data_dir);
+    for (i, (key, value, args)) in all.iter().enumerate() {
         println!("\n== trade-off {}/{}: {scene_name}, {base} with {key} = {value}", i + 1, all.len());
-        let preset = if *key == "preset" { *value } else { base };
-        let mut args = crate::precompute::PrecomputeArgs::new(&format!("builtin:{scene_name}"), preset);
-        if *key != "preset" {
-            args.set.push(format!("{key}={value}"));
-        }
-        let file = data_dir.join(format!("tradeoff-{scene_name}-{i}.vcuts"));
-        args.output = Some(file.clone());
-        args.fresh = true;
+        let file = args.output.clone().context("a variant names its file")?;
         let t = Instant::now();
-        let (_, summary) = crate::precompute::run(&args)?;
+        let (_, summary) = crate::precompute::run(args)?;
+        let summary = summary.context("precompute ran as a dry run")?;
         let precompute_s = t.elapsed().as_secs_f64();
         let mut data = Precomputed::open(&file)?;
         let offset = data.svc_origin_offset();
@@ -127,7 +145,7 @@ pub fn run(scene_name: &str, base: &str, quick: bool, data_dir: &Path, no_mc: bo
         points.push(Point {
             sweep: key.to_string(),
             value: value.to_string(),
-            preset: preset.to_string(),
+            preset: args.preset.clone().unwrap_or_default(),
             figures,
             pareto_size: false,
             pareto_move: false,

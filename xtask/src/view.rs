@@ -77,7 +77,9 @@ fn run_leaves(args: &ViewArgs) -> Result<()> {
     let inputs = vcut_leaf::store::Inputs { scene: &scene, lvc, prt, suns: None };
     let reuse = if p.fresh { vcut_leaf::store::Reuse::Never } else { vcut_leaf::store::Reuse::IfMatching };
     let file = crate::leaves::data_path(p, &inputs);
-    let pre = crate::leaves::precompute(&scene, (&lvc, &prt), None, &file, reuse)?;
+    let Some(pre) = crate::leaves::precompute(&scene, (&lvc, &prt), None, &file, reuse, p.estimate())? else {
+        return Ok(());
+    };
     crate::leaves::print_store(&pre);
     let setup_s = t.elapsed().as_secs_f64();
     let env_spec = args.env.as_deref().unwrap_or("builtin:sky");

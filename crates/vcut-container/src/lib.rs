@@ -219,6 +219,15 @@ fn record_bytes<K: Kind>(id: SectionId<K>, len: u64, crc: u32) -> [u8; RECORD_LE
     r
 }
 
+/// The space free for a new file at `path` (on the file system of its nearest existing
+/// ancestor folder, so a folder still to be made reports the space it will get), if the system
+/// says.
+pub fn available_space(path: &Path) -> Option<u64> {
+    let absolute = std::path::absolute(path).ok()?;
+    let dir = absolute.ancestors().skip(1).find(|d| d.is_dir())?;
+    fs4::available_space(dir).ok()
+}
+
 /// The temporary name a file is written under.
 pub fn partial_path(path: &Path) -> PathBuf {
     let mut name = path.file_name().map(|n| n.to_os_string()).unwrap_or_default();
@@ -698,6 +707,8 @@ mod tests {
         let mut r = Reader::<T>::open(&path).unwrap();
         let err = r.verify().unwrap_err().to_string();
         assert!(err.contains("section chunk (object 0, chunk 3): checksum mismatch"), "{err}");
+        assert!(available_space(&path).is_some_and(|b| b > 0));
+        assert!(available_space(&path.join("not/yet/made.vtest")).is_some());
         for cut in [whole.len() - 1, whole.len() / 2, 70, 3] {
             std::fs::write(&path, &whole[..cut]).unwrap();
             let err = Reader::<T>::open(&path).err().unwrap().to_string();

@@ -159,7 +159,26 @@ impl Plan {
     /// continues each direction's encoder (left as it was: the checkpoint carries the states).
     fn compute_chunk(&self, scene: &LeafScene, k: usize, encoders: &[Encoder]) -> Vec<u8> {
         let n = scene.vertex_count();
-        let (start, end) = (k * CHUNK, ((k + 1) * CHUNK).min(n));
+        let mut out = Vec::new();
+        for (emitted, state) in
+            self.compute_range(scene, k * CHUNK..((k + 1) * CHUNK).min(n), encoders).into_iter().flatten()
+        {
+            put_varint(&mut out, emitted.len() as u64);
+            out.extend_from_slice(&emitted);
+            out.push(state.len() as u8);
+            out.extend_from_slice(&state);
+        }
+        out
+    }
+
+    /// The vertices `start..end` traced and convolved with every wanted disk: per direction (`None`
+    /// where not wanted), the bytes its encoder emitted and its state after them.
+    fn compute_range(
+        &self,
+        scene: &LeafScene,
+        std::ops::Range { start, end }: std::ops::Range<usize>,
+        encoders: &[Encoder],
+    ) -> Vec<Option<(Vec<u8>, Vec<u8>)>> {
         let occ = scene.occluder();
         let eps = scene.ray_offset();
         // Visibility of the chunk's vertices along each traced direction, vertex-major.
@@ -178,7 +197,7 @@ impl Plan {
             })
             .collect();
         // Re-bin per sun direction: each direction's encoder takes the chunk's column.
-        let pieces: Vec<Option<(Vec<u8>, Vec<u8>)>> = encoders
+        encoders
             .par_iter()
             .enumerate()
             .map(|(j, enc)| {
@@ -200,15 +219,7 @@ impl Plan {
                 }
                 Some((enc.take_output(), enc.state()))
             })
-            .collect();
-        let mut out = Vec::new();
-        for (emitted, state) in pieces.into_iter().flatten() {
-            put_varint(&mut out, emitted.len() as u64);
-            out.extend_from_slice(&emitted);
-            out.push(state.len() as u8);
-            out.extend_from_slice(&state);
-        }
-        out
+            .collect()
     }
 
     /// Takes chunk checkpoint `payload`: appends what it emitted to each wanted direction's
@@ -283,7 +294,67 @@ fn get_varint(b: &[u8], at: &mut usize) -> Option<u64> {
     None
 }
 
+/// What [`Lvc::sample`] measured.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct LvcSample {
+    /// Vertices sampled (in runs of [`SAMPLE_RUN`] consecutive ones).
+    pub vertices: usize,
+    /// Their wall seconds on all cores.
+    pub seconds: f64,
+    /// Rays each vertex casts (one per cube texel a chosen disk covers).
+    pub rays_per_vertex: u64,
+    /// Sun directions whose maps are made.
+    pub directions: usize,
+    /// Their maps' encoded bytes over the sampled vertices.
+    pub encoded_bytes: f64,
+}
+
+/// Consecutive vertices a sample takes together, so its run-length ratio is a map's.
+pub const SAMPLE_RUN: usize = 16;
+
 impl Lvc {
+    /// Times the work of [`Lvc::compute_suns`] on runs of consecutive vertices spread over the
+    /// scene (a van der Corput order) until `budget` is spent: for an estimate of the whole.
+    pub fn sample(scene: &LeafScene, params: &LvcParams, suns: &[usize], budget: std::time::Duration) -> LvcSample {
+        let plan = Plan::new(params, suns);
+        let n = scene.vertex_count();
+        let runs = n.div_ceil(SAMPLE_RUN);
+        let fresh: Vec<Encoder> = (0..plan.dirs.len()).map(|_| Encoder::new()).collect();
+        let mut out = LvcSample {
+            rays_per_vertex: plan.traced.len() as u64,
+            directions: plan.wanted.iter().filter(|&&w| w).count(),
+            ..LvcSample::default()
+        };
+        let mut seen = vec![false; runs];
+        for k in 0..(4 * runs as u64 + 64) {
+            let r = ((k.reverse_bits() as f64 / 2f64.powi(64)) * runs as f64) as usize;
+            if r >= runs || std::mem::replace(&mut seen[r], true) {
+                continue;
+            }
+            let range = r * SAMPLE_RUN..((r + 1) * SAMPLE_RUN).min(n);
+            let t = std::time::Instant::now();
+            let pieces = plan.compute_range(scene, range.clone(), &fresh);
+            out.seconds += t.elapsed().as_secs_f64();
+            out.vertices += range.len();
+            // What each direction's stream holds for the run: the bytes emitted, and what its
+            // open run will cost — in a whole map a run of shadow or light goes on into the next
+            // vertices, a byte per 64, so it counts its share of that byte, not a whole one (a
+            // state's own bytes are a checkpoint's, not the map's).
+            let stream = |(e, s): (Vec<u8>, Vec<u8>)| {
+                let open = match s.as_slice() {
+                    [0 | 255, n] => f64::from(*n) / 64.0,
+                    _ => Encoder::from_state(&s).map_or(s.len(), |x| x.finish().len()) as f64,
+                };
+                e.len() as f64 + open
+            };
+            out.encoded_bytes += pieces.into_iter().flatten().map(stream).sum::<f64>();
+            if out.seconds >= budget.as_secs_f64() {
+                break;
+            }
+        }
+        out
+    }
+
     /// Traces every vertex's visibility over the cube's directions and convolves it with the sun
     /// disk; `progress(done, total)` after each chunk of vertices.
     pub fn compute(scene: &LeafScene, params: &LvcParams, progress: impl FnMut(usize, usize)) -> Lvc {

@@ -102,95 +102,125 @@ fn frame(n: Vec3, seed: u64, v: usize, side: usize) -> (Vec3, Vec3, Vec3) {
     (t, n.cross(t), n)
 }
 
+/// The stratified pattern and its weight (π over its size) for `params.rays`.
+fn pattern_of(params: &PrtParams) -> (Vec<Vec3>, f32) {
+    let k = (params.rays.max(1) as f32).sqrt().floor().max(1.0) as u32;
+    let pattern = cosine_pattern(k);
+    let weight = PI / pattern.len() as f32;
+    (pattern, weight)
+}
+
+/// Pass 0 for vertex `v`: its direct transfer per side and the hits its rays made.
+fn trace(scene: &LeafScene, params: &PrtParams, (pattern, weight): (&[Vec3], f32), v: usize) -> Traced {
+    let (occ, eps) = (scene.occluder(), scene.ray_offset());
+    let (p, nrm) = (scene.positions()[v], scene.normals()[v]);
+    let s = scene.scatter()[v];
+    let mut direct = [[0.0f32; COEFFS]; 2];
+    let mut hits: [Vec<Hit>; 2] = [Vec::new(), Vec::new()];
+    for side in 0..2 {
+        // Opaque surfaces receive light on their outer side only.
+        if side == 1 && !s.translucent() {
+            continue;
+        }
+        let ns = if side == 0 { nrm } else { -nrm };
+        let (t, b, z) = frame(ns, params.seed, v, side);
+        for &l in pattern {
+            let d = (t * l.x + b * l.y + z * l.z).normalize();
+            match occ.closest_hit(p + ns * eps, d, f32::INFINITY) {
+                None => {
+                    for (acc, y) in direct[side].iter_mut().zip(basis(d)) {
+                        *acc += weight * y;
+                    }
+                }
+                Some((tri, dist)) => {
+                    let q = p + ns * eps + d * dist;
+                    let [_, b1, b2] = scene.barycentric(tri, q);
+                    let nq = scene.hit_normal(tri, [1.0 - b1 - b2, b1, b2]);
+                    let back = u32::from(nq.dot(d) > 0.0);
+                    hits[side].push(Hit {
+                        tri: tri as u32 | back << 31,
+                        b1: (b1 * 65535.0).round() as u16,
+                        b2: (b2 * 65535.0).round() as u16,
+                    });
+                }
+            }
+        }
+    }
+    (direct, hits)
+}
+
+/// One bounce at a vertex whose rays made `hits`: what the previous order's transfer at the hit
+/// points sends back. What leaves a hit point's facing side is R_side/π·E_side + T/π·E_other.
+fn bounce(
+    scene: &LeafScene,
+    weight: f32,
+    hits: &[Vec<Hit>; 2],
+    previous: &[[[Vec3; COEFFS]; 2]],
+) -> [[Vec3; COEFFS]; 2] {
+    let (tris, scatter) = (scene.triangles(), scene.scatter());
+    let mut out = [[Vec3A::ZERO; COEFFS]; 2];
+    for side in 0..2 {
+        for h in &hits[side] {
+            let w = h.weights();
+            let t = tris[h.tri()];
+            let facing = h.side();
+            for (c, &vi) in t.iter().enumerate() {
+                let vi = vi as usize;
+                let s = &scatter[vi];
+                let rf = Vec3A::from(s.r[facing] * (w[c] * weight / PI));
+                let tf = Vec3A::from(s.t * (w[c] * weight / PI));
+                let (pf, po) = (&previous[vi][facing], &previous[vi][1 - facing]);
+                for i in 0..COEFFS {
+                    out[side][i] += rf * Vec3A::from(pf[i]) + tf * Vec3A::from(po[i]);
+                }
+            }
+        }
+    }
+    out.map(|s| s.map(Vec3::from))
+}
+
+/// What [`Transfer::sample`] measured.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct PrtSample {
+    /// Vertices sampled.
+    pub vertices: usize,
+    /// Wall seconds of their ray pass (on all cores).
+    pub trace_seconds: f64,
+    /// Wall seconds of one bounce over them.
+    pub bounce_seconds: f64,
+    /// Rays they traced.
+    pub rays: u64,
+    /// Of which hit a surface (kept for the bounces, 8 bytes each).
+    pub hits: u64,
+}
+
 impl Transfer {
     /// Ray-traces every vertex's transfer; `progress(done, total)` as vertices finish the trace.
     pub fn compute(scene: &LeafScene, params: &PrtParams, progress: impl Fn(usize, usize) + Sync) -> Transfer {
-        let k = (params.rays.max(1) as f32).sqrt().floor().max(1.0) as u32;
-        let pattern = cosine_pattern(k);
-        let weight = PI / pattern.len() as f32;
+        let (pattern, weight) = pattern_of(params);
         let n = scene.vertex_count();
-        let occ = scene.occluder();
-        let eps = scene.ray_offset();
         let done = std::sync::atomic::AtomicUsize::new(0);
         // Pass 0: direct transfer, and the hits every bounce reuses.
         let traced: Vec<Traced> = (0..n)
             .into_par_iter()
             .map(|v| {
-                let (p, nrm) = (scene.positions()[v], scene.normals()[v]);
-                let s = scene.scatter()[v];
-                let mut direct = [[0.0f32; COEFFS]; 2];
-                let mut hits: [Vec<Hit>; 2] = [Vec::new(), Vec::new()];
-                for side in 0..2 {
-                    // Opaque surfaces receive light on their outer side only.
-                    if side == 1 && !s.translucent() {
-                        continue;
-                    }
-                    let ns = if side == 0 { nrm } else { -nrm };
-                    let (t, b, z) = frame(ns, params.seed, v, side);
-                    for &l in &pattern {
-                        let d = (t * l.x + b * l.y + z * l.z).normalize();
-                        match occ.closest_hit(p + ns * eps, d, f32::INFINITY) {
-                            None => {
-                                for (acc, y) in direct[side].iter_mut().zip(basis(d)) {
-                                    *acc += weight * y;
-                                }
-                            }
-                            Some((tri, dist)) => {
-                                let q = p + ns * eps + d * dist;
-                                let [_, b1, b2] = scene.barycentric(tri, q);
-                                let nq = scene.hit_normal(tri, [1.0 - b1 - b2, b1, b2]);
-                                let back = u32::from(nq.dot(d) > 0.0);
-                                hits[side].push(Hit {
-                                    tri: tri as u32 | back << 31,
-                                    b1: (b1 * 65535.0).round() as u16,
-                                    b2: (b2 * 65535.0).round() as u16,
-                                });
-                            }
-                        }
-                    }
-                }
+                let out = trace(scene, params, (&pattern, weight), v);
                 let d = done.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1;
                 if d % 4096 == 0 || d == n {
                     progress(d, n);
                 }
-                (direct, hits)
+                out
             })
             .collect();
         let rays_traced =
             (0..n).map(|v| if scene.scatter()[v].translucent() { 2 } else { 1 }).sum::<u64>() * pattern.len() as u64;
         let direct: Vec<[[f32; COEFFS]; 2]> = traced.iter().map(|(d, _)| *d).collect();
-        // Bounces: what leaves a hit point's facing side is R_side/π·E_side + T/π·E_other of the
-        // previous order's transfer there.
         let mut previous: Vec<[[Vec3; COEFFS]; 2]> =
             direct.iter().map(|d| [d[0].map(Vec3::splat), d[1].map(Vec3::splat)]).collect();
         let mut indirect = vec![[[Vec3::ZERO; COEFFS]; 2]; n];
-        let tris = scene.triangles();
-        let scatter = scene.scatter();
         for _ in 0..params.bounces {
-            let next: Vec<[[Vec3; COEFFS]; 2]> = traced
-                .par_iter()
-                .map(|(_, hits)| {
-                    let mut out = [[Vec3A::ZERO; COEFFS]; 2];
-                    for side in 0..2 {
-                        for h in &hits[side] {
-                            let w = h.weights();
-                            let t = tris[h.tri()];
-                            let facing = h.side();
-                            for (c, &vi) in t.iter().enumerate() {
-                                let vi = vi as usize;
-                                let s = &scatter[vi];
-                                let rf = Vec3A::from(s.r[facing] * (w[c] * weight / PI));
-                                let tf = Vec3A::from(s.t * (w[c] * weight / PI));
-                                let (pf, po) = (&previous[vi][facing], &previous[vi][1 - facing]);
-                                for i in 0..COEFFS {
-                                    out[side][i] += rf * Vec3A::from(pf[i]) + tf * Vec3A::from(po[i]);
-                                }
-                            }
-                        }
-                    }
-                    out.map(|s| s.map(Vec3::from))
-                })
-                .collect();
+            let next: Vec<[[Vec3; COEFFS]; 2]> =
+                traced.par_iter().map(|(_, hits)| bounce(scene, weight, hits, &previous)).collect();
             for (acc, x) in indirect.iter_mut().zip(&next) {
                 for side in 0..2 {
                     for i in 0..COEFFS {
@@ -201,6 +231,28 @@ impl Transfer {
             previous = next;
         }
         Transfer { direct, indirect, params: *params, rays_traced }
+    }
+
+    /// Times [`Transfer::compute`]'s work on `vertices` only — their ray pass, and one bounce
+    /// over their hits — for an estimate of the whole.
+    pub fn sample(scene: &LeafScene, params: &PrtParams, vertices: &[usize]) -> PrtSample {
+        let (pattern, weight) = pattern_of(params);
+        let t = std::time::Instant::now();
+        let traced: Vec<Traced> = vertices.par_iter().map(|&v| trace(scene, params, (&pattern, weight), v)).collect();
+        let trace_seconds = t.elapsed().as_secs_f64();
+        let previous = vec![[[Vec3::ZERO; COEFFS]; 2]; scene.vertex_count()];
+        let t = std::time::Instant::now();
+        let bounced: Vec<_> = traced.par_iter().map(|(_, hits)| bounce(scene, weight, hits, &previous)).collect();
+        std::hint::black_box(bounced);
+        let bounce_seconds = t.elapsed().as_secs_f64();
+        let sides: u64 = vertices.iter().map(|&v| if scene.scatter()[v].translucent() { 2 } else { 1 }).sum();
+        PrtSample {
+            vertices: vertices.len(),
+            trace_seconds,
+            bounce_seconds,
+            rays: sides * pattern.len() as u64,
+            hits: traced.iter().map(|(_, h)| (h[0].len() + h[1].len()) as u64).sum(),
+        }
     }
 
     /// Bytes the transfer vectors take (f32).

@@ -259,9 +259,14 @@ pub fn precompute(
     Ok((LeafData { lvc, transfer }, outcome))
 }
 
-/// Loads the leaf data of `inputs` from a finished file, checking it was computed from them.
-pub fn open(path: &Path, inputs: &Inputs<'_>) -> Result<LeafData, StoreError> {
+/// Whether the finished file at `path` was computed from `inputs` (its `params` section only):
+/// `Ok` if so, else what differs or why it cannot be read.
+pub fn holds(path: &Path, inputs: &Inputs<'_>) -> Result<(), StoreError> {
     let mut r = Reader::<LeafSection>::open(path)?;
+    check_params(&mut r, path, inputs)
+}
+
+fn check_params(r: &mut Reader<LeafSection>, path: &Path, inputs: &Inputs<'_>) -> Result<(), StoreError> {
     let params = r.section(SectionId::new(LeafSection::Params, 0, 0))?;
     let recorded = String::from_utf8_lossy(&params);
     let wanted = inputs.identity();
@@ -271,6 +276,13 @@ pub fn open(path: &Path, inputs: &Inputs<'_>) -> Result<LeafData, StoreError> {
     if recorded.lines().count() != wanted.lines().count() {
         return Err(StoreError::Mismatch { path: path.into(), differs: "a different set of parameters".into() });
     }
+    Ok(())
+}
+
+/// Loads the leaf data of `inputs` from a finished file, checking it was computed from them.
+pub fn open(path: &Path, inputs: &Inputs<'_>) -> Result<LeafData, StoreError> {
+    let mut r = Reader::<LeafSection>::open(path)?;
+    check_params(&mut r, path, inputs)?;
     let suns: Vec<usize> = match inputs.suns {
         Some(s) => s.to_vec(),
         None => (0..crate::lvc::CubeDirections { resolution: inputs.lvc.resolution.max(1) }.len()).collect(),
@@ -348,4 +360,88 @@ fn read_transfer(
         }
     };
     Ok(Transfer { direct, indirect, params, rays_traced })
+}
+
+/// What computing the leaf data of some [`Inputs`] will cost.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct LeafEstimate {
+    /// Vertices.
+    pub vertices: u64,
+    /// Rays the light-visibility maps cast.
+    pub lvc_rays: u64,
+    /// Rays the transfer casts.
+    pub prt_rays: u64,
+    /// Wall seconds of the maps on this machine's threads.
+    pub lvc_seconds: f64,
+    /// Wall seconds of the transfer.
+    pub prt_seconds: f64,
+    /// Bytes of the `.vleaf` file.
+    pub output_bytes: u64,
+    /// Peak resident memory of the process computing it.
+    pub peak_bytes: u64,
+    /// Vertices sampled for the maps and for the transfer, and the seconds the samples took.
+    pub sampled: (usize, usize, f64),
+}
+
+/// Estimates computing `inputs` from a timed sample of its own work (about `budget`, half
+/// each for the maps and the transfer): runs of consecutive vertices for the maps (so the
+/// run-length ratio is the maps'), spread vertices for the transfer's ray pass and one bounce.
+pub fn estimate(inputs: &Inputs<'_>, budget: std::time::Duration) -> LeafEstimate {
+    let t0 = Instant::now();
+    let scene = inputs.scene;
+    let n = scene.vertex_count();
+    let all: Vec<usize>;
+    let suns = match inputs.suns {
+        Some(s) => s,
+        None => {
+            all = (0..crate::lvc::CubeDirections { resolution: inputs.lvc.resolution.max(1) }.len()).collect();
+            &all
+        }
+    };
+    let lvc = Lvc::sample(scene, &inputs.lvc, suns, budget / 2);
+    let per = |x: f64, k: usize| if k == 0 { 0.0 } else { x / k as f64 * n as f64 };
+    // The transfer: batches of spread vertices until its half of the budget is spent.
+    let order: Vec<usize> = {
+        let mut seen = vec![false; n];
+        (0..4 * n as u64 + 64)
+            .map(|k| ((k.reverse_bits() as f64 / 2f64.powi(64)) * n as f64) as usize)
+            .filter(|&v| v < n && !std::mem::replace(&mut seen[v], true))
+            .collect()
+    };
+    let mut prt = crate::prt::PrtSample::default();
+    for batch in order.chunks(64) {
+        let s = Transfer::sample(scene, &inputs.prt, batch);
+        prt.vertices += s.vertices;
+        prt.trace_seconds += s.trace_seconds;
+        prt.bounce_seconds += s.bounce_seconds;
+        prt.rays += s.rays;
+        prt.hits += s.hits;
+        if prt.trace_seconds + prt.bounce_seconds >= (budget / 2).as_secs_f64() {
+            break;
+        }
+    }
+    let bounces = f64::from(inputs.prt.bounces);
+    let lvc_bytes = per(lvc.encoded_bytes, lvc.vertices) as u64;
+    let chunks = n.div_ceil(crate::lvc::CHUNK) as u64;
+    let transfer_sections = n.div_ceil(TRANSFER_CHUNK) as u64;
+    // Records and table entries, the params text, each checkpoint's lengths and states.
+    let overhead = 64 + 1024 + (chunks + transfer_sections + 2) * 72 + chunks * lvc.directions as u64 * 4;
+    let output_bytes = overhead + lvc_bytes + (n * TRANSFER_VERTEX_BYTES) as u64 + 8;
+    // Memory: what is resident now, plus the larger of the maps' phase (a chunk's visibility
+    // rows, the streams so far) and the transfer's (the maps kept, every vertex's hits, direct
+    // and three bounce arrays, the saved sections).
+    let resident = vcut_scene::budget::resident_memory().unwrap_or(0);
+    let lvc_phase = (crate::lvc::CHUNK as u64) * (lvc.rays_per_vertex + 24) + lvc_bytes + lvc.directions as u64 * 96;
+    let hits = per(prt.hits as f64, prt.vertices) as u64;
+    let prt_phase = lvc_bytes + hits * 8 + n as u64 * (48 + 200 + 3 * 600 + TRANSFER_VERTEX_BYTES as u64);
+    LeafEstimate {
+        vertices: n as u64,
+        lvc_rays: lvc.rays_per_vertex * n as u64,
+        prt_rays: per(prt.rays as f64, prt.vertices) as u64,
+        lvc_seconds: per(lvc.seconds, lvc.vertices),
+        prt_seconds: per(prt.trace_seconds + bounces * prt.bounce_seconds, prt.vertices),
+        output_bytes,
+        peak_bytes: resident + lvc_phase.max(prt_phase),
+        sampled: (lvc.vertices, prt.vertices, t0.elapsed().as_secs_f64()),
+    }
 }

@@ -177,29 +177,11 @@ pub fn sphere_cuts(
     s: u32,
     params: SelectParams,
 ) -> SphereCuts {
-    // Exact fields are built in the ray walk itself (no O(N) statistics per point).
-    let exact = params.max_error == 0.0;
     let results: Vec<(Cut, bool, RayStats)> = (0..layout.points_per_sphere() as u32)
         .into_par_iter()
         .map_init(
             || (vec![0.0f32; tree.leaf_count()], Selector::default()),
-            |(values, selector), i| {
-                let p = layout.point(s, i);
-                if occ.inside(p) {
-                    let n = tree.leaf_count() as u64;
-                    let cut = Cut::root(tree.height(), 0.0).unwrap_or_else(|e| unreachable!("{e}"));
-                    return (cut, true, RayStats { resolved_without_ray: n, ..RayStats::default() });
-                }
-                if exact {
-                    let (cut, stats) = exact_point_cut(occ, tree, p, layout.center, layout.radius);
-                    return (cut, false, stats);
-                }
-                let stats = point_visibility(occ, tree, p, layout.center, layout.radius, values);
-                let cut = selector
-                    .select(values, leaf_areas, params)
-                    .unwrap_or_else(|_| unreachable!("a tree's leaf count is a power of two"));
-                (cut, false, stats)
-            },
+            |scratch, i| point_cut(occ, tree, leaf_areas, layout.point(s, i), layout, params, scratch),
         )
         .collect();
     let mut out = SphereCuts::default();
@@ -209,6 +191,35 @@ pub fn sphere_cuts(
         out.stats += stats;
     }
     out
+}
+
+/// The field cut at sample point `p` of `layout` against `occ`, whether `p` is inside the object
+/// (then no ray is cast and the cut is fully occluded), and the rays it took. `scratch`: a
+/// per-thread leaf-value buffer and selector.
+pub fn point_cut(
+    occ: &Occluder,
+    tree: &DirectionTree,
+    leaf_areas: &[f64],
+    p: glam::Vec3,
+    layout: &FieldLayout,
+    params: SelectParams,
+    (values, selector): &mut (Vec<f32>, Selector),
+) -> (Cut, bool, RayStats) {
+    if occ.inside(p) {
+        let n = tree.leaf_count() as u64;
+        let cut = Cut::root(tree.height(), 0.0).unwrap_or_else(|e| unreachable!("{e}"));
+        return (cut, true, RayStats { resolved_without_ray: n, ..RayStats::default() });
+    }
+    // Exact fields are built in the ray walk itself (no O(N) statistics per point).
+    if params.max_error == 0.0 {
+        let (cut, stats) = exact_point_cut(occ, tree, p, layout.center, layout.radius);
+        return (cut, false, stats);
+    }
+    let stats = point_visibility(occ, tree, p, layout.center, layout.radius, values);
+    let cut = selector
+        .select(values, leaf_areas, params)
+        .unwrap_or_else(|_| unreachable!("a tree's leaf count is a power of two"));
+    (cut, false, stats)
 }
 
 /// The whole field of `mesh` (every sphere), for tests and small layouts; the precompute writes

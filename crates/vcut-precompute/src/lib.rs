@@ -13,7 +13,9 @@
 //!   every sample point of a `vcut_data::FieldLayout`, rays only inside its bounding cone, points
 //!   inside it marked and not traced.
 //! - [`params`]: [`PrecomputeParams`] and the presets `fast`, `balanced`, `paper`.
-//! - [`run`]: the whole job into a resumable `.vcuts` file, with progress and a summary.
+//! - [`run`]: the whole job into a resumable `.vcuts` file, with progress and a summary;
+//!   [`setup`]: what it builds before casting rays and the one cut of a vertex or point;
+//!   [`estimate`]: its time, rays, output bytes and peak memory from a short timed sample.
 //!
 //! # Invariants
 //! Rays start at the vertex offset along its normal by `origin_offset` × the object's bounding
@@ -34,9 +36,11 @@
 //! assert_eq!(stats.rays_occluded, 0); // nothing of a plane occludes it
 //! ```
 
+pub mod estimate;
 pub mod field;
 pub mod params;
 pub mod run;
+pub mod setup;
 pub mod svc;
 
 pub use params::PrecomputeParams;

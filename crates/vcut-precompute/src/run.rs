@@ -11,9 +11,9 @@
 //! `svc` chunks (`svc_chunk` vertices each), then one `field` section per sphere. Each section is
 //! deterministic (parallel work is collected in order), so a resumed file is byte-identical.
 
-use crate::field::{leaf_solid_angles, sphere_cuts};
+use crate::field::sphere_cuts;
 use crate::params::PrecomputeParams;
-use crate::svc::leaf_visibility;
+use crate::setup::Setup;
 use crate::{Occluder, RayStats, cone_outside, visit_leaves};
 use glam::Vec3;
 use rayon::prelude::*;
@@ -21,7 +21,6 @@ use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;
 use vcut_cut::codec::{self, ShapeCoding, ValueFormat};
-use vcut_cut::select::Selector;
 use vcut_data::file::{FileError, Reader, SectionId, SectionKind, Writer};
 use vcut_data::{FieldLayout, sections};
 use vcut_dirtree::DirectionTree;
@@ -311,6 +310,17 @@ fn field_rays(tree: &DirectionTree, p: Vec3, l: &FieldLayout) -> Vec<(Vec3, Vec3
 /// Runs the precompute (resuming `<output>.partial` if present). Setting `interrupt` stops it
 /// after the section being computed; the finished sections stay for the next run.
 pub fn precompute(job: &Job<'_>, progress: &dyn Progress, interrupt: &AtomicBool) -> Result<Summary, PrecomputeError> {
+    precompute_with(job, None, progress, interrupt)
+}
+
+/// [`precompute`], reusing the directions, layouts and occluders an estimate built
+/// ([`crate::estimate::estimate`]) when given.
+pub fn precompute_with<'a>(
+    job: &'a Job<'a>,
+    setup: Option<Setup<'a>>,
+    progress: &dyn Progress,
+    interrupt: &AtomicBool,
+) -> Result<Summary, PrecomputeError> {
     let p = &job.params;
     p.check()?;
     let scene = job.scene;
@@ -340,10 +350,14 @@ pub fn precompute(job: &Job<'_>, progress: &dyn Progress, interrupt: &AtomicBool
         p.to_toml()
     );
     writer.put(SectionId::new(SectionKind::Params, 0, 0), params_text.as_bytes())?;
-    let (set, areas, tree) = directions(p, job.cache_dir.as_deref())?;
+    let setup = match setup {
+        Some(s) => s,
+        None => Setup::new(job)?,
+    };
+    let tree = &setup.tree;
     writer.put(
         SectionId::new(SectionKind::Directions, 0, 0),
-        &sections::encode_directions(set.directions(), &areas, tree.leaf_to_input()),
+        &sections::encode_directions(setup.set.directions(), &setup.areas, tree.leaf_to_input()),
     )?;
     for (i, o) in scene.objects.iter().enumerate() {
         writer.put(
@@ -351,25 +365,7 @@ pub fn precompute(job: &Job<'_>, progress: &dyn Progress, interrupt: &AtomicBool
             &sections::encode_mesh(&o.name, o.motion, &o.material, &o.mesh),
         )?;
     }
-    let needs = objects_needing_fields(scene);
-    let layouts: Vec<Option<FieldLayout>> = scene
-        .objects
-        .iter()
-        .zip(&needs)
-        .map(|(o, &n)| {
-            n.then(|| {
-                crate::field::layout_around(
-                    &o.mesh,
-                    p.field_spheres,
-                    p.field_resolution,
-                    [p.field_inner, p.field_inner_flat],
-                    p.field_outer,
-                    p.field_spacing,
-                )
-            })
-        })
-        .collect();
-    for (i, l) in layouts.iter().enumerate() {
+    for (i, l) in setup.layouts.iter().enumerate() {
         if let Some(l) = l {
             writer.put(SectionId::new(SectionKind::FieldLayout, i as u32, 0), &sections::encode_field_layout(l))?;
         }
@@ -377,27 +373,15 @@ pub fn precompute(job: &Job<'_>, progress: &dyn Progress, interrupt: &AtomicBool
     progress.advance(1);
     progress.end_stage();
     stages.push(StageSummary { seconds: t0.elapsed().as_secs_f64(), ..StageSummary::new("directions") });
-    let leaf_areas = leaf_solid_angles(&tree);
     let root = tree.height();
 
     // Stage 2: SVCs.
     let t0 = Instant::now();
-    let statics: Vec<&vcut_scene::Mesh> =
-        scene.objects.iter().filter(|o| o.motion == Motion::Static).map(|o| &o.mesh).collect();
-    let static_occ = (!statics.is_empty()).then(|| Occluder::new(&statics));
-    let own_occ: Vec<Option<Occluder>> =
-        scene.objects.iter().map(|o| (o.motion == Motion::Movable).then(|| Occluder::new(&[&o.mesh]))).collect();
-    let occ_of = |i: usize| {
-        own_occ[i].as_ref().or(static_occ.as_ref()).unwrap_or_else(|| unreachable!("static objects share one occluder"))
-    };
-    let offset_of = |i: usize| p.svc_origin_offset * scene.objects[i].mesh.bounds().radius.max(f32::MIN_POSITIVE);
     let total_vertices: usize = scene.objects.iter().map(|o| o.mesh.vertex_count()).sum();
     let mut raw = RawMeter::default();
     progress.stage("svc", total_vertices as u64);
     let mut svc = StageSummary::new("svc");
     for (i, o) in scene.objects.iter().enumerate() {
-        let occ = occ_of(i);
-        let offset = offset_of(i);
         let n = o.mesh.vertex_count();
         for (chunk, start) in (0..n).step_by(p.svc_chunk as usize).enumerate() {
             let end = (start + p.svc_chunk as usize).min(n);
@@ -410,15 +394,11 @@ pub fn precompute(job: &Job<'_>, progress: &dyn Progress, interrupt: &AtomicBool
             let results: Vec<(vcut_cut::Cut, RayStats)> = (start..end)
                 .into_par_iter()
                 .map_init(
-                    || (vec![0.0f32; tree.leaf_count()], Selector::default()),
-                    |(values, selector), v| {
-                        let (pos, nrm) = (o.mesh.positions()[v], o.mesh.normals()[v]);
-                        let stats = leaf_visibility(occ, &tree, pos + nrm * offset, nrm, values);
-                        let cut = selector
-                            .select(values, &leaf_areas, p.svc_select())
-                            .unwrap_or_else(|_| unreachable!("a tree's leaf count is a power of two"));
+                    || setup.scratch(),
+                    |scratch, v| {
+                        let out = setup.svc_cut(i, v, scratch);
                         progress.advance(1);
-                        (cut, stats)
+                        out
                     },
                 )
                 .collect();
@@ -430,10 +410,10 @@ pub fn precompute(job: &Job<'_>, progress: &dyn Progress, interrupt: &AtomicBool
             svc.computed += 1;
             progress.section(id, false);
             raw.measure_all(
-                occ,
+                setup.svc_occluder(i),
                 (start..end).step_by(RAW_STRIDE).map(|v| {
-                    let (pos, nrm) = (o.mesh.positions()[v], o.mesh.normals()[v]);
-                    svc_rays(&tree, pos + nrm * offset, nrm)
+                    let (origin, normal) = setup.svc_origin(i, v);
+                    svc_rays(tree, origin, normal)
                 }),
             );
         }
@@ -445,17 +425,14 @@ pub fn precompute(job: &Job<'_>, progress: &dyn Progress, interrupt: &AtomicBool
 
     // Stage 3: fields.
     let t0 = Instant::now();
-    let field_objects: Vec<usize> = (0..scene.objects.len()).filter(|&i| layouts[i].is_some()).collect();
-    let field_occ: Vec<Option<Occluder>> =
-        scene.objects.iter().zip(&layouts).map(|(o, l)| l.map(|_| Occluder::new(&[&o.mesh]))).collect();
+    let field_objects = setup.field_objects();
     let mut raw = RawMeter::default();
-    let field_points: u64 = field_objects.iter().map(|&i| layouts[i].map_or(0, |l| l.point_count() as u64)).sum();
+    let field_points: u64 = field_objects.iter().map(|&i| setup.layouts[i].map_or(0, |l| l.point_count() as u64)).sum();
     progress.stage("fields", field_points);
     let mut fields = StageSummary::new("fields");
     let mut inside_points = 0u64;
     for &i in &field_objects {
-        let (l, occ) =
-            (layouts[i].unwrap_or_else(|| unreachable!()), field_occ[i].as_ref().unwrap_or_else(|| unreachable!()));
+        let l = setup.layouts[i].unwrap_or_else(|| unreachable!());
         for s in 0..l.spheres {
             let id = SectionId::new(SectionKind::Field, i as u32, s);
             check_interrupt(&writer)?;
@@ -463,7 +440,7 @@ pub fn precompute(job: &Job<'_>, progress: &dyn Progress, interrupt: &AtomicBool
                 continue;
             }
             let c0 = Instant::now();
-            let sc = sphere_cuts(occ, &tree, &leaf_areas, &l, s, p.field_select());
+            let sc = sphere_cuts(setup.alone(i), tree, &setup.leaf_areas, &l, s, p.field_select());
             progress.advance(l.points_per_sphere() as u64);
             inside_points += sc.inside.iter().filter(|&&x| x).count() as u64;
             fields.rays += sc.stats;
@@ -476,11 +453,11 @@ pub fn precompute(job: &Job<'_>, progress: &dyn Progress, interrupt: &AtomicBool
             fields.computed += 1;
             progress.section(id, false);
             raw.measure_all(
-                occ,
+                setup.alone(i),
                 (0..l.points_per_sphere())
                     .step_by(RAW_STRIDE)
                     .filter(|&k| !sc.inside[k])
-                    .map(|k| field_rays(&tree, l.point(s, k as u32), &l)),
+                    .map(|k| field_rays(tree, l.point(s, k as u32), &l)),
             );
         }
     }

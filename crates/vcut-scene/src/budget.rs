@@ -42,6 +42,22 @@ pub fn available_memory() -> Option<u64> {
     kib.checked_mul(1024)
 }
 
+/// This process's resident memory now (Linux: `VmRSS`), if the system says.
+pub fn resident_memory() -> Option<u64> {
+    status_kib("VmRSS:")
+}
+
+/// This process's peak resident memory so far (Linux: `VmHWM`), if the system says.
+pub fn peak_memory() -> Option<u64> {
+    status_kib("VmHWM:")
+}
+
+fn status_kib(key: &str) -> Option<u64> {
+    let text = std::fs::read_to_string("/proc/self/status").ok()?;
+    let kib: u64 = text.lines().find(|l| l.starts_with(key))?.split_whitespace().nth(1)?.parse().ok()?;
+    kib.checked_mul(1024)
+}
+
 /// Peak bytes of building a mesh of `vertices` and `triangles` (before welding).
 pub fn mesh_bytes(vertices: u64, triangles: u64) -> u64 {
     vertices.saturating_mul(MESH_BYTES_PER_VERTEX).saturating_add(triangles.saturating_mul(MESH_BYTES_PER_TRIANGLE))
@@ -77,6 +93,9 @@ mod tests {
         assert_eq!(human(1_210_000_000), "1.21 GB");
         if let Some(m) = available_memory() {
             assert!(m > 0);
+        }
+        if let (Some(now), Some(peak)) = (resident_memory(), peak_memory()) {
+            assert!(now > 0 && peak >= now, "{now} {peak}");
         }
     }
 }
