@@ -91,6 +91,22 @@ fn encoded_len(cut: &vcut_cut::Cut, format: ValueFormat, coding: ShapeCoding) ->
     coding.encode(cut, format).map_or(0, |b| b.len())
 }
 
+/// Bytes a section of `m` units (whose sampled `units` say their mean cut) holds in memory while
+/// it is made: every cut decoded (5 bytes a node) and encoded, the payload, and the raw meter's
+/// batch of every 61st unit's rays (at most 2^18 and one unit's, 24 bytes each) — twice over, for
+/// vectors grown by doubling and memory the allocator's per-thread arenas keep (measured against
+/// `VmHWM` on the teapot and bunny scenes at every preset: see the portability issue's note).
+fn in_flight(m: usize, units: &[Unit], payload: u64) -> u64 {
+    let n = units.len().max(1) as f64;
+    let nodes = units.iter().map(|u| u.1 as f64).sum::<f64>() / n;
+    let encoded = units.iter().map(|u| u.0 as f64).sum::<f64>() / n;
+    let rays = units.iter().map(|u| u.2 as f64).sum::<f64>() / n;
+    let max_rays = units.iter().map(|u| u.2).max().unwrap_or(0) as f64;
+    let cuts = m as f64 * (nodes * 5.0 + encoded + 150.0);
+    let raw = ((m as f64 / 61.0).ceil() * rays).min((1 << 18) as f64 + max_rays) * 24.0;
+    (2.0 * (cuts + raw)) as u64 + payload
+}
+
 /// Bytes a section adds to the file besides its payload: its record and padding, its table entry.
 const SECTION_OVERHEAD: u64 = 32 + 7 + 32;
 
@@ -168,8 +184,7 @@ pub fn estimate<'a>(job: &'a Job<'a>, budget: Duration) -> Result<(Estimate, Set
                 sections::encode_cut_array(root, p.svc_values, p.shape_coding, &vec![Vec::new(); m], None).len();
             let payload = overhead as u64 + (svc_cut_bytes * m as f64) as u64;
             bytes += payload + SECTION_OVERHEAD;
-            largest_section =
-                largest_section.max(payload + (m as f64 * (mean(&svc, |u| u.1 as f64) * 5.0 + 64.0)) as u64);
+            largest_section = largest_section.max(in_flight(m, &svc, payload));
         }
     }
     let field_cut_bytes = mean(&fields, |u| u.0 as f64);
@@ -186,16 +201,13 @@ pub fn estimate<'a>(job: &'a Job<'a>, budget: Duration) -> Result<(Estimate, Set
         .len();
         let payload = overhead as u64 + (field_cut_bytes * m as f64) as u64;
         bytes += (payload + SECTION_OVERHEAD) * u64::from(l.spheres) + 64;
-        largest_section =
-            largest_section.max(payload + (m as f64 * (mean(&fields, |u| u.1 as f64) * 5.0 + 64.0)) as u64);
+        largest_section = largest_section.max(in_flight(m, &fields, payload));
     }
     bytes += SECTION_OVERHEAD; // directions' record and entry
 
-    // Memory: what is resident now, plus the largest section in flight (its cuts decoded and
-    // encoded), the raw meter's batch of rays (2^18 of 24 bytes, doubled as it grows) and the
-    // writer's buffer.
+    // Memory: what is resident now, plus the largest section in flight and the writer's buffer.
     let resident = vcut_scene::budget::resident_memory().unwrap_or(0);
-    let peak_bytes = resident + largest_section + (2u64 << 18) * 24 + (1 << 20);
+    let peak_bytes = resident + largest_section + (1 << 20);
     let estimate = Estimate {
         vertices,
         field_points,
