@@ -9,7 +9,7 @@
 //! ratio between neighbours (50^(1/31) ≈ 1.13 for the paper's range): 0.13r apart at r, 1.2r at
 //! 10r — about as fine radially as the cube texels are across (π/2 / R of the radius). On the
 //! teapot scene (balanced preset, constant environment) this cut the frame's error against
-//! the exact reference from 7.6 % to 2.8 % (`cargo run --release -p vcut-shade --example
+//! the exact reference from 7.6 % to 2.8 % (`cargo run --release -p vcut-benches --example
 //! error_sources`). Between two spheres the radial weight is linear in distance either way.
 //!
 //! Outside `outer`·r the object occludes nothing the field needs to hold ([`FieldLayout::lookup`]

@@ -5,7 +5,7 @@
 use crate::material::{LeafMaterial, Scatter};
 use glam::{Vec2, Vec3};
 use rayon::prelude::*;
-use vcut_precompute::Occluder;
+use vcut_rays::Occluder;
 use vcut_scene::{Mesh, Scene};
 
 /// What an object is made of.
@@ -223,7 +223,7 @@ impl LeafScene {
     /// Distance rays start off a surface, along the normal toward the side they leave: a fixed
     /// fraction of the scene's size, as the cut precompute does.
     pub fn ray_offset(&self) -> f32 {
-        self.radius * 2e-4
+        vcut_rays::offset_for_radius(2e-4, self.radius)
     }
 
     /// Where triangle `tri` is hit at `p`: its barycentric weights (clamped to the triangle).

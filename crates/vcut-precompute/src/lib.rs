@@ -1,9 +1,7 @@
 //! Precomputation of visibility cuts.
 //!
-//! - [`Occluder`]: an obvhs CWBVH over triangles; `occluded` is `!ray_traverse_miss` (the first
-//!   hit ends traversal); `inside` votes whether a point is enclosed; and
-//!   [`Occluder::raw_throughput`] measures plain occlusion rays/s, the figure the precompute's
-//!   own rays/s is compared with.
+//! - Rays go through [`vcut_rays`] ([`Occluder`] re-exported): `raw_throughput` there is the
+//!   figure the precompute's own rays/s is compared with.
 //! - [`visit_leaves`] walks the direction tree top-down and resolves whole subtrees through their
 //!   bounding cones ([`cone_outside`]) without rays.
 //! - [`svc`]: per-vertex **self-visibility cuts**: Ṽ(ω) = V(x, ω)·max(0, n·ω) at every leaf
@@ -19,7 +17,8 @@
 //!
 //! # Invariants
 //! Rays start at the vertex offset along its normal by `origin_offset` × the object's bounding
-//! radius, so a closed convex object never shadows itself and a vertex never sees its own faces.
+//! radius ([`vcut_rays::origin_offset`]), so a closed convex object never shadows itself and a
+//! vertex never sees its own faces.
 //! Output is a deterministic function of scene and parameters, whatever the thread count.
 //! This crate knows nothing about images or shading.
 //!
@@ -48,22 +47,9 @@ pub use params::PrecomputeParams;
 pub use run::{Job, NoProgress, PrecomputeError, Progress, Summary, precompute};
 
 use glam::Vec3;
-use obvhs::BvhBuildParams;
-use obvhs::cwbvh::{CwBvh, builder::build_cwbvh_from_tris};
-use obvhs::ray::{Ray, RayHit};
-use obvhs::triangle::Triangle;
-use rayon::prelude::*;
-use std::time::{Duration, Instant};
 use vcut_dirtree::{Cone, DirectionTree};
-use vcut_scene::Mesh;
-
-/// Occlusion queries against a set of triangles.
-pub struct Occluder {
-    bvh: CwBvh,
-    tris: Vec<Triangle>,
-    /// Per triangle, the sum of its vertex normals: the side the mesh calls outside.
-    outward: Vec<Vec3>,
-}
+/// Rays are cast through `vcut-rays`, the layer below every job that casts them.
+pub use vcut_rays::Occluder;
 
 /// Rays cast by a stage, and what was resolved without them.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
@@ -151,78 +137,4 @@ pub fn visit_leaves(
         stack.push(2 * k + 1);
     }
     culled
-}
-
-impl Occluder {
-    /// A CWBVH over the triangles of `meshes` (world space).
-    pub fn new(meshes: &[&Mesh]) -> Occluder {
-        let tris: Vec<Triangle> = meshes
-            .iter()
-            .flat_map(|m| {
-                m.triangles().iter().map(|t| {
-                    let [a, b, c] = t.map(|i| m.positions()[i as usize]);
-                    Triangle { v0: a.into(), v1: b.into(), v2: c.into() }
-                })
-            })
-            .collect();
-        let outward = meshes
-            .iter()
-            .flat_map(|m| m.triangles().iter().map(|t| t.map(|i| m.normals()[i as usize]).iter().sum()))
-            .collect();
-        let bvh = build_cwbvh_from_tris(&tris, BvhBuildParams::medium_build(), &mut Duration::default());
-        Occluder { bvh, tris, outward }
-    }
-
-    /// Whether anything lies on the segment `origin + t·dir`, `0 < t < tmax` (`dir` unit).
-    #[inline]
-    pub fn occluded(&self, origin: Vec3, dir: Vec3, tmax: f32) -> bool {
-        let ray = Ray::new(origin.into(), dir.into(), 0.0, tmax);
-        !self.bvh.ray_traverse_miss(ray, |r, id| self.tris[self.bvh.primitive_indices[id] as usize].intersect(r))
-    }
-
-    /// The first triangle on `origin + t·dir`, `0 < t < tmax` (`dir` unit): its index (over the
-    /// meshes given to [`Occluder::new`], in order, then their triangles) and its distance.
-    pub fn closest_hit(&self, origin: Vec3, dir: Vec3, tmax: f32) -> Option<(usize, f32)> {
-        let mut hit = RayHit::none();
-        let ray = Ray::new(origin.into(), dir.into(), 0.0, tmax);
-        self.bvh
-            .ray_traverse(ray, &mut hit, |r, id| self.tris[self.bvh.primitive_indices[id] as usize].intersect(r))
-            .then(|| (self.bvh.primitive_indices[hit.primitive_id as usize] as usize, hit.t))
-    }
-
-    /// Whether `p` lies inside a closed surface of the occluder: of 15 rays in fixed directions
-    /// (a spherical Fibonacci set, so none runs along the axis-aligned symmetry planes where
-    /// tessellations put their edges), at least 12 first hit a triangle from behind (against its
-    /// vertex normals). Open surfaces and points outside fail the vote; the margin tolerates a
-    /// ray slipping through a crack.
-    pub fn inside(&self, p: Vec3) -> bool {
-        let golden = std::f32::consts::PI * (3.0 - 5.0f32.sqrt());
-        let dirs = (0..15).map(|i| {
-            let z = 1.0 - (2 * i + 1) as f32 / 15.0;
-            let (s, c) = (golden * i as f32 + 0.3).sin_cos();
-            let r = (1.0 - z * z).sqrt();
-            Vec3::new(r * c, z, r * s)
-        });
-        let mut behind = 0;
-        for d in dirs {
-            let mut hit = RayHit::none();
-            let ray = Ray::new(p.into(), d.into(), 0.0, f32::INFINITY);
-            if self
-                .bvh
-                .ray_traverse(ray, &mut hit, |r, id| self.tris[self.bvh.primitive_indices[id] as usize].intersect(r))
-            {
-                let tri = self.bvh.primitive_indices[hit.primitive_id as usize] as usize;
-                behind += usize::from(self.outward[tri].dot(d) > 0.0);
-            }
-        }
-        behind >= 12
-    }
-
-    /// Occlusion rays per second on all cores for the given rays (origin, unit direction).
-    pub fn raw_throughput(&self, rays: &[(Vec3, Vec3)]) -> f64 {
-        let start = Instant::now();
-        let hits: usize = rays.par_iter().map(|&(o, d)| usize::from(self.occluded(o, d, f32::INFINITY))).sum();
-        std::hint::black_box(hits);
-        rays.len() as f64 / start.elapsed().as_secs_f64().max(1e-9)
-    }
 }

@@ -96,9 +96,9 @@ impl<'a> Setup<'a> {
     /// along its normal by `svc_origin_offset` × the object's bounding radius.
     pub fn svc_origin(&self, i: usize, v: usize) -> (Vec3, Vec3) {
         let mesh = &self.scene.objects[i].mesh;
-        let offset = self.params.svc_origin_offset * mesh.bounds().radius.max(f32::MIN_POSITIVE);
+        let offset = vcut_rays::origin_offset(self.params.svc_origin_offset, mesh);
         let (pos, nrm) = (mesh.positions()[v], mesh.normals()[v]);
-        (pos + nrm * offset, nrm)
+        (vcut_rays::origin(pos, nrm, offset), nrm)
     }
 
     /// The SVC of vertex `v` of object `i`, and the rays it took.

@@ -24,7 +24,7 @@
 //! `α (n·E_k) f_r(Ê_k, ω_o) l_k`: exact for any light within a fully visible node. Nodes that
 //! cross the horizon keep `v_k f_r(Ê_k, ω_o) l_k`. On the teapot scene under the sky (with exact
 //! fields, so clustering is the only error) this took the error against the exact reference
-//! from 3.1 % to 1.05 % (`cargo run --release -p vcut-shade --example error_sources`).
+//! from 3.1 % to 1.05 % (`cargo run --release -p vcut-benches --example error_sources`).
 //!
 //! **The SVC's share of a finer node.** A merged node k finer than the SVC node A around it
 //! (a field splits A) gets the product's value v_A·F_k, with v_A A's mean of V·max(0, n·ω): A's

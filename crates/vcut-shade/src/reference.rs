@@ -16,7 +16,7 @@ use crate::frame::Frame;
 use glam::Vec3;
 use rayon::prelude::*;
 use vcut_envmap::EnvMap;
-use vcut_precompute::Occluder;
+use vcut_rays::{Occluder, origin, origin_offset};
 use vcut_scene::Mesh;
 use vcut_sphere::rng::SplitMix64;
 
@@ -61,12 +61,12 @@ impl ExactReference {
     /// current position, as `frame.positions(o)[v]`).
     pub fn vertex(&self, frame: &Frame, o: usize, v: usize, x: Vec3, eye: Vec3) -> Vec3 {
         let (_, mesh, material, _, _) = frame.object(o);
-        let offset = self.origin_offset * mesh.bounds().radius.max(f32::MIN_POSITIVE);
+        let offset = origin_offset(self.origin_offset, mesh);
         let n = mesh.normals()[v];
         let leaves = frame.tree().leaf_directions();
         let light = frame.light().leaves();
         let wo = (eye - x).normalize_or_zero();
-        let origin = x + n * offset;
+        let origin = origin(x, n, offset);
         let mut b = Vec3::ZERO;
         for (l, &d) in leaves.iter().enumerate() {
             let c = n.dot(d);
@@ -162,14 +162,14 @@ pub fn monte_carlo(
     let results: Vec<Vec<(Vec3, u64, bool)>> = (0..frame.object_count())
         .map(|o| {
             let (_, mesh, material, _, _) = frame.object(o);
-            let offset = origin_offset * mesh.bounds().radius.max(f32::MIN_POSITIVE);
+            let offset = vcut_rays::origin_offset(origin_offset, mesh);
             let positions = frame.positions(o);
             (0..positions.len())
                 .into_par_iter()
                 .map(|v| {
                     let (x, n) = (positions[v], mesh.normals()[v]);
                     let wo = (eye - x).normalize_or_zero();
-                    let origin = x + n * offset;
+                    let origin = vcut_rays::origin(x, n, offset);
                     let mut rng = SplitMix64::new(params.seed ^ ((o as u64) << 40) ^ v as u64);
                     let (mut sum, mut lum, mut lum2, mut count) = (glam::DVec3::ZERO, 0.0f64, 0.0f64, 0u64);
                     if cdf.is_empty() {

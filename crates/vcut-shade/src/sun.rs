@@ -26,7 +26,7 @@ use crate::brdf;
 use glam::Vec3;
 use rayon::prelude::*;
 use vcut_lighttree::LightTree;
-use vcut_precompute::Occluder;
+use vcut_rays::Occluder;
 use vcut_scene::{Material, Mesh};
 
 /// Which leaves are the sun's (see the module documentation).
@@ -124,7 +124,7 @@ impl Sun {
                 })
                 .collect(),
             occluders,
-            offsets: objects.iter().map(|p| origin_offset * p.mesh.bounds().radius.max(f32::MIN_POSITIVE)).collect(),
+            offsets: objects.iter().map(|p| vcut_rays::origin_offset(origin_offset, p.mesh)).collect(),
             blocked: objects.iter().map(|p| vec![0; p.mesh.vertex_count() * objects.len()]).collect(),
             at: objects.iter().map(|p| p.translation).collect(),
         };
@@ -162,7 +162,7 @@ impl Sun {
                 .enumerate()
                 .map(|(v, masks)| {
                     let n = normals[v];
-                    let origin = positions[v] + p.translation + n * offset;
+                    let origin = vcut_rays::origin(positions[v] + p.translation, n, offset);
                     let mut cast = 0u64;
                     for &j in &pairs {
                         let from = origin - objects[j].translation;

@@ -10,7 +10,7 @@ use crate::ssdo::{Lighting, Output};
 use glam::Vec3;
 use rayon::prelude::*;
 use std::f32::consts::PI;
-use vcut_precompute::Occluder;
+use vcut_rays::Occluder;
 use vcut_scene::Mesh;
 use vcut_sphere::rng::SplitMix64;
 

@@ -1,6 +1,7 @@
 //! The viewer's orbit camera and picking rays.
 
 use glam::{Mat4, Vec3};
+pub use vcut_rays::{ray_plane, ray_triangle};
 use vcut_scene::Camera;
 
 /// A camera orbiting a target point: yaw and pitch around the world's +Y, and a distance.
@@ -90,40 +91,6 @@ impl OrbitCamera {
         let eye = self.eye();
         (eye, (far - eye).normalize_or_zero())
     }
-}
-
-/// Distance along the ray (`origin`, `dir`) to triangle (`a`, `b`, `c`) (Möller–Trumbore), if
-/// hit in front of the origin.
-pub fn ray_triangle(origin: Vec3, dir: Vec3, a: Vec3, b: Vec3, c: Vec3) -> Option<f32> {
-    let (e1, e2) = (b - a, c - a);
-    let p = dir.cross(e2);
-    let det = e1.dot(p);
-    if det.abs() < 1e-12 {
-        return None;
-    }
-    let inv = 1.0 / det;
-    let s = origin - a;
-    let u = s.dot(p) * inv;
-    if !(0.0..=1.0).contains(&u) {
-        return None;
-    }
-    let q = s.cross(e1);
-    let v = dir.dot(q) * inv;
-    if v < 0.0 || u + v > 1.0 {
-        return None;
-    }
-    let t = e2.dot(q) * inv;
-    (t > 0.0).then_some(t)
-}
-
-/// Where the ray (`origin`, `dir`) meets the plane through `point` with normal `normal`.
-pub fn ray_plane(origin: Vec3, dir: Vec3, point: Vec3, normal: Vec3) -> Option<Vec3> {
-    let d = dir.dot(normal);
-    if d.abs() < 1e-6 {
-        return None;
-    }
-    let t = (point - origin).dot(normal) / d;
-    (t > 0.0).then(|| origin + dir * t)
 }
 
 #[cfg(test)]

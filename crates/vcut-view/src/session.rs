@@ -2,7 +2,7 @@
 //! the camera, the display mode, the progressive exact reference, and the cost of every edit.
 //! Every edit a person makes in the window is a method here, so tests drive the same code.
 
-use crate::camera::{OrbitCamera, ray_triangle};
+use crate::camera::OrbitCamera;
 use glam::Vec3;
 use rayon::prelude::*;
 use std::time::{Duration, Instant};
@@ -484,20 +484,9 @@ impl Session {
 
     /// The object and distance hit first by the ray (`origin`, `dir`), at current positions.
     pub fn pick(&self, origin: Vec3, dir: Vec3) -> Option<(usize, f32)> {
-        let mut best: Option<(usize, f32)> = None;
-        for o in 0..self.frame.object_count() {
-            let p = self.frame.positions(o);
-            let (_, mesh, _, _, _) = self.frame.object(o);
-            for t in mesh.triangles() {
-                let [a, b, c] = t.map(|i| p[i as usize]);
-                if let Some(d) = ray_triangle(origin, dir, a, b, c)
-                    && best.is_none_or(|(_, bd)| d < bd)
-                {
-                    best = Some((o, d));
-                }
-            }
-        }
-        best
+        let placed: Vec<Vec<Vec3>> = (0..self.frame.object_count()).map(|o| self.frame.positions(o)).collect();
+        let objects = placed.iter().enumerate().map(|(o, p)| (self.frame.object(o).1.triangles(), p.as_slice()));
+        vcut_rays::pick(objects, origin, dir)
     }
 }
 

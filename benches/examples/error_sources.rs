@@ -6,7 +6,7 @@
 //! - `exact_visibility`: the frame's merged cut with every node's value replaced by the exact
 //!   mean of V·max(0, n·ω) over its leaves: the clustering error alone.
 //!
-//! `cargo run --release -p vcut-shade --example error_sources -- FILE.vcuts [--env builtin:constant]
+//! `cargo run --release -p vcut-benches --example error_sources -- FILE.vcuts [--env builtin:constant]
 //! [--eye X,Y,Z] [--move OBJECT=DX,DY,DZ] [--scene SPEC]` prints `key=value` lines (`--scene
 //! builtin:teapot`: that scene's environment and camera, the frame `cargo xtask bench` measures). With `--bins` it prints
 //! instead, per object, where the frame's squared error is: the share of its worst 1/5/20 % of

@@ -21,7 +21,7 @@ fn data_file() -> PathBuf {
     if let Some(p) = std::env::var_os("VCUT_BENCH_VCUTS") {
         return p.into();
     }
-    let root = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../..");
+    let root = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("..");
     let path = root.join("target/vcuts/teapot-balanced.vcuts");
     if cut_sizes(&path).is_err() {
         let scene = Scene::open("builtin:teapot").expect("built-in scene");
