@@ -46,7 +46,7 @@ fn benches(c: &mut Criterion) {
     let eye = scene.cameras[0].position;
     let teapot = frame.object_index("teapot").expect("teapot");
     let nodes: usize = (0..frame.object_count())
-        .map(|o| (0..frame.object(o).1.vertex_count()).map(|v| frame.merged(o, v).values.len()).sum::<usize>())
+        .map(|o| (0..frame.object(o).mesh.vertex_count()).map(|v| frame.merged(o, v).values.len()).sum::<usize>())
         .sum();
     println!("{} directions, {nodes} merged nodes", data.directions.len());
     let mut g = c.benchmark_group("frame_teapot");
@@ -55,7 +55,7 @@ fn benches(c: &mut Criterion) {
     g.bench_function("brdf_edit", |b| {
         b.iter(|| {
             alpha = if alpha == 15.0 { 70.0 } else { 15.0 };
-            let m = Material { exponent: alpha, ..*frame.object(teapot).2 };
+            let m = Material { exponent: alpha, ..*frame.object(teapot).material };
             frame.set_material(teapot, m);
             black_box(frame.shade(eye))
         })

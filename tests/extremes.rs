@@ -168,7 +168,7 @@ fn degenerate_input_normals_are_rederived_and_shade_finitely() {
     let mut d = data(text, &dir, &[]);
     let mut frame = Frame::new(&mut d, &PreethamSky::default().bake(256)).unwrap();
     let tent = frame.object_index("tent").unwrap();
-    for n in frame.object(tent).1.normals() {
+    for n in frame.object(tent).mesh.normals() {
         assert!((n.length() - 1.0).abs() < 1e-5, "normal {n}");
     }
     frame.translate(frame.object_index("ball").unwrap(), Vec3::new(0.2, -0.2, 0.1)).unwrap();
@@ -191,7 +191,7 @@ fn a_frame_with_65536_directions_and_heights_up_to_16() {
     let ball = frame.object_index("ball").unwrap();
     frame.translate(ball, Vec3::new(0.3, 0.0, 0.0)).unwrap();
     let tallest = (0..frame.object_count())
-        .flat_map(|o| (0..frame.object(o).1.vertex_count()).map(move |v| (o, v)))
+        .flat_map(|o| (0..frame.object(o).mesh.vertex_count()).map(move |v| (o, v)))
         .map(|(o, v)| frame.merged(o, v).heights.iter().copied().max().unwrap_or(0))
         .max()
         .unwrap();

@@ -62,11 +62,12 @@ fn an_unoccluded_lambert_object_under_constant_light_is_its_albedo() {
     let dir = scratch("lambert");
     let text = "[[object]]\nsource = \"builtin:sphere\"\nresolution = 10\nmaterial = { model = \"lambert\", kd = [0.5, 0.25, 1.0] }\n";
     let mut d = data(text, &[], &dir.join("a.vcuts"));
-    let frame = Frame::new(&mut d, &EnvMap::constant([2.0; 3])).unwrap();
+    let mut frame = Frame::new(&mut d, &EnvMap::constant([2.0; 3])).unwrap();
     // B = kd/π · L · ∫ max(0, n·ω) dω = kd · L; within 2 % (1,024 directions: the light tree
     // bins sub-texel patches to their nearest leaf, and cut nodes straddle the horizon).
-    let mesh = frame.object(0).1;
-    for (v, b) in frame.shade(EYE)[0].iter().enumerate() {
+    let shaded = frame.shade(EYE);
+    let mesh = frame.object(0).mesh;
+    for (v, b) in shaded[0].iter().enumerate() {
         if mesh.normals()[v].dot(EYE - mesh.positions()[v]) <= 0.0 {
             assert_eq!(*b, Vec3::ZERO, "no radiance leaves a surface away from the eye");
             continue;
@@ -86,7 +87,7 @@ fn the_monte_carlo_reference_meets_the_analytic_result_and_the_exact_one() {
     let params = vcut_shade::reference::MonteCarloParams::default();
     let (mc, stats) = vcut_shade::reference::monte_carlo(&frame, &env, EYE, 1e-4, &params);
     assert_eq!(stats.unconverged, 0);
-    let mesh = frame.object(0).1;
+    let mesh = frame.object(0).mesh;
     for (v, b) in mc[0].iter().enumerate() {
         if mesh.normals()[v].dot(EYE - mesh.positions()[v]) > 0.0 {
             let want = Vec3::new(0.5, 0.25, 1.0) * 2.0;
@@ -131,16 +132,16 @@ fn moves_re_merge_only_what_changed_and_edits_never_merge() {
     );
 
     // A BRDF edit and a new environment: zero merges, different radiance.
-    frame.set_material(ball, Material { exponent: 70.0, ..*frame.object(ball).2 });
+    frame.set_material(ball, Material { exponent: 70.0, ..*frame.object(ball).material });
     frame.set_environment(&EnvMap::constant([0.5, 1.0, 1.0]));
     assert_eq!(frame.merges(), 0);
     assert_ne!(frame.shade(EYE)[ball], before[ball]);
     frame.set_environment(&env);
-    frame.set_material(ball, Material { exponent: 15.0, ..*frame.object(ball).2 });
+    frame.set_material(ball, Material { exponent: 15.0, ..*frame.object(ball).material });
 
     // A small move re-merges the ball's vertices and the ground's near it, not all.
-    let n_ball = frame.object(ball).1.vertex_count();
-    let n_ground = frame.object(ground).1.vertex_count();
+    let n_ball = frame.object(ball).mesh.vertex_count();
+    let n_ground = frame.object(ground).mesh.vertex_count();
     let merged = frame.translate(ball, Vec3::new(0.1, 0.0, 0.0)).unwrap();
     assert!(merged >= n_ball && merged <= n_ball + n_ground, "{merged}");
     // A camera change after it merges nothing.
@@ -250,7 +251,7 @@ fn back_facing_merges_and_lists_wait_for_a_camera_that_sees_them() {
     assert_eq!(lazy.merge_pending().unwrap(), waiting - turned);
     assert_eq!(lazy.pending_merges(), 0);
     for o in 0..lazy.object_count() {
-        for v in 0..lazy.object(o).1.vertex_count() {
+        for v in 0..lazy.object(o).mesh.vertex_count() {
             assert!(lazy.merged(o, v) == eager.merged(o, v), "object {o} vertex {v}");
         }
     }
@@ -277,17 +278,17 @@ fn field_samples_inside_an_object_blend_in_as_occluded() {
     let mut frame = Frame::new(&mut d, &env).unwrap();
     let ground = frame.object_index("ground").unwrap();
     let exact = exact_direction(&frame, EYE, 1e-4);
-    let error = |frame: &Frame| errors(&[frame.shade(EYE)[ground].clone()], &[exact[ground].clone()]);
-    let occluded = error(&frame);
+    let error = |frame: &mut Frame| errors(&[frame.shade(EYE)[ground].clone()], &[exact[ground].clone()]);
+    let occluded = error(&mut frame);
     // Dropping them re-merges only the vertices with inside samples, and is worse.
     let remerged = frame.set_inside_samples(InsideSamples::Dropped).unwrap();
-    let n = frame.object(ground).1.vertex_count();
+    let n = frame.object(ground).mesh.vertex_count();
     assert!(remerged > 0 && remerged < n, "{remerged} of {n}");
-    let dropped = error(&frame);
+    let dropped = error(&mut frame);
     println!("occluded {occluded:?}, dropped {dropped:?}, re-merged {remerged} of {n}");
     assert!(occluded.0 < dropped.0 && occluded.1 < dropped.1, "occluded {occluded:?}, dropped {dropped:?}");
     frame.set_inside_samples(InsideSamples::Occluded).unwrap();
-    assert_eq!(error(&frame), occluded);
+    assert_eq!(error(&mut frame), occluded);
 }
 
 #[test]
@@ -301,7 +302,7 @@ fn error_against_the_exact_reference_falls_as_thresholds_tighten() {
             &[("svc_max_error", svc), ("svc_solid_angle_divisor", divisor)],
             &dir.join("e.vcuts"),
         );
-        let frame = Frame::new(&mut d, &env).unwrap();
+        let mut frame = Frame::new(&mut d, &env).unwrap();
         let (l2, _) = errors(&frame.shade(EYE), &exact_direction(&frame, EYE, 1e-4));
         assert!(l2 < last, "thresholds {svc}, 4π/{divisor}: relative L2 {l2} after {last}");
         last = l2;
@@ -314,7 +315,7 @@ fn images_ply_and_exr_are_written_whole() {
     let dir = scratch("images");
     let mut d = data(BALL_ABOVE_GROUND, &[], &dir.join("i.vcuts"));
     let env = EnvMap::constant([1.0; 3]);
-    let frame = Frame::new(&mut d, &env).unwrap();
+    let mut frame = Frame::new(&mut d, &env).unwrap();
     let camera =
         vcut_scene::Camera { name: "c".into(), position: EYE, target: Vec3::ZERO, up: Vec3::Y, fov_y_deg: 40.0 };
     let radiance = frame.shade(EYE);
@@ -335,8 +336,8 @@ fn images_ply_and_exr_are_written_whole() {
     let bytes = std::fs::read(&ply).unwrap();
     let header_end = bytes.windows(11).position(|w| w == b"end_header\n").unwrap() + 11;
     let header = std::str::from_utf8(&bytes[..header_end]).unwrap();
-    let nv: usize = (0..2).map(|o| frame.object(o).1.vertex_count()).sum();
-    let nt: usize = (0..2).map(|o| frame.object(o).1.triangle_count()).sum();
+    let nv: usize = (0..2).map(|o| frame.object(o).mesh.vertex_count()).sum();
+    let nt: usize = (0..2).map(|o| frame.object(o).mesh.triangle_count()).sum();
     assert!(header.contains(&format!("element vertex {nv}")) && header.contains(&format!("element face {nt}")));
     assert_eq!(bytes.len(), header_end + nv * 36 + nt * 13);
     // Nothing half-written: no temporary files left.
@@ -362,7 +363,7 @@ fn a_sun_inside_a_cut_node_is_shaded_where_it_is() {
     for (spec, bound) in
         [("lambert", 0.01), ("blinn-phong:alpha=15,ks=0.5", 0.01), ("blinn-phong:alpha=70,ks=0.5", 0.03)]
     {
-        let m = vcut_shade::brdf::parse_spec(*frame.object(0).2, spec).unwrap();
+        let m = vcut_shade::brdf::parse_spec(*frame.object(0).material, spec).unwrap();
         frame.set_material(0, m);
         let (rel, _) = errors(&frame.shade(EYE), &exact_direction(&frame, EYE, 1e-4));
         assert!(rel < bound, "{spec}: relative L2 {rel}");
@@ -412,7 +413,7 @@ fn the_sun_by_rays_meets_the_exact_reference_and_follows_moves() {
     frame.translate(ball, Vec3::ZERO).unwrap();
     assert!(frame.shade(EYE) == rest, "moving back did not restore the sun's shadows");
     let merges = frame.merges();
-    frame.set_material(ball, Material { exponent: 70.0, ..*frame.object(ball).2 });
+    frame.set_material(ball, Material { exponent: 70.0, ..*frame.object(ball).material });
     assert_ne!(frame.shade(EYE)[ball], rest[ball]);
     assert_eq!(frame.merges(), merges);
 

@@ -80,7 +80,7 @@ fn main() -> Result<(), String> {
     let exact = exact_direction(&frame, eye, offset);
     let meshes: Vec<Mesh> = (0..frame.object_count())
         .map(|o| {
-            let (_, m, _, _, _) = frame.object(o);
+            let vcut_shade::FrameObject { mesh: m, .. } = frame.object(o);
             Mesh::from_valid_parts(frame.positions(o), m.normals().to_vec(), m.triangles().to_vec())
                 .map_err(|e| e.to_string())
         })
@@ -110,7 +110,7 @@ fn main() -> Result<(), String> {
             let parse = |x: &str| x.parse::<u32>().ok().filter(|&n| n >= 1).ok_or(format!("--layouts {spec}: {x}"));
             let got = layout_frame(&frame, &alone, eye, parse(s)?, parse(r)?, inner, only, surface);
             let per: Vec<String> = (0..frame.object_count())
-                .map(|o| format!("{}={:.4}", frame.object(o).0, errors(&[got[o].clone()], &[exact[o].clone()]).0))
+                .map(|o| format!("{}={:.4}", frame.object(o).name, errors(&[got[o].clone()], &[exact[o].clone()]).0))
                 .collect();
             println!("layout={spec} all={:.4} {}", errors(&got, &exact).0, per.join(" "));
         }
@@ -119,7 +119,7 @@ fn main() -> Result<(), String> {
     let (mut fields_all, mut vis_all) = (Vec::new(), Vec::new());
     for o in 0..frame.object_count() {
         let positions = frame.positions(o);
-        let radius = frame.object(o).1.bounds().radius;
+        let radius = frame.object(o).mesh.bounds().radius;
         if bins_only {
             bins(&frame, o, &positions, &shaded[o], &exact[o]);
             continue;
@@ -131,13 +131,13 @@ fn main() -> Result<(), String> {
                 // SVC × exact field cuts at x.
                 let mut cuts = vec![frame.svc(o, v).unwrap_or_else(|e| panic!("vertex {v}: {e}"))];
                 for (j, layout) in frame.field_sources(o, v) {
-                    let centre = layout.center + frame.object(j).4;
+                    let centre = layout.center + frame.object(j).translation;
                     cuts.push(exact_point_cut(&alone[j], tree, x, centre, layout.radius).0);
                 }
                 let mut product = MergedCut::default();
                 merge_product(&cuts.iter().collect::<Vec<_>>(), &mut product).unwrap_or_else(|e| panic!("{e}"));
                 // The frame's cut with exact node means.
-                let n = frame.object(o).1.normals()[v];
+                let n = frame.object(o).mesh.normals()[v];
                 let mut leaves = vec![0.0f32; tree.leaf_count()];
                 leaf_visibility(&all, tree, x + n * offset * radius, n, &mut leaves);
                 let mut means = frame.merged(o, v).clone();
@@ -155,7 +155,7 @@ fn main() -> Result<(), String> {
         let e = |got: &[Vec3]| errors(&[got.to_vec()], &[exact[o].clone()]).0;
         println!(
             "object={} frame={:.4} exact_fields={:.4} exact_visibility={:.4}",
-            frame.object(o).0,
+            frame.object(o).name,
             e(&shaded[o]),
             e(&fields),
             e(&vis)
@@ -208,7 +208,7 @@ fn layout_frame(
             for (j, layout) in frame.field_sources(o, v) {
                 let l = layout_of(j, layout);
                 layouts.insert(j, l);
-                if let Some(samples) = l.lookup(x - frame.object(j).4) {
+                if let Some(samples) = l.lookup(x - frame.object(j).translation) {
                     wanted.extend(samples.iter().filter(|x| x.weight > 0.0).map(|x| (j, x.sphere, x.point)));
                 }
             }
@@ -220,7 +220,7 @@ fn layout_frame(
         .par_iter()
         .map(|&(j, s, i)| {
             let l = layouts[&j];
-            let t = frame.object(j).4;
+            let t = frame.object(j).translation;
             let p = l.point(s, i) + t;
             if alone[j].inside(p) && surface {
                 // The cut where the sample's radial line leaves the object.
@@ -250,7 +250,8 @@ fn layout_frame(
                     let svc_ref = &svc;
                     let mut factors: Vec<(Vec<&vcut_cut::Cut>, Vec<f32>)> = Vec::new();
                     for (j, layout) in frame.field_sources(o, v) {
-                        let Some(samples) = layout_of(j, layout).lookup(positions[v] - frame.object(j).4) else {
+                        let Some(samples) = layout_of(j, layout).lookup(positions[v] - frame.object(j).translation)
+                        else {
                             continue;
                         };
                         let kept: Vec<_> = samples.iter().filter(|x| x.weight > 0.0).collect();
@@ -284,7 +285,7 @@ fn bins(frame: &Frame, o: usize, positions: &[Vec3], got: &[Vec3], exact: &[Vec3
         errs.push(err);
         let mut best: Option<(f32, bool)> = None;
         for (j, layout) in frame.field_sources(o, v) {
-            let d = positions[v] - (layout.center + frame.object(j).4);
+            let d = positions[v] - (layout.center + frame.object(j).translation);
             let t = d.length() / layout.radius;
             let a = d.abs();
             let m = a.max_element();
@@ -315,8 +316,8 @@ fn bins(frame: &Frame, o: usize, positions: &[Vec3], got: &[Vec3], exact: &[Vec3
             .field_sources(o, v)
             .iter()
             .map(|(j, l)| {
-                let d = positions[v] - (l.center + frame.object(*j).4);
-                format!("{}@{:.3}r", frame.object(*j).0, d.length() / l.radius)
+                let d = positions[v] - (l.center + frame.object(*j).translation);
+                format!("{}@{:.3}r", frame.object(*j).name, d.length() / l.radius)
             })
             .collect();
         println!(
@@ -332,7 +333,7 @@ fn bins(frame: &Frame, o: usize, positions: &[Vec3], got: &[Vec3], exact: &[Vec3
     let top = |f: f32| errs[..((errs.len() as f32 * f) as usize).max(1)].iter().sum::<f32>() / total;
     println!(
         "bins object={} rel_l2={:.4} top1%={:.3} top5%={:.3} top20%={:.3}",
-        frame.object(o).0,
+        frame.object(o).name,
         (total / norm).sqrt(),
         top(0.01),
         top(0.05),

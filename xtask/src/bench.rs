@@ -181,14 +181,14 @@ pub fn median(mut v: Vec<f64>) -> f64 {
 /// The first movable object of `frame`.
 pub fn movable_object(frame: &Frame, scene: &str) -> Result<usize> {
     (0..frame.object_count())
-        .find(|&o| frame.object(o).3 == Motion::Movable)
+        .find(|&o| frame.object(o).motion == Motion::Movable)
         .with_context(|| format!("scene {scene} has no movable object"))
 }
 
 /// Median time of a BRDF edit: `runs` shadings, each after switching object `o`'s Blinn-Phong
 /// exponent 70 ↔ 15; its material is restored after.
 pub fn edit_ms(frame: &mut Frame, o: usize, eye: Vec3, runs: usize) -> f64 {
-    let rest = *frame.object(o).2;
+    let rest = *frame.object(o).material;
     let ms = median(
         (0..runs)
             .map(|i| {
@@ -225,7 +225,7 @@ pub fn move_path(
     algorithm: MergeAlgorithm,
     steps: usize,
 ) -> Result<PathTiming> {
-    let step = Vec3::new(1.0, 0.0, 0.5) * 0.1 * frame.object(o).1.bounds().radius;
+    let step = Vec3::new(1.0, 0.0, 0.5) * 0.1 * frame.object(o).mesh.bounds().radius;
     frame.set_merge_algorithm(algorithm);
     frame.translate(o, Vec3::ZERO)?;
     let (mut times, mut merge_ms, mut merged, mut deferred) = (Vec::new(), Vec::new(), 0, 0);
@@ -248,7 +248,7 @@ pub fn move_path(
 /// with deferred merges) and shade from it. Median of `runs`; returns it and the vertices the
 /// turn merged. Leaves the object at rest and `eye` set.
 pub fn turn_after_move(frame: &mut Frame, o: usize, eye: Vec3, behind: Vec3, runs: usize) -> Result<(f64, usize)> {
-    let step = Vec3::new(1.0, 0.0, 0.5) * 0.1 * frame.object(o).1.bounds().radius;
+    let step = Vec3::new(1.0, 0.0, 0.5) * 0.1 * frame.object(o).mesh.bounds().radius;
     let (mut times, mut merged) = (Vec::new(), 0);
     for i in 0..runs {
         frame.set_eye(eye)?;
@@ -354,7 +354,7 @@ fn bench_scene(name: &str, preset: &str, data_dir: &Path, no_mc: bool, reuse: bo
     let mut frame = Frame::new(&mut data, &scene.environment)?;
     let setup_s = t.elapsed().as_secs_f64();
     let movable = movable_object(&frame, name)?;
-    let vertices: usize = (0..frame.object_count()).map(|o| frame.object(o).1.vertex_count()).sum();
+    let vertices: usize = (0..frame.object_count()).map(|o| frame.object(o).mesh.vertex_count()).sum();
 
     println!("== {name}: edit, move, references");
     let edit = edit_ms(&mut frame, movable, eye, 11);
@@ -421,7 +421,7 @@ fn bench_scene(name: &str, preset: &str, data_dir: &Path, no_mc: bool, reuse: bo
         "preset": preset,
         "vertices": vertices,
         "objects": frame.object_count(),
-        "moved_object": frame.object(movable).0,
+        "moved_object": frame.object(movable).name,
         "setup_s": setup_s,
         "edit_ms": edit,
         "move_ms": move_ms,

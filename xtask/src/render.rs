@@ -150,14 +150,14 @@ pub fn open(input: &Path, env: Option<&str>) -> Result<Opened> {
 pub fn apply_edits(frame: &mut Frame, brdfs: &[String], moves: &[String]) -> Result<(f64, usize)> {
     let object = |frame: &Frame, name: &str| {
         frame.object_index(name).with_context(|| {
-            let names: Vec<&str> = (0..frame.object_count()).map(|o| frame.object(o).0).collect();
+            let names: Vec<&str> = (0..frame.object_count()).map(|o| frame.object(o).name).collect();
             format!("no object '{name}' (objects: {})", names.join(", "))
         })
     };
     for b in brdfs {
         let Some((name, spec)) = b.split_once('=') else { bail!("--brdf {b}: expected NAME=SPEC") };
         let o = object(frame, name)?;
-        let m = parse_spec(*frame.object(o).2, spec).map_err(|e| anyhow::anyhow!("--brdf {b}: {e}"))?;
+        let m = parse_spec(*frame.object(o).material, spec).map_err(|e| anyhow::anyhow!("--brdf {b}: {e}"))?;
         frame.set_material(o, m);
     }
     let mut move_ms = 0.0;

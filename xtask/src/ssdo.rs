@@ -17,7 +17,7 @@ pub const MODES: [&str; 3] = ["ssao", "ssdo", "ssdo-peeled"];
 pub fn objects(frame: &Frame) -> Vec<Object> {
     (0..frame.object_count())
         .map(|o| {
-            let (_, mesh, material, _, translation) = frame.object(o);
+            let vcut_shade::FrameObject { mesh, material, translation, .. } = frame.object(o);
             Object::from_mesh(mesh, translation, Vec3::from(material.kd))
         })
         .collect()

@@ -183,7 +183,7 @@ pub fn run(args: &ViewArgs) -> Result<()> {
         ),
         (
             "vertices".into(),
-            format!("{}", (0..frame.object_count()).map(|o| frame.object(o).1.vertex_count()).sum::<usize>()),
+            format!("{}", (0..frame.object_count()).map(|o| frame.object(o).mesh.vertex_count()).sum::<usize>()),
         ),
         ("objects".into(), format!("{}", frame.object_count())),
         ("setup".into(), format!("{setup_s:.2} s")),

@@ -57,10 +57,12 @@ fn main() -> Result<(), String> {
     }
     let o = match args.get(1) {
         Some(name) => frame.object_index(name).ok_or(format!("no object {name}"))?,
-        None => (0..frame.object_count()).find(|&o| frame.object(o).3 == Motion::Movable).ok_or("nothing movable")?,
+        None => {
+            (0..frame.object_count()).find(|&o| frame.object(o).motion == Motion::Movable).ok_or("nothing movable")?
+        }
     };
     let steps: usize = args.get(2).map(|s| s.parse().map_err(|e| format!("STEPS: {e}"))).transpose()?.unwrap_or(8);
-    let step = Vec3::new(1.0, 0.0, 0.5) * 0.1 * frame.object(o).1.bounds().radius;
+    let step = Vec3::new(1.0, 0.0, 0.5) * 0.1 * frame.object(o).mesh.bounds().radius;
     let eye = Vec3::new(0.0, 2.0, 6.0);
     let mut rows: Vec<[f64; 7]> = Vec::new();
     // The path, then (with VS_INDEX set) the index baseline over it and the path again: the
@@ -118,7 +120,8 @@ fn main() -> Result<(), String> {
     // A BRDF edit: the movable object's exponent toggled 15 ↔ 70, then shade (no merge).
     let edit: Vec<f64> = (0..21)
         .map(|i| {
-            let m = vcut_scene::Material { exponent: if i % 2 == 0 { 70.0 } else { 15.0 }, ..*frame.object(o).2 };
+            let m =
+                vcut_scene::Material { exponent: if i % 2 == 0 { 70.0 } else { 15.0 }, ..*frame.object(o).material };
             let t = Instant::now();
             frame.set_material(o, m);
             std::hint::black_box(frame.shade(eye));
@@ -127,7 +130,7 @@ fn main() -> Result<(), String> {
         .collect();
     println!("edit_ms={:.2}", median(edit));
     let col = |k: usize| median(rows.iter().map(|r| r[k]).collect());
-    println!("object={}", frame.object(o).0);
+    println!("object={}", frame.object(o).name);
     for (k, name) in
         ["move_ms", "keys_ms", "decode_ms", "refine_ms", "merge_ms", "shade_ms", "sun_ms"].iter().enumerate()
     {

@@ -64,7 +64,7 @@ pub fn rasterize(
     let vp = view_projection(camera, w as f32 / h as f32);
     let mut target = Target::new(w, h);
     for (o, rad) in radiance.iter().enumerate().take(frame.object_count()) {
-        let (_, mesh, _, _, _) = frame.object(o);
+        let crate::FrameObject { mesh, .. } = frame.object(o);
         let clip: Vec<Vec4> = frame.positions(o).iter().map(|p| vp * p.extend(1.0)).collect();
         for t in mesh.triangles() {
             target.triangle(t.map(|i| clip[i as usize]), t.map(|i| rad[i as usize]));
@@ -133,7 +133,7 @@ pub fn write_ply(frame: &Frame, radiance: &[Vec<Vec3>], path: &Path) -> Result<(
     let mut nv = 0usize;
     let mut faces = Vec::new();
     for (o, rad) in radiance.iter().enumerate().take(frame.object_count()) {
-        let (_, mesh, _, _, _) = frame.object(o);
+        let crate::FrameObject { mesh, .. } = frame.object(o);
         for ((p, n), c) in frame.positions(o).iter().zip(mesh.normals()).zip(rad) {
             for x in [p.x, p.y, p.z, n.x, n.y, n.z, c.x, c.y, c.z] {
                 body.extend_from_slice(&x.to_le_bytes());

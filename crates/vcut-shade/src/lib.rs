@@ -34,5 +34,5 @@ pub mod image;
 pub mod reference;
 pub mod sun;
 
-pub use frame::{Frame, FrameError, MergeAlgorithm, MoveTiming};
+pub use frame::{Frame, FrameError, FrameObject, MergeAlgorithm, MoveTiming};
 pub use sun::SunRays;

@@ -24,7 +24,7 @@ use vcut_sphere::rng::SplitMix64;
 fn moved_occluder(frame: &Frame) -> Occluder {
     let moved: Vec<Mesh> = (0..frame.object_count())
         .map(|o| {
-            let (_, mesh, _, _, _) = frame.object(o);
+            let crate::FrameObject { mesh, .. } = frame.object(o);
             Mesh::from_valid_parts(frame.positions(o), mesh.normals().to_vec(), mesh.triangles().to_vec())
                 .unwrap_or_else(|e| unreachable!("a translated valid mesh stays valid: {e}"))
         })
@@ -60,7 +60,7 @@ impl ExactReference {
     /// Outgoing radiance toward `eye` of vertex `v` of object `o`, at world position `x` (its
     /// current position, as `frame.positions(o)[v]`).
     pub fn vertex(&self, frame: &Frame, o: usize, v: usize, x: Vec3, eye: Vec3) -> Vec3 {
-        let (_, mesh, material, _, _) = frame.object(o);
+        let crate::FrameObject { mesh, material, .. } = frame.object(o);
         let offset = origin_offset(self.origin_offset, mesh);
         let n = mesh.normals()[v];
         let leaves = frame.tree().leaf_directions();
@@ -161,7 +161,7 @@ pub fn monte_carlo(
     });
     let results: Vec<Vec<(Vec3, u64, bool)>> = (0..frame.object_count())
         .map(|o| {
-            let (_, mesh, material, _, _) = frame.object(o);
+            let crate::FrameObject { mesh, material, .. } = frame.object(o);
             let offset = vcut_rays::origin_offset(origin_offset, mesh);
             let positions = frame.positions(o);
             (0..positions.len())

@@ -130,7 +130,7 @@ impl App {
                 match self.session.pick(origin, dir) {
                     Some((o, t)) => {
                         self.session.selected = Some(o);
-                        let (_, _, _, motion, start) = self.session.frame().object(o);
+                        let vcut_shade::FrameObject { motion, translation: start, .. } = self.session.frame().object(o);
                         if motion == Motion::Movable {
                             Some(Drag::Object { o, grab: origin + dir * t, start, vertical: self.shift, pending: None })
                         } else {
@@ -435,7 +435,8 @@ fn panel(
 
 fn object_controls(ui: &mut egui::Ui, session: &mut Session, actions: &mut PanelActions) {
     ui.strong("object");
-    let names: Vec<String> = (0..session.frame().object_count()).map(|o| session.frame().object(o).0.into()).collect();
+    let names: Vec<String> =
+        (0..session.frame().object_count()).map(|o| session.frame().object(o).name.into()).collect();
     let mut selected = session.selected;
     egui::ComboBox::from_id_salt("object")
         .selected_text(selected.map_or("none".to_string(), |o| names[o].clone()))
@@ -446,7 +447,7 @@ fn object_controls(ui: &mut egui::Ui, session: &mut Session, actions: &mut Panel
         });
     session.selected = selected;
     let Some(o) = selected else { return };
-    let (_, mesh, material, motion, translation) = session.frame().object(o);
+    let vcut_shade::FrameObject { mesh, material, motion, translation, .. } = session.frame().object(o);
     let radius = mesh.bounds().radius;
     let mut m: Material = *material;
     ui.horizontal(|ui| {

@@ -291,7 +291,7 @@ impl SceneRenderer {
         if self.objects.len() != frame.object_count() {
             self.objects = (0..frame.object_count())
                 .map(|o| {
-                    let (_, mesh, _, _, _) = frame.object(o);
+                    let vcut_shade::FrameObject { mesh, .. } = frame.object(o);
                     let indices: Vec<u32> = mesh.triangles().iter().flatten().copied().collect();
                     let vertex_count = mesh.vertex_count();
                     ObjectBuffers {

@@ -141,7 +141,7 @@ impl Session {
     /// A session on `frame` (built from data whose SVC rays started `origin_offset` off the
     /// surface, as `Precomputed::svc_origin_offset`), lit by `env` called `env_name`.
     pub fn new(frame: Frame, env: EnvMap, env_name: &str, origin_offset: f32, camera: OrbitCamera) -> Session {
-        let selected = (0..frame.object_count()).find(|&o| frame.object(o).3 == Motion::Movable);
+        let selected = (0..frame.object_count()).find(|&o| frame.object(o).motion == Motion::Movable);
         let mut s = Session {
             frame,
             env_rotation_deg: 0.0,
@@ -244,7 +244,7 @@ impl Session {
         if o >= self.frame.object_count() {
             return Err(format!("no object {o}"));
         }
-        let (name, _, _, motion, current) = self.frame.object(o);
+        let vcut_shade::FrameObject { name, motion, translation: current, .. } = self.frame.object(o);
         if motion != Motion::Movable {
             return Err(format!("'{name}' is static: it was precomputed without a visibility field"));
         }
@@ -266,7 +266,7 @@ impl Session {
 
     /// Changes object `o`'s BRDF (shading only, no merge).
     pub fn set_material(&mut self, o: usize, material: Material) {
-        if o < self.frame.object_count() && *self.frame.object(o).2 != material {
+        if o < self.frame.object_count() && *self.frame.object(o).material != material {
             self.frame.set_material(o, material);
             self.invalidate_shading();
             self.update();
@@ -471,7 +471,7 @@ impl Session {
         let (objects, light) = self.screen.get_or_insert_with(|| {
             let objects: Vec<vcut_ssdo::Object> = (0..frame.object_count())
                 .map(|o| {
-                    let (_, mesh, material, _, translation) = frame.object(o);
+                    let vcut_shade::FrameObject { mesh, material, translation, .. } = frame.object(o);
                     vcut_ssdo::Object::from_mesh(mesh, translation, Vec3::from(material.kd))
                 })
                 .collect();
@@ -485,7 +485,7 @@ impl Session {
     /// The object and distance hit first by the ray (`origin`, `dir`), at current positions.
     pub fn pick(&self, origin: Vec3, dir: Vec3) -> Option<(usize, f32)> {
         let placed: Vec<Vec<Vec3>> = (0..self.frame.object_count()).map(|o| self.frame.positions(o)).collect();
-        let objects = placed.iter().enumerate().map(|(o, p)| (self.frame.object(o).1.triangles(), p.as_slice()));
+        let objects = placed.iter().enumerate().map(|(o, p)| (self.frame.object(o).mesh.triangles(), p.as_slice()));
         vcut_rays::pick(objects, origin, dir)
     }
 }

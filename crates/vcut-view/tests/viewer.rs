@@ -100,7 +100,7 @@ fn a_move_a_brdf_edit_and_a_rotation_each_change_the_frame_and_only_a_move_merge
 
     // Blinn-Phong exponent 15 → 70: the ball changes, nothing merges.
     let merges = s.frame().merges();
-    let mut m = *s.frame().object(ball).2;
+    let mut m = *s.frame().object(ball).material;
     m.exponent = 70.0;
     s.set_material(ball, m);
     let edited = s.radiance().to_vec();
@@ -143,9 +143,9 @@ fn a_move_a_brdf_edit_and_a_rotation_each_change_the_frame_and_only_a_move_merge
 
     // Moving back restores the merged cuts bit for bit.
     s.set_env_rotation(0.0);
-    s.set_material(ball, *s.frame().object(ball).2);
+    s.set_material(ball, *s.frame().object(ball).material);
     s.translate(ball, Vec3::ZERO).unwrap();
-    let mut m = *s.frame().object(ball).2;
+    let mut m = *s.frame().object(ball).material;
     m.exponent = 15.0;
     s.set_material(ball, m);
     assert_eq!(s.radiance(), rest.as_slice(), "back at rest, the same frame");
@@ -234,7 +234,7 @@ fn the_gpu_screenshot_matches_the_cpu_renderer_and_follows_every_edit() {
     s.translate(ball, Vec3::new(0.6, 0.0, 0.3)).unwrap();
     let moved = shot(&mut s);
     assert!(differs(&gpu_image, &moved) > 500, "a move changes the image");
-    let mut m = *s.frame().object(ball).2;
+    let mut m = *s.frame().object(ball).material;
     m.exponent = 70.0;
     s.set_material(ball, m);
     let edited = shot(&mut s);

@@ -1,0 +1,87 @@
+//! Lighting and materials: the environment's light tree, the sun by rays, the shading table
+//! and the lists rebuilt after a lighting change; BRDF edits. None of them merges.
+
+use super::Frame;
+use super::lists::{shade_nodes, specular_nodes};
+use super::object::placed;
+use crate::brdf;
+use crate::sun::{self, Sun, SunRays};
+use rayon::prelude::*;
+use vcut_envmap::EnvMap;
+use vcut_scene::Material;
+
+impl Frame {
+    /// Changes object `o`'s material (no merge).
+    pub fn set_material(&mut self, o: usize, material: Material) {
+        let s = &mut self.objects[o];
+        if s.material.exponent != material.exponent {
+            s.pow = brdf::PowTable::new(material.exponent);
+        }
+        s.material = material;
+    }
+
+    /// Rebuilds the light tree for a new or rotated environment (no merge; with sun rays on,
+    /// the sun's rays are cast again).
+    pub fn set_environment(&mut self, env: &EnvMap) {
+        self.light = self.builder.build(env);
+        self.relight();
+    }
+
+    /// Casts the sun's leaves by rays at run time instead of through the cuts (the default,
+    /// [`SunRays::default`]; `None`: the paper's cuts for all light). See [`crate::sun`]. No
+    /// merge.
+    pub fn set_sun_rays(&mut self, rays: Option<SunRays>) {
+        self.sun_rays = rays;
+        self.relight();
+    }
+
+    /// The sun-rays setting (`None`: all light through the cuts).
+    pub fn sun_rays(&self) -> Option<SunRays> {
+        self.sun_rays
+    }
+
+    /// Leaves of the light cast as the sun by rays (0 with sun rays off, or no sun).
+    pub fn sun_leaves(&self) -> usize {
+        self.sun.as_ref().map_or(0, Sun::len)
+    }
+
+    /// The sun, the shading table and every list for the current light and sun setting.
+    fn relight(&mut self) {
+        self.light_state();
+        self.relist_all();
+    }
+
+    /// The sun and the shading table for the current light and sun setting.
+    pub(super) fn light_state(&mut self) {
+        let leaves = self.sun_rays.map(|r| sun::sun_leaves(&self.light, &r)).unwrap_or_default();
+        // The objects' hierarchies outlive a lighting change.
+        let old = self.sun.take();
+        if leaves.is_empty() {
+            self.nodes = shade_nodes(&self.tree, &self.light);
+        } else {
+            let (dirs, offset) = (self.tree.leaf_directions(), self.origin_offset);
+            self.sun = Some(Sun::new(&self.light, &leaves, dirs, &placed(&self.objects), offset, old));
+            self.nodes = shade_nodes(&self.tree, &sun::without(&self.light, &leaves));
+        }
+        self.specular = specular_nodes(&self.nodes);
+    }
+
+    /// Rebuilds the shading lists after a lighting change: those of the vertices facing the
+    /// last eye (all without one); the others' are marked stale.
+    fn relist_all(&mut self) {
+        let eye = self.eye();
+        let nodes = &self.nodes;
+        for s in &mut self.objects {
+            let mut lists = std::mem::take(&mut s.lists);
+            let state = &*s;
+            lists.par_iter_mut().enumerate().for_each_init(Vec::new, |below, (v, list)| {
+                if !state.pending[v] && eye.is_none_or(|e| state.faces(v, e)) {
+                    state.relist(v, nodes, list, below);
+                } else {
+                    list.mark_stale();
+                }
+            });
+            s.lists = lists;
+        }
+    }
+}

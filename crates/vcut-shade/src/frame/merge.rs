@@ -1,0 +1,352 @@
+//! Merges: a move looks up every vertex's field inputs again and re-merges those that changed
+//! (`rekey`, deferring the ones facing away: see the module docs of [`super`]); each cell's cuts
+//! are refined once per move and kept for the next; one [`Frame::merge_vertex`] serves a
+//! move's batch and a merge on the spot. The index baseline ([`MergeAlgorithm::Index`]) merges
+//! the same inputs as index-coded cuts, for timing against.
+
+use super::keys::{CellKey, FieldKey, take_held};
+use super::lists::ShadeList;
+use super::object::{node_ends, placed};
+use super::{Frame, FrameError, MergeAlgorithm, MoveTiming};
+use glam::Vec3;
+use rayon::prelude::*;
+use std::time::Instant;
+use vcut_cut::Cut;
+use vcut_data::InsideSamples;
+use vcut_merge::baseline::{self, IndexCut, IndexGroup};
+use vcut_merge::{Factor, MergedCut, Refinement, merge_refined};
+
+/// What the last merge of an object's vertices built, for the next move (a move along a path
+/// needs mostly the same cells and samples again): the cells' refinements, sorted by cell, and
+/// the field cuts it decoded, by (object, sphere, point), sorted.
+#[derive(Default)]
+pub(super) struct FieldCache {
+    pub(super) keys: Vec<(u32, u32, u32)>,
+    pub(super) cuts: Vec<Cut>,
+    pub(super) cells: Vec<CellKey>,
+    pub(super) refined: Vec<Refinement>,
+}
+
+/// The merged cut of a vertex inside an object (a cut of one zero node).
+pub(super) fn full_zero(h: u32) -> MergedCut {
+    MergedCut { root_height: h, heights: vec![h as u8], values: vec![0.0], indices: vec![0] }
+}
+
+impl Frame {
+    /// Moves object `o` to `translation` (from its rest position) and re-merges the vertices
+    /// whose field inputs changed: its own, and other objects' vertices near it. Returns how
+    /// many vertices were merged.
+    pub fn translate(&mut self, o: usize, translation: Vec3) -> Result<usize, FrameError> {
+        self.objects[o].translation = translation;
+        self.rekey(true)
+    }
+
+    /// How field lookups treat samples inside the object (default [`InsideSamples::Occluded`]);
+    /// re-merges the vertices whose field inputs change. Returns how many.
+    pub fn set_inside_samples(&mut self, inside: InsideSamples) -> Result<usize, FrameError> {
+        self.inside = inside;
+        self.rekey(true)
+    }
+
+    /// Decodes the field cuts of `wanted` (sorted samples), taking those `old` holds (sorted
+    /// too) from it.
+    fn decode_samples(
+        &self,
+        o: usize,
+        vertex: usize,
+        wanted: &[(u32, u32, u32)],
+        old_keys: Vec<(u32, u32, u32)>,
+        old_cuts: Vec<Cut>,
+    ) -> Result<Vec<Cut>, FrameError> {
+        let reused = take_held(old_keys, old_cuts, wanted);
+        wanted
+            .par_iter()
+            .zip(reused.into_par_iter())
+            .map(|(&(j, sphere, point), hit)| match hit {
+                Some(c) => Ok(c),
+                None => self.objects[j as usize].field[sphere as usize].cut(point as usize),
+            })
+            .collect::<Result<_, String>>()
+            .map_err(|reason| FrameError::Cut { object: o, vertex, reason })
+    }
+
+    /// Merges the vertices of object `o` marked in `changed` with their keys into `merged`
+    /// and builds their shading `lists` (in place, reusing each buffer), in parallel. Returns
+    /// how many were merged.
+    #[allow(clippy::too_many_arguments)]
+    pub(super) fn merge_all(
+        &self,
+        o: usize,
+        keys: &[Vec<FieldKey>],
+        changed: &[bool],
+        merged: &mut [MergedCut],
+        lists: &mut [ShadeList],
+        cache: &mut FieldCache,
+        timing: &mut MoveTiming,
+    ) -> Result<usize, FrameError> {
+        let vertices: Vec<usize> = (0..changed.len()).filter(|&v| changed[v]).collect();
+        let first = vertices.first().copied().unwrap_or(0);
+        let me = &self.objects[o];
+        let normals = me.mesh.normals();
+        let eye = self.eye();
+        let facing = |v: usize| eye.is_none_or(|e| me.faces(v, e));
+        let table = &self.nodes;
+        let h = self.tree.height();
+        let old = std::mem::take(cache);
+        let occluded = |v: usize| keys[v].iter().any(|k| k.samples.is_none());
+        let start = Instant::now();
+        let result = match self.algorithm {
+            MergeAlgorithm::Counter => {
+                // The cells the vertices use; those the last move refined are kept.
+                let mut cells: Vec<CellKey> =
+                    vertices.iter().flat_map(|&v| keys[v].iter()).filter_map(|k| CellKey::of(k).map(|c| c.0)).collect();
+                cells.sort_unstable();
+                cells.dedup();
+                let reused = take_held(old.cells, old.refined, &cells);
+                // The new cells' samples, each decoded once.
+                let mut wanted: Vec<(u32, u32, u32)> = cells
+                    .iter()
+                    .zip(&reused)
+                    .filter(|(_, r)| r.is_none())
+                    .flat_map(|(c, _)| c.samples().iter().copied())
+                    .collect();
+                wanted.sort_unstable();
+                wanted.dedup();
+                timing.refine_s += start.elapsed().as_secs_f64();
+                let start = Instant::now();
+                let decoded = self.decode_samples(o, first, &wanted, old.keys, old.cuts)?;
+                timing.decode_s += start.elapsed().as_secs_f64();
+                let start = Instant::now();
+                let refined: Vec<Refinement> = cells
+                    .par_iter()
+                    .zip(reused.into_par_iter())
+                    .map(|(c, hit)| match hit {
+                        Some(r) => Ok(r),
+                        None => {
+                            let cuts: Vec<&Cut> = c
+                                .samples()
+                                .iter()
+                                .map(|x| {
+                                    &decoded
+                                        [wanted.binary_search(x).unwrap_or_else(|_| unreachable!("collected above"))]
+                                })
+                                .collect();
+                            Refinement::new(&cuts)
+                        }
+                    })
+                    .collect::<Result<_, _>>()
+                    .map_err(|e| FrameError::Cut { object: o, vertex: first, reason: e.to_string() })?;
+                timing.refine_s += start.elapsed().as_secs_f64();
+                let start = Instant::now();
+                let result = merged
+                    .par_iter_mut()
+                    .zip(lists.par_iter_mut())
+                    .enumerate()
+                    .filter(|(v, _)| changed[*v])
+                    .try_for_each_init(
+                        || (Refinement::default(), Vec::new()),
+                        |(scratch, below), (v, (out, list))| {
+                            let cell = |c: &CellKey| {
+                                &refined[cells.binary_search(c).unwrap_or_else(|_| unreachable!("collected above"))]
+                            };
+                            let svc = self.merge_vertex(o, v, &keys[v], &cell, scratch, out)?;
+                            // The list while the cut is still in cache.
+                            match svc {
+                                None => list.clear(),
+                                Some(_) if !facing(v) => list.mark_stale(),
+                                Some(ends) => list.rebuild(out, normals[v], table, Some(ends), below),
+                            }
+                            Ok(())
+                        },
+                    );
+                timing.merge_s += start.elapsed().as_secs_f64();
+                *cache = FieldCache { keys: wanted, cuts: decoded, cells, refined };
+                result
+            }
+            MergeAlgorithm::Index => {
+                // Every sample the vertices use, decoded once and converted to indices.
+                let mut wanted: Vec<(u32, u32, u32)> = vertices
+                    .iter()
+                    .flat_map(|&v| keys[v].iter())
+                    .filter_map(|k| CellKey::of(k).map(|c| c.0))
+                    .flat_map(|c| c.samples().to_vec())
+                    .collect();
+                wanted.sort_unstable();
+                wanted.dedup();
+                let decoded = self.decode_samples(o, first, &wanted, old.keys, old.cuts)?;
+                let decoded_index: Vec<IndexCut> = decoded.par_iter().map(IndexCut::from_cut).collect();
+                timing.decode_s += start.elapsed().as_secs_f64();
+                let start = Instant::now();
+                let result = merged
+                    .par_iter_mut()
+                    .zip(lists.par_iter_mut())
+                    .enumerate()
+                    .filter(|(v, _)| changed[*v])
+                    .try_for_each(|(v, (out, list))| {
+                        if occluded(v) {
+                            *out = full_zero(h);
+                            list.clear();
+                            return Ok(());
+                        }
+                        let err = |reason: String| FrameError::Cut { object: o, vertex: v, reason };
+                        let svc_cut = me.svc_cut(v).map_err(err)?;
+                        let svc_ends = node_ends(&svc_cut);
+                        let svc = IndexCut::from_cut(&svc_cut);
+                        let svc_refs = [&svc];
+                        let lookups: Vec<(CellKey, [f32; 8])> = keys[v].iter().filter_map(CellKey::of).collect();
+                        let cuts: Vec<Vec<&IndexCut>> = lookups
+                            .iter()
+                            .map(|(c, _)| {
+                                c.samples()
+                                    .iter()
+                                    .map(|x| {
+                                        &decoded_index[wanted
+                                            .binary_search(x)
+                                            .unwrap_or_else(|_| unreachable!("collected above"))]
+                                    })
+                                    .collect()
+                            })
+                            .collect();
+                        let mut groups = vec![IndexGroup { cuts: &svc_refs, weights: &[1.0] }];
+                        groups.extend(
+                            cuts.iter()
+                                .zip(&lookups)
+                                .map(|(c, (cell, w))| IndexGroup { cuts: c, weights: &w[..usize::from(cell.len)] }),
+                        );
+                        baseline::merge(&groups, out).map_err(|e| err(e.to_string()))?;
+                        if facing(v) {
+                            list.rebuild(out, normals[v], table, Some(&svc_ends), &mut Vec::new());
+                        } else {
+                            list.mark_stale();
+                        }
+                        Ok(())
+                    });
+                timing.merge_s += start.elapsed().as_secs_f64();
+                *cache = FieldCache { keys: wanted, cuts: decoded, cells: Vec::new(), refined: Vec::new() };
+                result
+            }
+        };
+        result.map(|()| vertices.len())
+    }
+
+    /// The one merge of vertex `v` of object `o` with field inputs `keys` (the counter merge
+    /// through refinements, for a move's batch and for a merge on the spot alike): a cut of
+    /// one zero node when a field's samples are all inside its object, else the vertex's SVC
+    /// (kept decoded, or decoded into `scratch`) times each field cell's refinement (`cell`
+    /// gives it) into `out`. Returns the SVC's node ends (for its shading list), `None` for
+    /// the occluded vertex.
+    fn merge_vertex<'r>(
+        &'r self,
+        o: usize,
+        v: usize,
+        keys: &[FieldKey],
+        cell: &dyn Fn(&CellKey) -> &'r Refinement,
+        scratch: &'r mut Refinement,
+        out: &mut MergedCut,
+    ) -> Result<Option<&'r [u32]>, FrameError> {
+        if keys.iter().any(|k| k.samples.is_none()) {
+            *out = full_zero(self.tree.height());
+            return Ok(None);
+        }
+        let me = &self.objects[o];
+        let err = |reason: String| FrameError::Cut { object: o, vertex: v, reason };
+        let svc = match me.svc_refined.get(v) {
+            Some(cached) => cached,
+            None => {
+                scratch.rebuild(&[&me.svc_cut(v).map_err(err)?]).map_err(|e| err(e.to_string()))?;
+                &*scratch
+            }
+        };
+        let lookups: Vec<(CellKey, [f32; 8])> = keys.iter().filter_map(CellKey::of).collect();
+        let mut factors = Vec::with_capacity(1 + lookups.len());
+        factors.push(Factor { refinement: svc, weights: &[1.0] });
+        for (c, weights) in &lookups {
+            factors.push(Factor { refinement: cell(c), weights: &weights[..usize::from(c.len)] });
+        }
+        merge_refined(&factors, out).map_err(|e| err(e.to_string()))?;
+        Ok(Some(svc.ends()))
+    }
+
+    /// Vertex `v`'s cut at the current field inputs, merged on the spot and not kept (for a
+    /// vertex whose merge waits): [`Frame::merge_vertex`] with its cells refined here, so the
+    /// cut a merge would keep, bit for bit.
+    pub(super) fn merge_one(&self, o: usize, v: usize, out: &mut MergedCut) -> Result<(), FrameError> {
+        let err = |reason: String| FrameError::Cut { object: o, vertex: v, reason };
+        let keys = self.keys(o, v);
+        let mut local: Vec<(CellKey, Refinement)> = Vec::new();
+        for (cell, _) in keys.iter().filter(|k| k.samples.is_some()).filter_map(CellKey::of) {
+            let cuts = cell
+                .samples()
+                .iter()
+                .map(|&(j, sphere, point)| self.objects[j as usize].field[sphere as usize].cut(point as usize))
+                .collect::<Result<Vec<Cut>, String>>()
+                .map_err(err)?;
+            local.push((cell, Refinement::new(&cuts.iter().collect::<Vec<_>>()).map_err(|e| err(e.to_string()))?));
+        }
+        let cell = |c: &CellKey| &local.iter().find(|(k, _)| k == c).unwrap_or_else(|| unreachable!("refined above")).1;
+        self.merge_vertex(o, v, &keys, &cell, &mut Refinement::default(), out)?;
+        Ok(())
+    }
+
+    /// Looks up every vertex's field inputs again and re-merges those that changed (with
+    /// deferred merges, those facing the eye; the others wait). `record`: keep the timing as
+    /// the last move's.
+    pub(super) fn rekey(&mut self, record: bool) -> Result<usize, FrameError> {
+        let mut total = 0;
+        let mut timing = MoveTiming::default();
+        let eye = self.eye().filter(|_| self.defer);
+        for k in 0..self.objects.len() {
+            let n = self.objects[k].mesh.vertex_count();
+            let start = Instant::now();
+            let mut new_keys: Vec<Vec<FieldKey>> = (0..n).into_par_iter().map(|v| self.keys(k, v)).collect();
+            let state = &self.objects[k];
+            let differs: Vec<bool> = (0..n).map(|v| new_keys[v] != state.keys[v]).collect();
+            let changed: Vec<bool> = (0..n).map(|v| differs[v] && eye.is_none_or(|e| state.faces(v, e))).collect();
+            timing.keys_s += start.elapsed().as_secs_f64();
+            let mut merged = std::mem::take(&mut self.objects[k].merged);
+            let mut lists = std::mem::take(&mut self.objects[k].lists);
+            let mut cache = std::mem::take(&mut self.objects[k].decoded);
+            let result = self.merge_all(k, &new_keys, &changed, &mut merged, &mut lists, &mut cache, &mut timing);
+            let state = &mut self.objects[k];
+            state.merged = merged;
+            state.lists = lists;
+            state.decoded = cache;
+            // A waiting vertex keeps the keys of its merged cut (the next move compares with
+            // them) and no list; one whose inputs are back to its cut's waits no more.
+            for v in 0..n {
+                state.pending[v] = differs[v] && !changed[v];
+                if state.pending[v] {
+                    new_keys[v] = state.keys[v].clone();
+                    state.lists[v].mark_stale();
+                    timing.deferred += 1;
+                }
+            }
+            match result {
+                Ok(count) => total += count,
+                Err(e) => {
+                    // Some changed vertices may hold new cuts: key them as unknown so that any
+                    // later move merges them again.
+                    let unknown = vec![FieldKey { object: u32::MAX, samples: None }];
+                    for (v, c) in changed.iter().enumerate() {
+                        if *c {
+                            state.keys[v] = unknown.clone();
+                        }
+                    }
+                    return Err(e);
+                }
+            }
+            state.keys = new_keys;
+        }
+        if let Some(sun) = self.sun.as_mut() {
+            let start = Instant::now();
+            timing.sun_rays = sun.update(&placed(&self.objects));
+            timing.sun_s = start.elapsed().as_secs_f64();
+        }
+        self.merges += total as u64;
+        timing.vertices = total;
+        if record {
+            self.last_move = timing;
+        }
+        Ok(total)
+    }
+}

@@ -1,0 +1,360 @@
+//! The frame loop of the paper, with caching: per vertex the SVC times the fields of the
+//! objects that can move relative to it, interpolated from 8 samples each, merged once and kept;
+//! a move re-merges only the vertices whose field inputs changed (those facing away from the
+//! camera when it sees them: deferred merges, below); BRDF and lighting edits only re-shade,
+//! and so do camera edits with nothing waiting.
+//!
+//! **Which fields a vertex uses.** Object j's field shadows a vertex of object o (o ≠ j) when
+//! j has a field and o or j is movable (static–static shadows are baked into the SVCs). Within
+//! 0.2r of j's centre (0.05r–0.2r for a flat j: its layout's `inner`) the lookup clamps to the
+//! innermost sphere; beyond 10r j casts no shadow
+//! (its bounding cone there covers under 0.25 % of the sphere); samples inside j blend in as
+//! fully occluded (or are dropped and the rest renormalised: [`Frame::set_inside_samples`],
+//! [`InsideSamples`] says why and by how much), and a vertex whose 8 samples are all inside j is
+//! fully occluded.
+//!
+//! **Where in a node the light is.** A merged node k holds v_k, the mean of V·max(0, n·ω) over
+//! its leaves, and the light tree the node's total radiance l_k. The paper evaluates
+//! `v_k f_r(ω_k, ω_o) l_k` at the node's mean direction ω_k, which is exact only if the light
+//! is spread evenly over the node: a sun covering one leaf of a 13° node gets the node's mean
+//! cosine and the BRDF 6° off. Here every node also knows the light-weighted mean of its leaf
+//! directions E_k = Σ ω_l y_l / Σ y_l (y the luminance) and the plain mean m_k = Σ ω_l / n_k;
+//! for a node wholly above the horizon, Σ_l max(0, n·ω_l) L_l = (n·E_k) l_k exactly, so with the
+//! node's visibility taken as constant (α = v_k / (n·m_k)) the estimate is
+//! `α (n·E_k) f_r(Ê_k, ω_o) l_k`: exact for any light within a fully visible node. Nodes that
+//! cross the horizon keep `v_k f_r(Ê_k, ω_o) l_k`. On the teapot scene under the sky (with exact
+//! fields, so clustering is the only error) this took the error against the exact reference
+//! from 3.1 % to 1.05 % (`cargo run --release -p vcut-benches --example error_sources`).
+//!
+//! **The SVC's share of a finer node.** A merged node k finer than the SVC node A around it
+//! (a field splits A) gets the product's value v_A·F_k, with v_A A's mean of V·max(0, n·ω): A's
+//! mean cosine, not k's. Where A lies wholly above the horizon the list takes k's visibility as
+//! `v_k / (n·m_A)` instead of `v_k / (n·m_k)` — A's visibility fraction, times the fields — so
+//! k's own cosine enters through n·E_k. The merged cuts stay the paper's product (bit for bit
+//! with the counter merge); only the list reads the SVC's node ends. On the teapot scene at the
+//! paper preset (the bench's frame) this took the error against the exact reference from
+//! 2.09 % to 1.77 %, the ground's from 4.4 % to 3.7 %, and with exact field cuts at the
+//! vertices from 1.12 % to 0.71 % (`error_sources --scene builtin:teapot`); moves cost ~4 %
+//! more (the list walks the SVC's ends beside the cut).
+//!
+//! **The sun by rays** (the default; [`Frame::set_sun_rays`], [`crate::sun`]). The few leaves
+//! of the light that hold a sun leave the cuts' light; each vertex adds their term with the
+//! visibility cast at run time against the objects at their translations (a move casts only
+//! the object pairs whose offset changed). The sun's shadow edges are then exact instead of
+//! blurred between field samples: at the paper preset the teapot scene's error against the
+//! exact reference fell from 1.77 % to 0.25 % and the bunny's from 0.92 % to 0.18 %, for
+//! ~1 ms of rays a move (`cargo xtask bench`, `rel_l2_exact` against `rel_l2_exact_cuts_only`).
+//! The merged cuts are the same either way.
+//!
+//! **Shading lists.** After a merge (and after a lighting change) each vertex keeps the nodes
+//! that can reflect light toward a viewer — value non-zero, Ê_k above the horizon — with the
+//! weight `α (n·E_k)` (or v_k) folded in, and the diffuse sum Σ weight·l_k. A BRDF or camera
+//! edit then evaluates only the specular lobe over that list and adds `k_d/π` times the sum.
+//!
+//! A vertex facing away from the camera reflects nothing toward it, so a merge (or a lighting
+//! change) builds the lists of the vertices facing the last eye shaded from ([`Frame::shade`]
+//! records it; [`Frame::set_eye`] sets it) and marks the others' stale. Shading builds a stale
+//! list it needs on the spot, without keeping it; [`Frame::set_eye`] builds and keeps those of
+//! the vertices facing a new eye. A move then spends nothing on the back-facing half of an
+//! object's lists (the teapot scene's moves 0.89×, the bunny's 0.80× by `move_path`), and a
+//! camera turn after it pays for their lists once.
+//!
+//! **Deferred merges** (the default; [`Frame::set_deferred_merges`]). For the same reason a
+//! move merges only the changed vertices facing the last eye; the others keep their old cut and
+//! field inputs and wait ([`Frame::pending_merges`]). The next move compares with those inputs
+//! (back where it was, a vertex waits no more), [`Frame::set_eye`] merges and keeps the waiting
+//! vertices facing the new eye, [`Frame::shade`] merges those it needs on the spot without
+//! keeping them, and [`Frame::merge_pending`] merges all. Images are bit for bit the eager
+//! frame's (tested); a move on the teapot scene merges ~6,600 of its 11,564 changed vertices
+//! and takes ~0.75× the eager time, and the camera turn after it merges what it now sees
+//! (`cargo xtask bench`: `move_ms_eager`, `turn_ms`, `turn_ms_eager`). With deferral off a
+//! camera change never merges.
+
+mod deferral;
+mod keys;
+mod lighting;
+mod lists;
+mod merge;
+mod object;
+mod shading;
+mod stats;
+#[cfg(test)]
+mod tests;
+
+use crate::brdf;
+use crate::sun::{Sun, SunRays};
+use glam::Vec3;
+use keys::FieldKey;
+use lists::{ShadeList, ShadeNode, SpecularNode};
+use merge::FieldCache;
+use object::ObjectState;
+use rayon::prelude::*;
+use vcut_cut::Cut;
+use vcut_data::{FileError, InsideSamples, Precomputed};
+use vcut_dirtree::DirectionTree;
+use vcut_envmap::EnvMap;
+use vcut_lighttree::{LightTree, LightTreeBuilder};
+use vcut_merge::{MergedCut, Refinement};
+use vcut_scene::{Material, Mesh, Motion};
+
+/// Why a frame could not be set up.
+#[derive(Debug, thiserror::Error)]
+pub enum FrameError {
+    /// The precomputed data is unreadable.
+    #[error(transparent)]
+    File(#[from] FileError),
+    /// A cut in the data does not decode or merge.
+    #[error("object {object}, vertex {vertex}: {reason}")]
+    Cut {
+        /// Object index.
+        object: usize,
+        /// Vertex index.
+        vertex: usize,
+        /// What failed.
+        reason: String,
+    },
+}
+
+/// Which merge a move uses. Both give the same merged cuts bit for bit (tested), so they can be
+/// timed on the same frames.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum MergeAlgorithm {
+    /// The paper's counter merge over height-coded cuts, through refinements: each field cell's
+    /// cuts (the 8 samples of a lookup, shared by the vertices around them) are merged once
+    /// into their common refinement ([`vcut_merge::Refinement`]), then every vertex merges its
+    /// SVC with its cells' refinements ([`vcut_merge::merge_refined`], the same cut to the bit).
+    #[default]
+    Counter,
+    /// The index baseline (Cheslack-Postava 2008 style): cuts converted to level-order indices
+    /// when decoded, merged by "advance until nested".
+    Index,
+}
+
+/// Where the last move's time went (seconds, wall clock over both cores).
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct MoveTiming {
+    /// Field lookups of every vertex (the keys).
+    pub keys_s: f64,
+    /// Decoding the field samples the changed vertices need (once each).
+    pub decode_s: f64,
+    /// Refining the field cells the changed vertices use (once each).
+    pub refine_s: f64,
+    /// Merging the changed vertices and building their shading lists (SVC decode included).
+    pub merge_s: f64,
+    /// Casting the sun's rays the move changed (with [`Frame::set_sun_rays`]; 0 without).
+    pub sun_s: f64,
+    /// Sun rays cast.
+    pub sun_rays: u64,
+    /// Vertices re-merged.
+    pub vertices: usize,
+    /// Vertices whose field inputs changed but whose merge waits: they face away from the eye
+    /// ([`Frame::set_deferred_merges`]).
+    pub deferred: usize,
+}
+
+/// One object of a [`Frame`], as [`Frame::object`] shows it.
+#[derive(Debug, Clone, Copy)]
+pub struct FrameObject<'a> {
+    /// Its name (unique in the scene).
+    pub name: &'a str,
+    /// Its mesh at rest.
+    pub mesh: &'a Mesh,
+    /// Its BRDF parameters now.
+    pub material: &'a Material,
+    /// Whether it may move.
+    pub motion: Motion,
+    /// Its translation from rest now.
+    pub translation: Vec3,
+}
+
+/// The scene at run time: translations, materials, lighting, and the merged cuts.
+pub struct Frame {
+    tree: DirectionTree,
+    objects: Vec<ObjectState>,
+    builder: LightTreeBuilder,
+    light: LightTree,
+    /// The sun by rays, when asked for and the light has one ([`crate::sun`]).
+    sun_rays: Option<SunRays>,
+    sun: Option<Sun>,
+    /// Where the SVCs' rays start: this fraction of an object's bounding radius along the normal.
+    origin_offset: f32,
+    /// Per tree node (level order): what shading needs (under the light less the sun's leaves
+    /// when the sun is cast).
+    nodes: Vec<ShadeNode>,
+    /// Per tree node: what the specular loop reads ([`ShadeNode::dir`] and `light`), half a
+    /// cache line each, so the nodes a frame's lists use stay in cache.
+    specular: Vec<SpecularNode>,
+    merges: u64,
+    algorithm: MergeAlgorithm,
+    inside: InsideSamples,
+    last_move: MoveTiming,
+    /// The last eye shaded from or set: merges build the lists of the vertices facing it only
+    /// (all while `None`).
+    eye: Option<Vec3>,
+    /// Whether a move leaves the vertices facing away from the eye for later.
+    defer: bool,
+    /// Merges [`Frame::shade`] did on the spot.
+    spot_merges: u64,
+}
+
+impl Frame {
+    /// Reads everything from `data`, builds the light tree of `env`, and merges every vertex.
+    pub fn new(data: &mut Precomputed, env: &EnvMap) -> Result<Frame, FrameError> {
+        let tree = data.tree()?;
+        let mut objects = Vec::new();
+        for o in 0..data.objects.len() {
+            let svc = data.svc_arrays(o)?;
+            let mut svc_starts = vec![0];
+            for a in &svc {
+                svc_starts.push(svc_starts.last().copied().unwrap_or(0) + a.len());
+            }
+            let stored = &data.objects[o];
+            objects.push(ObjectState {
+                name: stored.name.clone(),
+                mesh: stored.mesh.clone(),
+                material: stored.material,
+                pow: brdf::PowTable::new(stored.material.exponent),
+                motion: stored.motion,
+                translation: Vec3::ZERO,
+                svc,
+                svc_starts,
+                layout: data.layouts[o],
+                field: data.field_arrays(o)?,
+                merged: Vec::new(),
+                lists: Vec::new(),
+                keys: Vec::new(),
+                decoded: FieldCache::default(),
+                svc_refined: Vec::new(),
+                pending: Vec::new(),
+            });
+        }
+        let mut builder = LightTreeBuilder::new(&tree);
+        let light = builder.build(env);
+        let mut frame = Frame {
+            tree,
+            objects,
+            builder,
+            light,
+            sun_rays: Some(SunRays::default()),
+            sun: None,
+            origin_offset: data.svc_origin_offset(),
+            // Built by `light_state` below, with the sun's leaves out when they are cast.
+            specular: Vec::new(),
+            nodes: Vec::new(),
+            merges: 0,
+            algorithm: MergeAlgorithm::Counter,
+            inside: InsideSamples::default(),
+            last_move: MoveTiming::default(),
+            eye: None,
+            defer: true,
+            spot_merges: 0,
+        };
+        frame.set_svc_cache(true)?;
+        // The sun and the shading table before the merges build the lists.
+        frame.light_state();
+        for o in 0..frame.objects.len() {
+            let n = frame.objects[o].mesh.vertex_count();
+            let keys: Vec<Vec<FieldKey>> = (0..n).map(|v| frame.keys(o, v)).collect();
+            let mut merged = vec![MergedCut::default(); n];
+            let mut lists = vec![ShadeList::default(); n];
+            let mut cache = FieldCache::default();
+            frame.merge_all(
+                o,
+                &keys,
+                &vec![true; n],
+                &mut merged,
+                &mut lists,
+                &mut cache,
+                &mut MoveTiming::default(),
+            )?;
+            frame.objects[o].decoded = cache;
+            frame.objects[o].pending = vec![false; n];
+            frame.objects[o].keys = keys;
+            frame.objects[o].merged = merged;
+            frame.objects[o].lists = lists;
+        }
+        Ok(frame)
+    }
+
+    /// The direction tree.
+    pub fn tree(&self) -> &DirectionTree {
+        &self.tree
+    }
+
+    /// The light tree of the environment (the sun's leaves included, also with sun rays on).
+    pub fn light(&self) -> &LightTree {
+        &self.light
+    }
+
+    /// Number of objects.
+    pub fn object_count(&self) -> usize {
+        self.objects.len()
+    }
+
+    /// Index of the object called `name`.
+    pub fn object_index(&self, name: &str) -> Option<usize> {
+        self.objects.iter().position(|o| o.name == name)
+    }
+
+    /// Object `o`: its name, mesh at rest, material, motion and translation.
+    pub fn object(&self, o: usize) -> FrameObject<'_> {
+        let s = &self.objects[o];
+        FrameObject {
+            name: &s.name,
+            mesh: &s.mesh,
+            material: &s.material,
+            motion: s.motion,
+            translation: s.translation,
+        }
+    }
+
+    /// Chooses the merge that later moves use.
+    pub fn set_merge_algorithm(&mut self, algorithm: MergeAlgorithm) {
+        self.algorithm = algorithm;
+    }
+
+    /// Keeps every vertex's SVC decoded (`on`, the default) or decodes it at every merge.
+    /// Keeping them spares a move the SVCs' decoding (split flags walked bit by bit) at
+    /// [`Frame::svc_cache_bytes`] of memory (8 bytes a node); `cargo xtask bench` reports both.
+    pub fn set_svc_cache(&mut self, on: bool) -> Result<(), FrameError> {
+        for o in 0..self.objects.len() {
+            let s = &self.objects[o];
+            if !on {
+                self.objects[o].svc_refined = Vec::new();
+            } else if s.svc_refined.is_empty() {
+                let cached = (0..s.mesh.vertex_count())
+                    .into_par_iter()
+                    .map(|v| {
+                        let err = |reason: String| FrameError::Cut { object: o, vertex: v, reason };
+                        Refinement::new(&[&s.svc_cut(v).map_err(err)?]).map_err(|e| err(e.to_string()))
+                    })
+                    .collect::<Result<_, _>>()?;
+                self.objects[o].svc_refined = cached;
+            }
+        }
+        Ok(())
+    }
+
+    /// The merged cut of vertex `v` of object `o`, as of its last merge: a vertex whose merge
+    /// waits ([`Frame::set_deferred_merges`], [`Frame::pending_merges`]) still has the cut of
+    /// its field inputs before the move.
+    pub fn merged(&self, o: usize, v: usize) -> &MergedCut {
+        &self.objects[o].merged[v]
+    }
+
+    /// The SVC of vertex `v` of object `o`.
+    pub fn svc(&self, o: usize, v: usize) -> Result<Cut, String> {
+        self.objects[o].svc_cut(v)
+    }
+
+    /// World positions of object `o`'s vertices at its current translation.
+    pub fn positions(&self, o: usize) -> Vec<Vec3> {
+        let s = &self.objects[o];
+        s.mesh.positions().iter().map(|&p| p + s.translation).collect()
+    }
+
+    /// The eye that merges build shading lists for.
+    fn eye(&self) -> Option<Vec3> {
+        self.eye
+    }
+}

@@ -1,0 +1,84 @@
+//! An object at run time: its mesh and material, its translation, its stored cuts, and what
+//! its vertices' last merge left (merged cuts, shading lists, field inputs, the decoded field
+//! cuts and refined cells kept for the next move, which merges wait).
+
+use super::keys::FieldKey;
+use super::lists::{ShadeList, ShadeNode, faces};
+use super::merge::FieldCache;
+use crate::brdf;
+use crate::sun::Placed;
+use glam::Vec3;
+use vcut_cut::Cut;
+use vcut_data::FieldLayout;
+use vcut_data::sections::CutArray;
+use vcut_merge::{MergedCut, Refinement};
+use vcut_scene::{Material, Mesh, Motion};
+
+/// An object at run time.
+pub(super) struct ObjectState {
+    pub(super) name: String,
+    pub(super) mesh: Mesh,
+    pub(super) material: Material,
+    /// `x^exponent` of the material, tabled (`None` above the table's range).
+    pub(super) pow: Option<brdf::PowTable>,
+    pub(super) motion: Motion,
+    pub(super) translation: Vec3,
+    pub(super) svc: Vec<CutArray>,
+    /// First vertex of every SVC chunk.
+    pub(super) svc_starts: Vec<usize>,
+    pub(super) layout: Option<FieldLayout>,
+    pub(super) field: Vec<CutArray>,
+    pub(super) merged: Vec<MergedCut>,
+    pub(super) lists: Vec<ShadeList>,
+    pub(super) keys: Vec<Vec<FieldKey>>,
+    /// Decoded field cuts its vertices' last merge used.
+    pub(super) decoded: FieldCache,
+    /// Every vertex's SVC decoded once, ready to merge (empty with the cache off: then each
+    /// merge decodes it from the file's bytes).
+    pub(super) svc_refined: Vec<Refinement>,
+    /// Vertices whose merge waits ([`Frame::set_deferred_merges`]): their field inputs changed
+    /// while they faced away from the eye; `merged` and `keys` are still the last merge's.
+    pub(super) pending: Vec<bool>,
+}
+
+impl ObjectState {
+    /// Whether vertex `v` at the current translation faces `eye`.
+    pub(super) fn faces(&self, v: usize, eye: Vec3) -> bool {
+        faces(self.mesh.normals()[v], self.mesh.positions()[v] + self.translation, eye)
+    }
+
+    /// Builds vertex `v`'s shading list from its kept merged cut into `list`.
+    pub(super) fn relist(&self, v: usize, nodes: &[ShadeNode], list: &mut ShadeList, below: &mut Vec<f32>) {
+        list.rebuild(&self.merged[v], self.mesh.normals()[v], nodes, self.svc_ends(v).as_deref(), below);
+    }
+
+    pub(super) fn svc_cut(&self, v: usize) -> Result<Cut, String> {
+        let chunk = self.svc_starts.partition_point(|&s| s <= v) - 1;
+        self.svc[chunk].cut(v - self.svc_starts[chunk])
+    }
+
+    /// The node ends (leaves) of vertex `v`'s SVC: kept when the SVCs are, decoded otherwise
+    /// (`None` if that fails; the setup's merge decoded it once, so it does not in practice).
+    pub(super) fn svc_ends(&self, v: usize) -> Option<std::borrow::Cow<'_, [u32]>> {
+        if let Some(r) = self.svc_refined.get(v) {
+            return Some(std::borrow::Cow::Borrowed(r.ends()));
+        }
+        Some(std::borrow::Cow::Owned(node_ends(&self.svc_cut(v).ok()?)))
+    }
+}
+
+/// The objects at their translations, as the sun's rays see them.
+pub(super) fn placed(objects: &[ObjectState]) -> Vec<Placed<'_>> {
+    objects.iter().map(|s| Placed { mesh: &s.mesh, translation: s.translation }).collect()
+}
+
+/// The leaf where each of `cut`'s nodes ends, left to right.
+pub(super) fn node_ends(cut: &Cut) -> Vec<u32> {
+    cut.heights()
+        .iter()
+        .scan(0u32, |end, &h| {
+            *end += 1u32 << h;
+            Some(*end)
+        })
+        .collect()
+}

@@ -1,0 +1,104 @@
+//! Shading: B = Σ_k weight_k f_r(Ê_k, ω_o) l_k over each vertex's shading list, the diffuse sum
+//! times k_d/π, the specular lobe eight nodes at a time where the exponent is tabled, plus the
+//! sun's leaves by rays; stale lists and waiting merges done on the spot.
+
+use super::Frame;
+use super::lists::{ShadeList, blinn_phong_argument, faces, phong_argument};
+use crate::brdf;
+use glam::Vec3;
+use rayon::prelude::*;
+use vcut_merge::MergedCut;
+
+impl Frame {
+    /// Outgoing radiance toward `eye` of vertex `v` of object `o` if its merged cut were `cut`,
+    /// a product with the vertex's SVC as a factor (shaded exactly as [`Frame::shade`] does):
+    /// for measuring what other cuts would give.
+    pub fn shade_cut(&self, o: usize, v: usize, cut: &MergedCut, eye: Vec3) -> Vec3 {
+        let s = &self.objects[o];
+        let list = ShadeList::new(cut, s.mesh.normals()[v], &self.nodes, s.svc_ends(v).as_deref());
+        self.shade_vertex(o, v, &list, eye)
+    }
+
+    /// As [`Frame::shade_cut`] for a cut whose every value is its own node's mean of
+    /// V·max(0, n·ω) (not a product with the SVC).
+    pub fn shade_cut_means(&self, o: usize, v: usize, cut: &MergedCut, eye: Vec3) -> Vec3 {
+        let s = &self.objects[o];
+        let list = ShadeList::new(cut, s.mesh.normals()[v], &self.nodes, None);
+        self.shade_vertex(o, v, &list, eye)
+    }
+
+    fn shade_vertex(&self, o: usize, v: usize, list: &ShadeList, eye: Vec3) -> Vec3 {
+        let s = &self.objects[o];
+        let x = s.mesh.positions()[v] + s.translation;
+        let n = s.mesh.normals()[v];
+        if !faces(n, x, eye) {
+            return Vec3::ZERO;
+        }
+        let wo = (eye - x).normalize_or_zero();
+        let diffuse = Vec3::from(s.material.kd) / std::f32::consts::PI * list.diffuse;
+        let pow = s.pow.as_ref().map_or(brdf::Pow::Exact(s.material.exponent), brdf::Pow::Table);
+        let lobe = brdf::Lobe::with_pow(&s.material, n, wo, pow);
+        let sun = self.sun.as_ref().map_or(Vec3::ZERO, |sun| sun.radiance(o, v, &s.material, n, wo));
+        // One loop per lobe kind, so the match leaves the inner loop.
+        sun + diffuse
+            + match lobe {
+                brdf::Lobe::None => Vec3::ZERO,
+                brdf::Lobe::BlinnPhong { n, wo, scale, pow: brdf::Pow::Table(t) } => {
+                    list.specular_lanes(&self.specular, t, scale, blinn_phong_argument(n, wo))
+                }
+                brdf::Lobe::Phong { mirror, scale, pow: brdf::Pow::Table(t) } => {
+                    list.specular_lanes(&self.specular, t, scale, phong_argument(mirror))
+                }
+                brdf::Lobe::BlinnPhong { .. } => list.specular(&self.specular, |d| lobe.eval(d)),
+                brdf::Lobe::Phong { .. } => list.specular(&self.specular, |d| lobe.eval(d)),
+                brdf::Lobe::Ggx { .. } => list.specular(&self.specular, |d| lobe.eval(d)),
+            }
+    }
+
+    /// Outgoing radiance toward `eye` of every vertex of every object: B = Σ_k v_k f_r l_k over
+    /// its merged cut, with the light-weighted node directions and cosines of the module
+    /// documentation (plus the sun's leaves by rays, with [`Frame::set_sun_rays`]).
+    ///
+    /// Vertices whose list is stale build it on the spot without keeping it ([`Frame::set_eye`]
+    /// keeps them), and so do vertices facing `eye` whose merge waits with their cut (a read
+    /// error there, which setup's decoding of the same file makes unlikely, shades the vertex
+    /// black; [`Frame::set_eye`] reports it). `eye` becomes the eye later merges build lists for.
+    pub fn shade(&mut self, eye: Vec3) -> Vec<Vec<Vec3>> {
+        self.eye = Some(eye);
+        let this = &*self;
+        let (radiance, spot): (Vec<Vec<Vec3>>, Vec<u64>) = this
+            .objects
+            .iter()
+            .enumerate()
+            .map(|(o, s)| {
+                let shaded: Vec<(Vec3, bool)> = s
+                    .lists
+                    .par_iter()
+                    .enumerate()
+                    .map_init(
+                        || (ShadeList::default(), Vec::new(), MergedCut::default()),
+                        |(built, below, cut), (v, list)| {
+                            if s.pending[v] && s.faces(v, eye) {
+                                if this.merge_one(o, v, cut).is_err() {
+                                    return (Vec3::ZERO, true);
+                                }
+                                let ends = s.svc_ends(v);
+                                built.rebuild(cut, s.mesh.normals()[v], &this.nodes, ends.as_deref(), below);
+                                (this.shade_vertex(o, v, built, eye), true)
+                            } else if list.stale && s.faces(v, eye) {
+                                s.relist(v, &this.nodes, built, below);
+                                (this.shade_vertex(o, v, built, eye), false)
+                            } else {
+                                (this.shade_vertex(o, v, list, eye), false)
+                            }
+                        },
+                    )
+                    .collect();
+                let spot = shaded.iter().filter(|x| x.1).count() as u64;
+                (shaded.into_iter().map(|x| x.0).collect(), spot)
+            })
+            .unzip();
+        self.spot_merges += spot.iter().sum::<u64>();
+        radiance
+    }
+}
