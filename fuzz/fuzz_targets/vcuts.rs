@@ -36,13 +36,12 @@ fuzz_target!(|data: &[u8]| {
             if let Ok(mut r) = Reader::from_source(Cursor::new(rest), Path::new("fuzz.vcuts")) {
                 let ids: Vec<_> = r.entries().iter().map(|e| e.id).collect();
                 for id in ids {
-                    if let Ok(bytes) = r.section(id) {
-                        if matches!(id.kind, SectionKind::Svc | SectionKind::Field) {
-                            if let Ok(a) = sections::CutArray::parse(bytes) {
-                                for i in 0..a.len().min(16) {
-                                    let _ = a.cut(i);
-                                }
-                            }
+                    if let Ok(bytes) = r.section(id)
+                        && matches!(id.kind, SectionKind::Svc | SectionKind::Field)
+                        && let Ok(a) = sections::CutArray::parse(bytes)
+                    {
+                        for i in 0..a.len().min(16) {
+                            let _ = a.cut(i);
                         }
                     }
                 }

@@ -85,7 +85,7 @@ pub fn glb_triangle(declared_len: usize, actual_len: usize) -> Vec<u8> {
     let mut bin: Vec<u8> =
         [0.0f32, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0].iter().flat_map(|f| f.to_le_bytes()).collect();
     bin.resize(actual_len, 0);
-    while bin.len() % 4 != 0 {
+    while !bin.len().is_multiple_of(4) {
         bin.push(0);
     }
     let total = 12 + 8 + json.len() + 8 + bin.len();

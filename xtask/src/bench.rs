@@ -20,8 +20,9 @@ use std::time::Instant;
 use vcut_data::{InsideSamples, Precomputed};
 use vcut_lighttree::LightTreeBuilder;
 use vcut_precompute::run::Summary;
+use vcut_scene::Scene;
 use vcut_scene::budget::human;
-use vcut_scene::{Material, Motion, Scene};
+use vcut_shade::measure::{edit_ms, first_movable, median, move_path, turn_after_move};
 use vcut_shade::reference::{MonteCarloParams, errors, exact_direction, monte_carlo};
 use vcut_shade::{Frame, MergeAlgorithm, SunRays};
 use vcut_sphere::{DirectionSet, RepulsionParams};
@@ -87,20 +88,20 @@ fn estimate(args: &BenchArgs, data_dir: &Path) -> Result<()> {
         if args.reuse && file.exists() && file.with_extension("summary.json").exists() {
             continue;
         }
-        let mut a = crate::precompute::PrecomputeArgs::new(&format!("builtin:{name}"), preset);
+        let mut a = vcuts::precompute::PrecomputeArgs::new(&format!("builtin:{name}"), preset);
         a.output = Some(file);
-        let e = crate::precompute::estimate_only(&a, ESTIMATE_SAMPLE_S)?;
+        let e = vcuts::precompute::estimate_only(&a, ESTIMATE_SAMPLE_S)?;
         rows.push((format!("{name} at {preset}"), e.seconds, e.output_bytes, e.peak_bytes));
     }
     if !args.no_tradeoff {
         let base = if args.quick { "fast" } else { "balanced" };
         for (key, value, a) in crate::tradeoff::variants("teapot", base, args.quick, data_dir) {
-            let e = crate::precompute::estimate_only(&a, ESTIMATE_SAMPLE_S)?;
+            let e = vcuts::precompute::estimate_only(&a, ESTIMATE_SAMPLE_S)?;
             rows.push((format!("trade-off teapot {key} = {value}"), e.seconds, e.output_bytes, e.peak_bytes));
         }
     }
     if !args.no_leaves {
-        for (label, e) in crate::leaves::bench_estimates(args.quick, ESTIMATE_SAMPLE_S)? {
+        for (label, e) in crate::bench_leaves::estimates(args.quick, ESTIMATE_SAMPLE_S)? {
             rows.push((label, e.lvc_seconds + e.prt_seconds, e.output_bytes, e.peak_bytes));
         }
     }
@@ -122,7 +123,7 @@ fn estimate(args: &BenchArgs, data_dir: &Path) -> Result<()> {
     println!("estimate_precompute_s={seconds:.1}");
     println!("estimate_data_mb={:.1}", bytes as f64 / 1e6);
     println!("estimate_peak_mb={:.1}", peak as f64 / 1e6);
-    crate::resources::check("the bench", peak, (data_dir, bytes), args.force)
+    vcuts::resources::check("the bench", peak, (data_dir, bytes), args.force)
 }
 
 /// The preset a scene is benched at.
@@ -172,97 +173,6 @@ const PAPER: [PaperRow; 2] = [
     },
 ];
 
-/// The middle value (the upper one of an even count); NaN for none.
-pub fn median(mut v: Vec<f64>) -> f64 {
-    v.sort_by(f64::total_cmp);
-    if v.is_empty() { f64::NAN } else { v[v.len() / 2] }
-}
-
-/// The first movable object of `frame`.
-pub fn movable_object(frame: &Frame, scene: &str) -> Result<usize> {
-    (0..frame.object_count())
-        .find(|&o| frame.object(o).motion == Motion::Movable)
-        .with_context(|| format!("scene {scene} has no movable object"))
-}
-
-/// Median time of a BRDF edit: `runs` shadings, each after switching object `o`'s Blinn-Phong
-/// exponent 70 ↔ 15; its material is restored after.
-pub fn edit_ms(frame: &mut Frame, o: usize, eye: Vec3, runs: usize) -> f64 {
-    let rest = *frame.object(o).material;
-    let ms = median(
-        (0..runs)
-            .map(|i| {
-                let exponent = if i % 2 == 0 { 70.0 } else { 15.0 };
-                frame.set_material(o, Material { exponent, ..rest });
-                let t = Instant::now();
-                std::hint::black_box(frame.shade(eye));
-                t.elapsed().as_secs_f64() * 1e3
-            })
-            .collect(),
-    );
-    frame.set_material(o, rest);
-    ms
-}
-
-/// What a move path measured.
-pub struct PathTiming {
-    /// Median time of one step: re-merge plus shade (ms).
-    pub move_ms: f64,
-    /// Merge time of every step (ms).
-    pub merge_ms: Vec<f64>,
-    /// Vertices re-merged per step, on average.
-    pub merged: usize,
-    /// Vertices per step whose merge waits (facing away from the eye), on average.
-    pub deferred: usize,
-}
-
-/// Moves object `o` from rest along `steps` translations of 0.1 r along (1, 0, 0.5) with
-/// `algorithm`, shading after each, then back to rest.
-pub fn move_path(
-    frame: &mut Frame,
-    o: usize,
-    eye: Vec3,
-    algorithm: MergeAlgorithm,
-    steps: usize,
-) -> Result<PathTiming> {
-    let step = Vec3::new(1.0, 0.0, 0.5) * 0.1 * frame.object(o).mesh.bounds().radius;
-    frame.set_merge_algorithm(algorithm);
-    frame.translate(o, Vec3::ZERO)?;
-    let (mut times, mut merge_ms, mut merged, mut deferred) = (Vec::new(), Vec::new(), 0, 0);
-    for i in 1..=steps {
-        let t = Instant::now();
-        merged += frame.translate(o, step * i as f32)?;
-        std::hint::black_box(frame.shade(eye));
-        times.push(t.elapsed().as_secs_f64() * 1e3);
-        merge_ms.push(frame.last_move().merge_s * 1e3);
-        deferred += frame.last_move().deferred;
-    }
-    frame.translate(o, Vec3::ZERO)?;
-    frame.set_merge_algorithm(MergeAlgorithm::Counter);
-    let n = steps.max(1);
-    Ok(PathTiming { move_ms: median(times), merge_ms, merged: merged / n, deferred: deferred / n })
-}
-
-/// A camera turn right after a move: object `o` moved one step of [`move_path`] while shading
-/// from `eye`, then the time to set the eye `behind` (merging what the move left facing away,
-/// with deferred merges) and shade from it. Median of `runs`; returns it and the vertices the
-/// turn merged. Leaves the object at rest and `eye` set.
-pub fn turn_after_move(frame: &mut Frame, o: usize, eye: Vec3, behind: Vec3, runs: usize) -> Result<(f64, usize)> {
-    let step = Vec3::new(1.0, 0.0, 0.5) * 0.1 * frame.object(o).mesh.bounds().radius;
-    let (mut times, mut merged) = (Vec::new(), 0);
-    for i in 0..runs {
-        frame.set_eye(eye)?;
-        frame.translate(o, step * (1 + i % 2) as f32)?;
-        let t = Instant::now();
-        merged = frame.set_eye(behind)?;
-        std::hint::black_box(frame.shade(behind));
-        times.push(t.elapsed().as_secs_f64() * 1e3);
-    }
-    frame.set_eye(eye)?;
-    frame.translate(o, Vec3::ZERO)?;
-    Ok((median(times), merged))
-}
-
 /// Read bandwidth in GB/s: the median of 5 parallel sums over 256 MB.
 fn memory_bandwidth() -> f64 {
     let data: Vec<u64> = (0..32u64 << 20).collect();
@@ -308,20 +218,20 @@ fn rays(summary: &Summary) -> (f64, f64) {
 fn precompute_figures(name: &str, preset: &str, data_dir: &Path, reuse: bool) -> Result<(PathBuf, Value)> {
     let file = data_dir.join(format!("{name}-{preset}.vcuts"));
     let sidecar = file.with_extension("summary.json");
-    if reuse && file.exists() {
-        if let Ok(text) = std::fs::read_to_string(&sidecar) {
-            println!("\n== {name}: reusing {} (precomputed earlier)", file.display());
-            let figures: Value =
-                serde_json::from_str(&text).with_context(|| format!("reading {}", sidecar.display()))?;
-            return Ok((file, figures));
-        }
+    if reuse
+        && file.exists()
+        && let Ok(text) = std::fs::read_to_string(&sidecar)
+    {
+        println!("\n== {name}: reusing {} (precomputed earlier)", file.display());
+        let figures: Value = serde_json::from_str(&text).with_context(|| format!("reading {}", sidecar.display()))?;
+        return Ok((file, figures));
     }
     println!("\n== {name}: precompute at preset {preset}");
-    let mut args = crate::precompute::PrecomputeArgs::new(&format!("builtin:{name}"), preset);
+    let mut args = vcuts::precompute::PrecomputeArgs::new(&format!("builtin:{name}"), preset);
     args.output = Some(file.clone());
     args.fresh = true;
     let t = Instant::now();
-    let (file, summary) = crate::precompute::run(&args)?;
+    let (file, summary) = vcuts::precompute::run(&args)?;
     let summary = summary.context("precompute ran as a dry run")?;
     let precompute_s = t.elapsed().as_secs_f64();
     let (rays_per_s, raw_rays_per_s) = rays(&summary);
@@ -353,7 +263,7 @@ fn bench_scene(name: &str, preset: &str, data_dir: &Path, no_mc: bool, reuse: bo
     let t = Instant::now();
     let mut frame = Frame::new(&mut data, &scene.environment)?;
     let setup_s = t.elapsed().as_secs_f64();
-    let movable = movable_object(&frame, name)?;
+    let movable = first_movable(&frame).with_context(|| format!("scene {name} has no movable object"))?;
     let vertices: usize = (0..frame.object_count()).map(|o| frame.object(o).mesh.vertex_count()).sum();
 
     println!("== {name}: edit, move, references");
@@ -545,7 +455,7 @@ pub fn run(args: &BenchArgs) -> Result<()> {
         if args.only_ssdo {
             report["ssdo"] = ssdo_section(args)?;
         } else {
-            report["leaves"] = crate::leaves::bench(args.quick, &args.out.join("leaves"))?;
+            report["leaves"] = crate::bench_leaves::run(args.quick, &args.out.join("leaves"))?;
         }
         std::fs::create_dir_all(&args.out).with_context(|| format!("creating {}", args.out.display()))?;
         write_atomic(&path, serde_json::to_string_pretty(&report)?.as_bytes())?;
@@ -645,7 +555,7 @@ pub fn run(args: &BenchArgs) -> Result<()> {
         report["ssdo"] = ssdo_section(args)?;
     }
     if !args.no_leaves {
-        report["leaves"] = crate::leaves::bench(args.quick, &args.out.join("leaves"))?;
+        report["leaves"] = crate::bench_leaves::run(args.quick, &args.out.join("leaves"))?;
     }
     report["bench_s"] = json!(started.elapsed().as_secs_f64());
     let (md, csv) = table1(report["scenes"].as_object().context("scenes")?);
@@ -665,7 +575,7 @@ fn ssdo_section(args: &BenchArgs) -> Result<serde_json::Value> {
         names.push("plant".into());
     }
     let (eval, rays, runs) = if args.quick { ((320, 180), 64, 5) } else { ((640, 360), 256, 9) };
-    crate::ssdo::bench(&names, (1280, 720), eval, rays, runs)
+    crate::bench_ssdo::run(&names, (1280, 720), eval, rays, runs)
 }
 
 #[cfg(test)]

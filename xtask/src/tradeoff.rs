@@ -5,7 +5,6 @@
 //! exact-direction reference (cast once per direction count and reused) and the Monte Carlo one
 //! (once per scene). Written as `tradeoff.csv` with the Pareto fronts marked, and two plots.
 
-use crate::bench::{edit_ms, median, movable_object, move_path};
 use anyhow::{Context, Result};
 use glam::Vec3;
 use plotters::prelude::*;
@@ -15,6 +14,7 @@ use std::path::Path;
 use std::time::Instant;
 use vcut_data::Precomputed;
 use vcut_scene::Scene;
+use vcut_shade::measure::{edit_ms, first_movable, median, move_path};
 use vcut_shade::reference::{MonteCarloParams, errors, exact_direction, monte_carlo};
 use vcut_shade::{Frame, MergeAlgorithm};
 
@@ -69,14 +69,14 @@ pub fn variants(
     base: &str,
     quick: bool,
     data_dir: &Path,
-) -> Vec<(&'static str, &'static str, crate::precompute::PrecomputeArgs)> {
+) -> Vec<(&'static str, &'static str, vcuts::precompute::PrecomputeArgs)> {
     let all: Vec<(&str, &str)> =
         sweeps(quick).into_iter().flat_map(|(k, vs)| vs.into_iter().map(move |v| (k, v))).collect();
     all.into_iter()
         .enumerate()
         .map(|(i, (key, value))| {
             let preset = if key == "preset" { value } else { base };
-            let mut args = crate::precompute::PrecomputeArgs::new(&format!("builtin:{scene_name}"), preset);
+            let mut args = vcuts::precompute::PrecomputeArgs::new(&format!("builtin:{scene_name}"), preset);
             if key != "preset" {
                 args.set.push(format!("{key}={value}"));
             }
@@ -109,13 +109,13 @@ pub fn run(scene_name: &str, base: &str, quick: bool, data_dir: &Path, no_mc: bo
         println!("\n== trade-off {}/{}: {scene_name}, {base} with {key} = {value}", i + 1, all.len());
         let file = args.output.clone().context("a variant names its file")?;
         let t = Instant::now();
-        let (_, summary) = crate::precompute::run(args)?;
+        let (_, summary) = vcuts::precompute::run(args)?;
         let summary = summary.context("precompute ran as a dry run")?;
         let precompute_s = t.elapsed().as_secs_f64();
         let mut data = Precomputed::open(&file)?;
         let offset = data.svc_origin_offset();
         let mut frame = Frame::new(&mut data, &scene.environment)?;
-        let movable = movable_object(&frame, scene_name)?;
+        let movable = first_movable(&frame).with_context(|| format!("scene {scene_name} has no movable object"))?;
         let shade_ms = edit_ms(&mut frame, movable, eye, 5);
         let path = move_path(&mut frame, movable, eye, MergeAlgorithm::Counter, 4)?;
         let (move_ms, merge_ms) = (path.move_ms, median(path.merge_ms));

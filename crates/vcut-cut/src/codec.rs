@@ -339,7 +339,7 @@ fn get_values(bytes: &[u8], n: usize, format: ValueFormat) -> Vec<f32> {
 
 /// Whether the padding bits after `n` bit-packed values are zero.
 fn values_canonical(bytes: &[u8], n: usize, format: ValueFormat) -> bool {
-    format != ValueFormat::U1 || n % 8 == 0 || bytes[n / 8] >> (n % 8) == 0
+    format != ValueFormat::U1 || n.is_multiple_of(8) || bytes[n / 8] >> (n % 8) == 0
 }
 
 /// Size in bytes of a cut of `nodes` nodes in the height codec.

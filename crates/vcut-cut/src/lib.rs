@@ -197,7 +197,7 @@ fn check(root: u32, heights: &[u8], values: &[f32]) -> Result<(), CutError> {
         if u32::from(h) > root {
             return Err(CutError::TooHigh { node, height: h, root });
         }
-        if at % (1u64 << h) != 0 {
+        if !at.is_multiple_of(1u64 << h) {
             return Err(CutError::Misaligned { node, height: h, offset: at });
         }
         at += 1u64 << h;

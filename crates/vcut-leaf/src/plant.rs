@@ -113,7 +113,7 @@ fn blade(
     let row = nc + 1;
     // Rows run back and forth (serpentine), so consecutive vertices are always neighbours: maps
     // stored in vertex order (the LVC's) then hold longer runs.
-    let index = |i: u32, j: u32| start + i * row + if i % 2 == 0 { j } else { nc - j };
+    let index = |i: u32, j: u32| start + i * row + if i.is_multiple_of(2) { j } else { nc - j };
     for i in 0..=na {
         let u = i as f32 / na as f32;
         // Ovate blade, never narrower than 6 % of its width (no degenerate tip).

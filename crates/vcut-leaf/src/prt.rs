@@ -206,7 +206,7 @@ impl Transfer {
             .map(|v| {
                 let out = trace(scene, params, (&pattern, weight), v);
                 let d = done.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1;
-                if d % 4096 == 0 || d == n {
+                if d.is_multiple_of(4096) || d == n {
                     progress(d, n);
                 }
                 out

@@ -485,10 +485,11 @@ impl LightTreeBuilder {
             return self.build_exact(map, k);
         }
         let q = map.rotation();
-        if let Layout::LatLong { width, height } = layout {
-            if q.x.abs() < 1e-7 && q.z.abs() < 1e-7 {
-                return self.build_yaw(map, width, height, 2.0 * f64::from(q.y).atan2(f64::from(q.w)));
-            }
+        if let Layout::LatLong { width, height } = layout
+            && q.x.abs() < 1e-7
+            && q.z.abs() < 1e-7
+        {
+            return self.build_yaw(map, width, height, 2.0 * f64::from(q.y).atan2(f64::from(q.w)));
         }
         if self.texel_cache.as_ref().is_none_or(|(l, _)| *l != layout) {
             self.texel_cache = Some((layout, TexelGeometry::new(layout)));

@@ -159,10 +159,10 @@ impl Mesh {
                 return Err(MeshError::IndexOutOfRange { triangle: t, index, vertex_count: positions.len() });
             }
         }
-        if let Some(n) = &normals {
-            if n.len() != positions.len() {
-                return Err(MeshError::NormalCount { normals: n.len(), positions: positions.len() });
-            }
+        if let Some(n) = &normals
+            && n.len() != positions.len()
+        {
+            return Err(MeshError::NormalCount { normals: n.len(), positions: positions.len() });
         }
         let mut normals = match (options.recompute_normals, normals) {
             (RecomputeNormals::WhereMissing, Some(n)) => n,

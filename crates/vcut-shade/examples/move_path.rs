@@ -19,13 +19,8 @@ use std::path::Path;
 use std::time::Instant;
 use vcut_data::Precomputed;
 use vcut_envmap::procedural;
-use vcut_scene::Motion;
+use vcut_shade::measure::{edit_ms, first_movable, median, path_step};
 use vcut_shade::{Frame, MergeAlgorithm};
-
-fn median(mut v: Vec<f64>) -> f64 {
-    v.sort_by(f64::total_cmp);
-    v[v.len() / 2]
-}
 
 /// User + system CPU seconds of this process so far (Linux, whose clock ticks are 1/100 s;
 /// `None` elsewhere).
@@ -57,12 +52,10 @@ fn main() -> Result<(), String> {
     }
     let o = match args.get(1) {
         Some(name) => frame.object_index(name).ok_or(format!("no object {name}"))?,
-        None => {
-            (0..frame.object_count()).find(|&o| frame.object(o).motion == Motion::Movable).ok_or("nothing movable")?
-        }
+        None => first_movable(&frame).ok_or("nothing movable")?,
     };
     let steps: usize = args.get(2).map(|s| s.parse().map_err(|e| format!("STEPS: {e}"))).transpose()?.unwrap_or(8);
-    let step = Vec3::new(1.0, 0.0, 0.5) * 0.1 * frame.object(o).mesh.bounds().radius;
+    let step = path_step(&frame, o);
     let eye = Vec3::new(0.0, 2.0, 6.0);
     let mut rows: Vec<[f64; 7]> = Vec::new();
     // The path, then (with VS_INDEX set) the index baseline over it and the path again: the
@@ -118,17 +111,7 @@ fn main() -> Result<(), String> {
         .collect();
     println!("relight_ms={:.2}", median(relight));
     // A BRDF edit: the movable object's exponent toggled 15 ↔ 70, then shade (no merge).
-    let edit: Vec<f64> = (0..21)
-        .map(|i| {
-            let m =
-                vcut_scene::Material { exponent: if i % 2 == 0 { 70.0 } else { 15.0 }, ..*frame.object(o).material };
-            let t = Instant::now();
-            frame.set_material(o, m);
-            std::hint::black_box(frame.shade(eye));
-            t.elapsed().as_secs_f64() * 1e3
-        })
-        .collect();
-    println!("edit_ms={:.2}", median(edit));
+    println!("edit_ms={:.2}", edit_ms(&mut frame, o, eye, 21));
     let col = |k: usize| median(rows.iter().map(|r| r[k]).collect());
     println!("object={}", frame.object(o).name);
     for (k, name) in

@@ -31,6 +31,7 @@
 pub mod brdf;
 pub mod frame;
 pub mod image;
+pub mod measure;
 pub mod reference;
 pub mod sun;
 

@@ -3,17 +3,16 @@
 //! compare it and the SH-only rendering with the path-traced reference; images and key=value
 //! figures. Also the `leaves` section of `cargo xtask bench`.
 
-use crate::bench::median;
+use crate::progress::Bar;
+pub use crate::resources::EstimateArgs;
 use anyhow::{Context, Result, bail};
 use glam::Vec3;
-use indicatif::{ProgressBar, ProgressStyle};
-use serde_json::json;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 use vcut_envmap::EnvMap;
 use vcut_leaf::image::{render, render_triangles};
 use vcut_leaf::lod::{Lod, LodParams};
-use vcut_leaf::lvc::{Content, Lvc, LvcParams};
+use vcut_leaf::lvc::{Content, LvcParams};
 use vcut_leaf::material::LeafMaterial;
 use vcut_leaf::plant::{PlantParams, plant};
 use vcut_leaf::prt::PrtParams;
@@ -25,6 +24,7 @@ use vcut_scene::Camera;
 use vcut_scene::budget::human;
 use vcut_scene::raster::Target;
 use vcut_shade::image::{Image, auto_exposure, pixel_errors, write_png};
+use vcut_shade::measure::median;
 
 /// The plant, its leaves and the sun: shared by `cargo xtask leaves` and `cargo xtask view --leaves`.
 #[derive(clap::Args, Clone)]
@@ -93,34 +93,9 @@ pub struct PlantArgs {
     /// Compute the leaf data again even if the file holds it.
     #[arg(long)]
     pub fresh: bool,
-    /// Print the estimate of computing the leaf data (vertices, rays, time, file bytes, peak
-    /// memory) and stop.
-    #[arg(long)]
-    pub dry_run: bool,
-    /// Compute even when the estimate exceeds the free memory or disk.
-    #[arg(long)]
-    pub force: bool,
-    /// Seconds of the precompute's own work to time for the estimate.
-    #[arg(long, default_value_t = 2.0)]
-    pub estimate_seconds: f64,
-}
-
-/// What computing the leaf data takes, printed before it starts (unless it is only loaded).
-#[derive(Clone, Copy)]
-pub struct EstimateArgs {
-    /// Stop after the estimate.
-    pub dry_run: bool,
-    /// Compute even when it does not fit.
-    pub force: bool,
-    /// Seconds to sample.
-    pub seconds: f64,
-}
-
-impl PlantArgs {
-    /// The estimate options.
-    pub fn estimate(&self) -> EstimateArgs {
-        EstimateArgs { dry_run: self.dry_run, force: self.force, seconds: self.estimate_seconds }
-    }
+    /// What computing the leaf data takes, printed before it starts (unless it is only loaded).
+    #[command(flatten)]
+    pub estimate: EstimateArgs,
 }
 
 /// Arguments of `cargo xtask leaves`.
@@ -241,15 +216,9 @@ pub fn camera(scene: &LeafScene) -> Camera {
     }
 }
 
-fn bar(len: usize, what: &str) -> ProgressBar {
-    let pb = ProgressBar::new(len as u64);
-    pb.set_style(
-        ProgressStyle::with_template("{prefix:>10} [{bar:40}] {pos}/{len} vertices {elapsed_precise} eta {eta}")
-            .expect("valid template")
-            .progress_chars("=> "),
-    );
-    pb.set_prefix(what.to_string());
-    pb
+/// A progress bar over a plant's vertices.
+pub fn bar(len: usize, what: &str) -> Bar {
+    Bar::new(what, len as u64, "vertices")
 }
 
 /// Everything precomputed for a scene.
@@ -292,9 +261,7 @@ pub fn precompute(
 ) -> Result<Option<Precomputed>> {
     let inputs = Inputs { scene, lvc: *lvc, prt: *prt, suns };
     let loads = reuse == Reuse::IfMatching && file.exists() && vcut_leaf::store::holds(file, &inputs).is_ok();
-    let estimate = (!loads).then(|| {
-        vcut_leaf::store::estimate(&inputs, std::time::Duration::from_secs_f64(est.seconds.clamp(0.0, 600.0)))
-    });
+    let estimate = (!loads).then(|| vcut_leaf::store::estimate(&inputs, est.budget()));
     if let Some(e) = &estimate {
         print_estimate(e);
         crate::resources::check("the leaf precompute", e.peak_bytes, (file, e.output_bytes), est.force)?;
@@ -310,7 +277,7 @@ pub fn precompute(
         bars[usize::from(stage == "PRT")].set_position(done as u64);
     };
     let (data, outcome) = vcut_leaf::store::precompute(&inputs, file, reuse, &progress)?;
-    bars.iter().for_each(ProgressBar::finish_and_clear);
+    bars.iter().for_each(Bar::finish_and_clear);
     if let Some(why) = &outcome.replaced {
         println!("leaf data: not reused ({why}); computed again");
     }
@@ -405,7 +372,7 @@ pub fn params(p: &PlantArgs) -> (LvcParams, PrtParams) {
 }
 
 /// A spread subset of at most `max` vertices.
-fn subset(n: usize, max: usize) -> Vec<usize> {
+pub fn subset(n: usize, max: usize) -> Vec<usize> {
     if n <= max {
         return (0..n).collect();
     }
@@ -428,7 +395,8 @@ fn downsample(i: &Target) -> Image {
     Image { width: w as u32, height: h as u32, rgb, covered }
 }
 
-fn to_image(i: Target) -> Image {
+/// A raster target as an image.
+pub fn to_image(i: Target) -> Image {
     Image { width: i.width as u32, height: i.height as u32, rgb: i.rgb, covered: i.covered }
 }
 
@@ -455,7 +423,7 @@ pub fn run(args: &LeavesArgs) -> Result<()> {
     let (lvc_params, prt) = params(p);
     let inputs = Inputs { scene: &scene, lvc: lvc_params, prt, suns: None };
     let reuse = if p.fresh { Reuse::Never } else { Reuse::IfMatching };
-    let Some(pre) = precompute(&scene, (&lvc_params, &prt), None, &data_path(p, &inputs), reuse, p.estimate())? else {
+    let Some(pre) = precompute(&scene, (&lvc_params, &prt), None, &data_path(p, &inputs), reuse, p.estimate)? else {
         return Ok(());
     };
     print_store(&pre);
@@ -621,150 +589,4 @@ pub fn frame_figures(
     }
     shade.remove(0);
     Ok(FrameFigures { decode_ms: median(decode), shade_ms: median(shade) })
-}
-
-/// The `leaves` section's precomputes, estimated from samples of `seconds` each: the large
-/// plant's maps (twice: as stored and cosine-baked) and transfer, the larger plant's one sun
-/// direction. Returns (label, estimate) per precompute.
-pub fn bench_estimates(quick: bool, seconds: f64) -> Result<Vec<(String, LeafEstimate)>> {
-    let m = LeafMaterial::default();
-    let (big, huge, prt_rays) = if quick { (10_000, 50_000, 64) } else { (100_000, 500_000, 128) };
-    let lvc = LvcParams::default();
-    let budget = std::time::Duration::from_secs_f64(seconds);
-    let scene = plant(&PlantParams::with_vertices(big), &m)?;
-    let main = vcut_leaf::store::estimate(
-        &Inputs { scene: &scene, lvc, prt: PrtParams { rays: prt_rays, ..PrtParams::default() }, suns: None },
-        budget,
-    );
-    // The cosine-baked maps: the same rays again, no transfer.
-    let baked = LeafEstimate { prt_rays: 0, prt_seconds: 0.0, output_bytes: 0, ..main };
-    let huge_scene = plant(&PlantParams::with_vertices(huge), &m)?;
-    // The built-in sky's sun, as the bench lights the plant.
-    let sun_dir = vcut_envmap::procedural::PreethamSky::default().sun_dir.normalize();
-    let sun = [vcut_leaf::lvc::CubeDirections { resolution: lvc.resolution }.nearest(sun_dir)];
-    let one = vcut_leaf::store::estimate(
-        &Inputs {
-            scene: &huge_scene,
-            lvc,
-            prt: PrtParams { rays: 16, bounces: 2, ..PrtParams::default() },
-            suns: Some(&sun),
-        },
-        budget,
-    );
-    Ok(vec![
-        (format!("leaves: {} vertices, every sun direction", main.vertices), main),
-        ("leaves: the same maps cosine-baked".into(), baked),
-        (format!("leaves: {} vertices, one sun direction", one.vertices), one),
-    ])
-}
-
-/// The `leaves` section of `cargo xtask bench`: RLE ratio, decode and shade times for a 100k-vertex
-/// plant (and shade time for 500k), errors against the path-traced reference. `quick` runs a
-/// smaller plant so CI stays short (the keys then say which size they measured).
-pub fn bench(quick: bool, out: &Path) -> Result<serde_json::Value> {
-    let est = EstimateArgs { dry_run: false, force: false, seconds: 2.0 };
-    println!("== leaves: LVC + PRT against the path-traced reference");
-    let m = LeafMaterial::default();
-    let env = vcut_envmap::procedural::PreethamSky::default().bake(512);
-    let (light, rest) = Lighting::from_map(&env);
-    let sun = light.sun.context("the built-in sky has a sun")?;
-    let (big, huge, prt_rays, ref_vertices, ref_paths) =
-        if quick { (10_000, 50_000, 64, 300, 512) } else { (100_000, 500_000, 128, 1500, 2048) };
-    let lvc_params = LvcParams::default();
-    // The 100k plant: everything precomputed.
-    let scene = plant(&PlantParams::with_vertices(big), &m)?;
-    println!("vertices={}", scene.vertex_count());
-    // Timed: computed every run (Reuse::Never), and saved beside the report.
-    let prt_params = PrtParams { rays: prt_rays, ..PrtParams::default() };
-    let pre = precompute(&scene, (&lvc_params, &prt_params), None, &out.join("plant-100k.vleaf"), Reuse::Never, est)?
-        .context("the bench never runs dry")?;
-    let cam = camera(&scene);
-    let f = frame_figures(&scene, &pre, &light, cam.position, 7)?;
-    // The cosine-baked maps, for their ratio (the paper's byte content), on the same plant.
-    let baked_ratio = {
-        let t = Instant::now();
-        let pb = bar(scene.vertex_count(), "LVC cos");
-        let baked = Lvc::compute(&scene, &LvcParams { content: Content::CosineBaked, ..lvc_params }, |d, _| {
-            pb.set_position(d as u64)
-        });
-        pb.finish_and_clear();
-        println!("lvc_cosine_baked_s={:.1}", t.elapsed().as_secs_f64());
-        baked.raw_bytes() as f64 / baked.compressed_bytes().max(1) as f64
-    };
-    let verts = subset(scene.vertex_count(), ref_vertices);
-    let rp = ReferenceParams { paths: ref_paths, ..ReferenceParams::default() };
-    let t = Instant::now();
-    let reference_out = reference(&scene, &rest, Some(sun), cam.position, &verts, &rp);
-    let reference_rad = &reference_out.radiance;
-    let reference_s = t.elapsed().as_secs_f64();
-    let mut shader = Shader::new();
-    shader.prepare(&pre.data.lvc, &light)?;
-    let (mut lvc_rad, mut sh_rad) = (Vec::new(), Vec::new());
-    shader.shade(&scene, &pre.data, &light, SunMethod::Lvc, cam.position, &mut lvc_rad);
-    shader.shade(&scene, &pre.data, &light, SunMethod::ShOnly, cam.position, &mut sh_rad);
-    let pick = |r: &[TwoSided]| verts.iter().map(|&v| r[v]).collect::<Vec<_>>();
-    let rel_lvc = rel_l2(&pick(&lvc_rad), reference_rad);
-    let rel_sh = rel_l2(&pick(&sh_rad), reference_rad);
-    let noise = reference_out.noise();
-    std::fs::create_dir_all(out).with_context(|| format!("creating {}", out.display()))?;
-    let img = to_image(render(&scene, &lvc_rad, &cam, 960, 720, Some(&rest)));
-    let exposure = auto_exposure(&img);
-    write_png(&img, &out.join("leaves.png"), exposure)?;
-    write_png(
-        &to_image(render(&scene, &sh_rad, &cam, 960, 720, Some(&rest))),
-        &out.join("leaves-sh-only.png"),
-        exposure,
-    )?;
-    // The 500k plant: shading needs the current sun direction's map only.
-    let huge_scene = plant(&PlantParams::with_vertices(huge), &m)?;
-    let j = pre.data.lvc.sun_index(sun.dir);
-    let huge_prt = PrtParams { rays: 16, bounces: 2, ..PrtParams::default() };
-    let huge_pre = precompute(
-        &huge_scene,
-        (&lvc_params, &huge_prt),
-        Some(&[j]),
-        &out.join("plant-500k.vleaf"),
-        Reuse::Never,
-        est,
-    )?
-    .context("the bench never runs dry")?;
-    let fh = frame_figures(&huge_scene, &huge_pre, &light, camera(&huge_scene).position, 5)?;
-    let rle_ratio = pre.data.lvc.raw_bytes() as f64 / pre.data.lvc.compressed_bytes().max(1) as f64;
-    for (k, v) in [
-        ("rle_ratio", rle_ratio),
-        ("rle_ratio_cosine_baked", baked_ratio),
-        ("decode_ms", f.decode_ms),
-        ("shade_ms", f.shade_ms),
-        ("shade_ms_large", fh.shade_ms),
-        ("rel_l2_lvc_prt", rel_lvc),
-        ("rel_l2_sh_only", rel_sh),
-        ("reference_noise_rel_l2", noise),
-    ] {
-        println!("{k}={v:.4}");
-    }
-    Ok(json!({
-        "vertices_100k": scene.vertex_count(),
-        "vertices_500k": huge_scene.vertex_count(),
-        "quick": quick,
-        "rle_ratio": rle_ratio,
-        "rle_ratio_cosine_baked": baked_ratio,
-        "lvc_raw_bytes": pre.data.lvc.raw_bytes(),
-        "lvc_rle_bytes": pre.data.lvc.compressed_bytes(),
-        "lvc_s": pre.seconds.0,
-        "prt_s": pre.seconds.1,
-        "prt_rays": prt_rays,
-        "transfer_bytes": pre.data.transfer.bytes(),
-        "decode_ms_100k": f.decode_ms,
-        "shade_ms_100k": f.shade_ms,
-        "shade_ms_500k": fh.shade_ms,
-        "prt_s_500k": huge_pre.seconds.1,
-        "rel_l2_lvc_prt": rel_lvc,
-        "rel_l2_sh_only": rel_sh,
-        "reference_noise_rel_l2": noise,
-        "reference_vertices": verts.len(),
-        "reference_paths": ref_paths,
-        "reference_s": reference_s,
-        "goals": { "rle_ratio_min": 8.0, "decode_ms_100k_max": 2.0, "shade_ms_100k_max": 28.0, "shade_ms_500k_max": 100.0 },
-        "images": [out.join("leaves.png"), out.join("leaves-sh-only.png")],
-    }))
 }

@@ -37,8 +37,8 @@ pub struct ViewArgs {
     pub exposure: Option<f32>,
     /// What to show: cuts, exact (the exact-direction reference), difference (heat map), or
     /// the screen-space methods ssao and ssdo (WGSL passes, no precomputation).
-    #[arg(long, default_value = "cuts")]
-    pub mode: String,
+    #[arg(long, value_enum, default_value_t = ViewMode::Cuts)]
+    pub mode: ViewMode,
     /// Render one frame with no window into this PNG and exit.
     #[arg(long)]
     pub screenshot: Option<PathBuf>,
@@ -77,7 +77,7 @@ fn run_leaves(args: &ViewArgs) -> Result<()> {
     let inputs = vcut_leaf::store::Inputs { scene: &scene, lvc, prt, suns: None };
     let reuse = if p.fresh { vcut_leaf::store::Reuse::Never } else { vcut_leaf::store::Reuse::IfMatching };
     let file = crate::leaves::data_path(p, &inputs);
-    let Some(pre) = crate::leaves::precompute(&scene, (&lvc, &prt), None, &file, reuse, p.estimate())? else {
+    let Some(pre) = crate::leaves::precompute(&scene, (&lvc, &prt), None, &file, reuse, p.estimate)? else {
         return Ok(());
     };
     crate::leaves::print_store(&pre);
@@ -148,15 +148,42 @@ fn env_choices(current: &str) -> Vec<String> {
     v
 }
 
-fn parse_mode(s: &str) -> Result<Mode> {
-    Ok(match s {
-        "cuts" => Mode::Cuts,
-        "exact" => Mode::Exact,
-        "difference" | "diff" => Mode::Difference,
-        "ssao" => Mode::Ssao,
-        "ssdo" => Mode::Ssdo,
-        _ => bail!("--mode {s}: expected cuts, exact, difference, ssao or ssdo"),
-    })
+/// What the viewer shows first (`--mode`).
+#[derive(clap::ValueEnum, Clone, Copy, PartialEq, Eq, Debug)]
+pub enum ViewMode {
+    /// The visibility cuts.
+    Cuts,
+    /// The exact-direction reference.
+    Exact,
+    /// The difference as a heat map.
+    #[value(alias = "diff")]
+    Difference,
+    /// Screen-space ambient occlusion (WGSL passes).
+    Ssao,
+    /// Screen-space directional occlusion (WGSL passes).
+    Ssdo,
+}
+
+impl ViewMode {
+    fn mode(self) -> Mode {
+        match self {
+            ViewMode::Cuts => Mode::Cuts,
+            ViewMode::Exact => Mode::Exact,
+            ViewMode::Difference => Mode::Difference,
+            ViewMode::Ssao => Mode::Ssao,
+            ViewMode::Ssdo => Mode::Ssdo,
+        }
+    }
+
+    fn name(self) -> &'static str {
+        match self {
+            ViewMode::Cuts => "cuts",
+            ViewMode::Exact => "exact",
+            ViewMode::Difference => "difference",
+            ViewMode::Ssao => "ssao",
+            ViewMode::Ssdo => "ssdo",
+        }
+    }
 }
 
 /// Runs `view`.
@@ -164,7 +191,7 @@ pub fn run(args: &ViewArgs) -> Result<()> {
     if args.leaves {
         return run_leaves(args);
     }
-    let mode = parse_mode(&args.mode)?;
+    let mode = args.mode.mode();
     let input = match (&args.input, &args.scene) {
         (Some(p), _) => p.clone(),
         (None, scene) => crate::precompute::cached_or_run(scene.as_deref().unwrap_or("builtin:teapot"), &args.preset)?,
@@ -214,7 +241,7 @@ pub fn run(args: &ViewArgs) -> Result<()> {
             std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
         }
         vcut_view::render::write_png(&image, path)?;
-        println!("mode={}", args.mode);
+        println!("mode={}", args.mode.name());
         println!("exposure={:.4}", session.exposure_in_use());
         println!("shade_ms={:.2}", session.timings.shade_ms);
         if matches!(mode, Mode::Exact | Mode::Difference) {

@@ -5,6 +5,35 @@ use anyhow::{Result, bail};
 use std::path::Path;
 use vcut_scene::budget::{available_memory, human, resident_memory};
 
+/// The estimate's options, shared by every command that computes for long (`precompute`,
+/// `leaves`, `view --leaves`).
+#[derive(clap::Args, Clone, Copy, Debug)]
+pub struct EstimateArgs {
+    /// Print the estimate (what will be computed, rays, time, output bytes, peak memory) and
+    /// stop.
+    #[arg(long)]
+    pub dry_run: bool,
+    /// Run even when the estimate exceeds the free memory or disk.
+    #[arg(long)]
+    pub force: bool,
+    /// Seconds of the run's own work to time for the estimate.
+    #[arg(long = "estimate-seconds", default_value_t = 2.0)]
+    pub seconds: f64,
+}
+
+impl Default for EstimateArgs {
+    fn default() -> Self {
+        EstimateArgs { dry_run: false, force: false, seconds: 2.0 }
+    }
+}
+
+impl EstimateArgs {
+    /// How long the estimate's sample may run (at most 10 minutes).
+    pub fn budget(&self) -> std::time::Duration {
+        std::time::Duration::from_secs_f64(self.seconds.clamp(0.0, 600.0))
+    }
+}
+
 /// Fails when `peak` bytes of memory (this process's whole peak, what it holds now included) or
 /// `output.1` bytes written at `output.0` exceed what is free — unless `force`, which says so
 /// and goes on.
@@ -16,10 +45,10 @@ pub fn check(job: &str, peak: u64, (path, bytes): (&Path, u64), force: bool) -> 
             short.push(format!("about {} more memory, {} available", human(more), human(free)));
         }
     }
-    if let Some(free) = vcut_container::available_space(path) {
-        if bytes > free {
-            short.push(format!("about {} of disk for {}, {} free there", human(bytes), path.display(), human(free)));
-        }
+    if let Some(free) = vcut_container::available_space(path)
+        && bytes > free
+    {
+        short.push(format!("about {} of disk for {}, {} free there", human(bytes), path.display(), human(free)));
     }
     if short.is_empty() {
         return Ok(());

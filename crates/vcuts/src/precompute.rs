@@ -1,8 +1,8 @@
 //! `cargo xtask precompute`: a scene's SVCs and fields into a `.vcuts` file, with a progress bar
 //! and ETA per stage and a closing summary (key=value lines, then a size table).
 
+use crate::progress::Bar;
 use anyhow::{Context, Result, bail};
-use indicatif::{MultiProgress, ProgressBar, ProgressStyle};
 use std::path::{Path, PathBuf};
 use std::sync::Mutex;
 use std::sync::atomic::AtomicBool;
@@ -30,9 +30,6 @@ pub struct PrecomputeArgs {
     /// Output file (default: target/vcuts/<scene>-<preset>.vcuts).
     #[arg(short, long)]
     pub output: Option<PathBuf>,
-    /// Worker threads (default: all cores).
-    #[arg(long)]
-    pub threads: Option<usize>,
     /// Number of directions (power of two, 64..65,536).
     #[arg(long)]
     pub directions: Option<u32>,
@@ -57,16 +54,9 @@ pub struct PrecomputeArgs {
     /// Discard a partial file from an earlier run instead of resuming it.
     #[arg(long)]
     pub fresh: bool,
-    /// Print the estimate (vertices, field points, rays, time, output bytes, peak memory) and
-    /// stop.
-    #[arg(long)]
-    pub dry_run: bool,
-    /// Run even when the estimate exceeds the free memory or disk.
-    #[arg(long)]
-    pub force: bool,
-    /// Seconds of the run's own work to time for the estimate.
-    #[arg(long, default_value_t = 2.0)]
-    pub estimate_seconds: f64,
+    /// The estimate printed before the run.
+    #[command(flatten)]
+    pub estimate: crate::resources::EstimateArgs,
 }
 
 impl PrecomputeArgs {
@@ -77,7 +67,6 @@ impl PrecomputeArgs {
             env: None,
             preset: Some(preset.into()),
             output: None,
-            threads: None,
             directions: None,
             svc_max_error: None,
             field_spheres: None,
@@ -86,9 +75,7 @@ impl PrecomputeArgs {
             set: Vec::new(),
             cache_dir: "target/vcut-cache".into(),
             fresh: false,
-            dry_run: false,
-            force: false,
-            estimate_seconds: 2.0,
+            estimate: Default::default(),
         }
     }
 }
@@ -122,22 +109,20 @@ fn resolve_params(args: &PrecomputeArgs, desc: Option<&SceneDesc>) -> Result<Pre
         .with_context(|| format!("{}: [precompute] and the command line's parameters", args.scene))
 }
 
-/// indicatif bars, one per stage.
+/// One progress bar per stage (periodic log lines when stderr is not a terminal).
+#[derive(Default)]
 struct Bars {
-    multi: MultiProgress,
-    current: Mutex<Option<ProgressBar>>,
+    current: Mutex<Option<Bar>>,
 }
 
 impl Progress for Bars {
     fn stage(&self, name: &str, total: u64) {
-        let bar = self.multi.add(ProgressBar::new(total));
-        let style = ProgressStyle::with_template(&format!(
-            "{name:>10} [{{bar:40}}] {{pos}}/{{len}} {{per_sec}} elapsed {{elapsed}} ETA {{eta}} {{msg}}"
-        ))
-        .unwrap_or_else(|_| ProgressStyle::default_bar())
-        .progress_chars("=> ");
-        bar.set_style(style);
-        *self.current.lock().unwrap_or_else(|e| e.into_inner()) = Some(bar);
+        let unit = match name {
+            "svc" => "vertices",
+            "fields" => "field points",
+            _ => "steps",
+        };
+        *self.current.lock().unwrap_or_else(|e| e.into_inner()) = Some(Bar::new(name, total, unit));
     }
     fn advance(&self, n: u64) {
         if let Some(b) = &*self.current.lock().unwrap_or_else(|e| e.into_inner()) {
@@ -151,7 +136,7 @@ impl Progress for Bars {
     }
     fn end_stage(&self) {
         if let Some(b) = self.current.lock().unwrap_or_else(|e| e.into_inner()).take() {
-            b.finish_with_message("done");
+            b.finish();
         }
     }
 }
@@ -236,9 +221,6 @@ pub fn estimate_only(args: &PrecomputeArgs, seconds: f64) -> Result<Estimate> {
 /// Runs `precompute` (with `--dry-run`, only its estimate); returns the output path and the
 /// summary.
 pub fn run(args: &PrecomputeArgs) -> Result<(PathBuf, Option<Summary>)> {
-    if let Some(t) = args.threads {
-        rayon::ThreadPoolBuilder::new().num_threads(t).build_global().context("--threads")?;
-    }
     let Resolved { scene, params, environment, output, load_s } = resolve(args)?;
     let partial = vcut_data::file::partial_path(&output);
     if args.fresh && partial.exists() {
@@ -264,14 +246,14 @@ pub fn run(args: &PrecomputeArgs) -> Result<(PathBuf, Option<Summary>)> {
         cache_dir: Some(args.cache_dir.clone()),
         output: output.clone(),
     };
-    let budget = std::time::Duration::from_secs_f64(args.estimate_seconds.clamp(0.0, 600.0));
+    let budget = args.estimate.budget();
     let (estimate, setup) = estimate(&job, budget)?;
     print_estimate(&estimate);
-    crate::resources::check("precompute", estimate.peak_bytes, (&output, estimate.output_bytes), args.force)?;
-    if args.dry_run {
+    crate::resources::check("precompute", estimate.peak_bytes, (&output, estimate.output_bytes), args.estimate.force)?;
+    if args.estimate.dry_run {
         return Ok((output, None));
     }
-    let bars = Bars { multi: MultiProgress::new(), current: Mutex::new(None) };
+    let bars = Bars::default();
     let t = Instant::now();
     let summary = precompute_with(&job, Some(setup), &bars, &AtomicBool::new(false))?;
     print_summary(&output, &summary, t.elapsed().as_secs_f64(), &params);

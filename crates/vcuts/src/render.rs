@@ -14,6 +14,67 @@ use vcut_shade::brdf::parse_spec;
 use vcut_shade::image::{auto_exposure, pixel_errors, rasterize, write_exr, write_ply, write_png};
 use vcut_shade::reference::{MonteCarloParams, errors, exact_direction, monte_carlo};
 
+use crate::ssdo::ScreenMode;
+
+/// What `render` draws.
+#[derive(clap::ValueEnum, Clone, Copy, PartialEq, Eq, Debug)]
+pub enum RenderMode {
+    /// The precomputed visibility cuts.
+    Cuts,
+    /// Screen-space ambient occlusion.
+    Ssao,
+    /// Screen-space directional occlusion with one bounce.
+    Ssdo,
+    /// SSDO with a second depth layer.
+    SsdoPeeled,
+}
+
+impl RenderMode {
+    /// The screen-space method, if this is one.
+    pub fn screen(self) -> Option<ScreenMode> {
+        match self {
+            RenderMode::Cuts => None,
+            RenderMode::Ssao => Some(ScreenMode::Ssao),
+            RenderMode::Ssdo => Some(ScreenMode::Ssdo),
+            RenderMode::SsdoPeeled => Some(ScreenMode::SsdoPeeled),
+        }
+    }
+}
+
+/// What `render --compare` (and `reference`) compares the frame with.
+#[derive(clap::ValueEnum, Clone, Copy, PartialEq, Eq, Debug)]
+pub enum Compare {
+    /// The exact-direction reference.
+    Exact,
+    /// The Monte Carlo reference.
+    Mc,
+    /// Both references.
+    Both,
+    /// The ray-traced reference of a screen-space mode.
+    Raytraced,
+}
+
+impl Compare {
+    /// Its name on the command line.
+    pub fn name(self) -> &'static str {
+        match self {
+            Compare::Exact => "exact",
+            Compare::Mc => "mc",
+            Compare::Both => "both",
+            Compare::Raytraced => "raytraced",
+        }
+    }
+}
+
+/// Field samples inside an object (`--inside-samples`).
+#[derive(clap::ValueEnum, Clone, Copy, PartialEq, Eq, Debug)]
+pub enum Inside {
+    /// Blended in as fully occluded.
+    Occluded,
+    /// Dropped, their weight given to the others.
+    Dropped,
+}
+
 /// Arguments of `render`.
 #[derive(clap::Args, Clone)]
 pub struct RenderArgs {
@@ -53,16 +114,17 @@ pub struct RenderArgs {
     /// What to draw: `cuts` (the precomputed visibility cuts) or a screen-space method on the
     /// same geometry and lighting with no precomputation — `ssao`, `ssdo` (directional
     /// occlusion + one indirect bounce), `ssdo-peeled` (with a second depth layer).
-    #[arg(long, default_value = "cuts")]
-    pub mode: String,
+    #[arg(long, value_enum, default_value_t = RenderMode::Cuts)]
+    pub mode: RenderMode,
     /// Compare with references: `exact` (all leaf directions cast, no clustering), `mc` (Monte
-    /// Carlo over every texel of the map, to 1 % standard error per vertex) or `both`.
-    #[arg(long)]
-    pub compare: Option<String>,
+    /// Carlo over every texel of the map, to 1 % standard error per vertex) or `both`; a
+    /// screen-space mode with `raytraced` (direct light with visibility plus one bounce).
+    #[arg(long, value_enum)]
+    pub compare: Option<Compare>,
     /// Field samples inside an object: `occluded` (blended in as fully occluded, the default)
     /// or `dropped` (their weight given to the others); see `vcut_data::InsideSamples`.
-    #[arg(long, default_value = "occluded")]
-    pub inside_samples: String,
+    #[arg(long, value_enum, default_value_t = Inside::Occluded)]
+    pub inside_samples: Inside,
     /// Carry the sun through the cuts too, as the paper does. By default the sun's leaves of the
     /// light (each ≥ 100× the mean leaf, at most 16) are cast by rays at run time: exact sun
     /// shadows, the sky from the cuts (`vcut_shade::sun`).
@@ -91,8 +153,8 @@ impl RenderArgs {
             exr: None,
             export_ply: None,
             compare: None,
-            mode: "cuts".into(),
-            inside_samples: "occluded".into(),
+            mode: RenderMode::Cuts,
+            inside_samples: Inside::Occluded,
             no_sun_rays: false,
             eager_merges: false,
         }
@@ -205,8 +267,10 @@ pub fn auto_camera(b: vcut_scene::Bounds) -> Camera {
 pub fn run(args: &RenderArgs) -> Result<Printed> {
     let mut out = Printed::default();
     // Checked before the data is read and merged.
-    let inside = InsideSamples::named(&args.inside_samples)
-        .with_context(|| format!("--inside-samples {}: expected occluded or dropped", args.inside_samples))?;
+    let inside = match args.inside_samples {
+        Inside::Occluded => InsideSamples::Occluded,
+        Inside::Dropped => InsideSamples::Dropped,
+    };
     let Opened { data, mut frame, env, scene, setup_s, .. } = open(&args.input, args.env.as_deref())?;
     out.emit("setup_s", format!("{setup_s:.3}"));
     if inside != InsideSamples::default() {
@@ -246,8 +310,8 @@ pub fn run(args: &RenderArgs) -> Result<Printed> {
         out.emit("turn_merged_vertices", format!("{turned}"));
         out.emit("turn_ms", format!("{:.2}", t.elapsed().as_secs_f64() * 1e3));
     }
-    if args.mode != "cuts" {
-        return screen_space(args, &frame, &env, &camera, out);
+    if let Some(mode) = args.mode.screen() {
+        return screen_space(args, mode, &frame, &env, &camera, out);
     }
     let t = Instant::now();
     let radiance = frame.shade(camera.position);
@@ -271,20 +335,20 @@ pub fn run(args: &RenderArgs) -> Result<Printed> {
         write_ply(&frame, &radiance, p)?;
         out.emit("ply", format!("{}", p.display()));
     }
-    let compare = args.compare.as_deref().unwrap_or("none");
-    if !matches!(compare, "none" | "exact" | "mc" | "both") {
-        bail!("--compare {compare}: expected exact, mc or both");
+    let compare = args.compare;
+    if compare == Some(Compare::Raytraced) {
+        bail!("--compare raytraced: only a screen-space --mode (ssao, ssdo, ssdo-peeled) compares with it");
     }
     let offset = data.svc_origin_offset();
     let stem = args.output.file_stem().and_then(|s| s.to_str()).unwrap_or("frame").to_string();
     let mut refs = Vec::new();
-    if matches!(compare, "exact" | "both") {
+    if matches!(compare, Some(Compare::Exact | Compare::Both)) {
         let t = Instant::now();
         let r = exact_direction(&frame, camera.position, offset);
         out.emit("reference_exact_s", format!("{:.3}", t.elapsed().as_secs_f64()));
         refs.push(("exact", r));
     }
-    if matches!(compare, "mc" | "both") {
+    if matches!(compare, Some(Compare::Mc | Compare::Both)) {
         let t = Instant::now();
         let (r, stats) = monte_carlo(&frame, &env, camera.position, offset, &MonteCarloParams::default());
         out.emit("reference_mc_s", format!("{:.3}", t.elapsed().as_secs_f64()));
@@ -314,14 +378,21 @@ pub fn run(args: &RenderArgs) -> Result<Printed> {
 
 /// `render --mode ssao|ssdo|ssdo-peeled`: the screen-space image, and with `--compare` the
 /// ray-traced reference of direct light with visibility plus one diffuse bounce.
-fn screen_space(args: &RenderArgs, frame: &Frame, env: &EnvMap, camera: &Camera, mut out: Printed) -> Result<Printed> {
+fn screen_space(
+    args: &RenderArgs,
+    mode: ScreenMode,
+    frame: &Frame,
+    env: &EnvMap,
+    camera: &Camera,
+    mut out: Printed,
+) -> Result<Printed> {
     let objects = crate::ssdo::objects(frame);
     let t = Instant::now();
     let light = crate::ssdo::lighting(env, &objects);
     out.emit("lighting_ms", format!("{:.2}", t.elapsed().as_secs_f64() * 1e3));
-    let f = crate::ssdo::frame(&objects, &light, camera, (args.width, args.height), &args.mode)?;
+    let f = crate::ssdo::frame(&objects, &light, camera, (args.width, args.height), mode);
     out.emit("gbuffer_ms", format!("{:.2}", f.gbuffer_ms));
-    out.emit(format!("{}_ms", args.mode.replace('-', "_")), format!("{:.2}", f.pass_ms));
+    out.emit(format!("{}_ms", mode.key()), format!("{:.2}", f.pass_ms));
     let image = crate::ssdo::image(&f.output);
     if let Some(dir) = args.output.parent().filter(|d| !d.as_os_str().is_empty()) {
         std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
@@ -334,9 +405,9 @@ fn screen_space(args: &RenderArgs, frame: &Frame, env: &EnvMap, camera: &Camera,
         write_exr(&image, p)?;
         out.emit("exr", format!("{}", p.display()));
     }
-    if let Some(c) = &args.compare {
-        if c != "raytraced" {
-            bail!("--compare {c}: a screen-space mode compares with `raytraced`");
+    if let Some(c) = args.compare {
+        if c != Compare::Raytraced {
+            bail!("--compare {}: a screen-space mode compares with `raytraced`", c.name());
         }
         let t = Instant::now();
         let r = vcut_ssdo::reference(&objects, &f.gbuffer, &light, &Default::default());

@@ -1,8 +1,7 @@
 //! `cargo xtask directions`: point-repulsion directions, their uniformity, and optionally the
 //! direction tree and light tree over them.
 
-use anyhow::{Context, Result, bail};
-use indicatif::{ProgressBar, ProgressStyle};
+use anyhow::{Result, bail};
 use std::path::PathBuf;
 use std::time::Instant;
 use vcut_dirtree::DirectionTree;
@@ -44,12 +43,10 @@ pub fn run(args: &DirectionsArgs) -> Result<()> {
         Start::Fibonacci => RepulsionParams { seed: args.seed, ..RepulsionParams::default() },
         Start::Random => RepulsionParams::random(args.seed),
     };
-    let bar = ProgressBar::new_spinner();
-    bar.set_style(ProgressStyle::with_template("{spinner} repulsion {msg} [{elapsed}]").context("progress style")?);
+    let bar = crate::progress::Bar::spinner("repulsion");
     let progress = |it: u32, rms: f64| {
-        if it % 5 == 0 {
+        if it.is_multiple_of(5) {
             bar.set_message(format!("iteration {it}, rms step {rms:.2e} spacings"));
-            bar.tick();
         }
     };
     let t = Instant::now();

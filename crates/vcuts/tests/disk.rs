@@ -8,59 +8,18 @@
 //! where the test may mount one (root in CI), otherwise the test says it skipped that part.
 
 use std::io::Write;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::process::{Command, Output};
 
-const SCENE: &str = r#"
-[[object]]
-name = "ground"
-source = "builtin:plane"
-size = 4.0
-resolution = 16
-material = { model = "lambert", kd = [0.5, 0.5, 0.5] }
+mod common;
+use common::scratch;
 
-[[object]]
-name = "ball"
-source = "builtin:sphere"
-size = 0.5
-resolution = 12
-translation = [0.0, 0.7, 0.0]
-moves = true
-
-[precompute]
-preset = "fast"
-directions = 256
-field_spheres = 4
-field_resolution = 4
-svc_chunk = 64
-"#;
-
-struct Scratch(PathBuf);
-
-impl Drop for Scratch {
-    fn drop(&mut self) {
-        let mnt = self.0.join("mnt");
-        if mnt.exists() {
-            let _ = Command::new("umount").arg(&mnt).status();
-        }
-        let _ = std::fs::remove_dir_all(&self.0);
-    }
-}
-
-fn scratch(name: &str) -> Scratch {
-    let d = std::env::temp_dir().join(format!("vcut-xtask-disk-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    std::fs::write(d.join("scene.toml"), SCENE).unwrap();
-    Scratch(d)
-}
-
-/// `xtask precompute` of the test scene into `out`, with `extra` arguments, under the shell
+/// `vcuts precompute` of the test scene into `out`, with `extra` arguments, under the shell
 /// prefix `limit` (e.g. a file-size limit).
 fn precompute(dir: &Path, out: &Path, extra: &[&str], limit: &str) -> Output {
     let mut cmd = format!(
         "{limit} exec '{}' precompute --scene '{}' --cache-dir '{}' --estimate-seconds 0.2 -o '{}'",
-        env!("CARGO_BIN_EXE_xtask"),
+        env!("CARGO_BIN_EXE_vcuts"),
         dir.join("scene.toml").display(),
         dir.join("cache").display(),
         out.display()

@@ -1,88 +1,18 @@
-//! The screen-space methods (`vcut-ssdo`) on a frame's geometry: `render --mode ssao|ssdo|
-//! ssdo-peeled`, and the `ssdo` section of `bench`.
+//! The `ssdo` section of `cargo xtask bench`: SSAO, SSDO and peeled SSDO on the CPU
+//! (`vcut-ssdo`) and as WGSL passes (`vcut-view`), timed and measured against the ray-traced
+//! reference.
 
 use glam::Vec3;
 use std::time::Instant;
-
-use vcut_envmap::EnvMap;
 use vcut_scene::Camera;
-use vcut_shade::Frame;
-use vcut_shade::image::Image;
-use vcut_ssdo::{GBuffer, Lighting, Method, Object, Output, Params, SampleSets, render};
-
-/// The screen-space variants `render --mode` and `bench` know.
-pub const MODES: [&str; 3] = ["ssao", "ssdo", "ssdo-peeled"];
-
-/// Every object of `frame` at its current translation, with its diffuse albedo.
-pub fn objects(frame: &Frame) -> Vec<Object> {
-    (0..frame.object_count())
-        .map(|o| {
-            let vcut_shade::FrameObject { mesh, material, translation, .. } = frame.object(o);
-            Object::from_mesh(mesh, translation, Vec3::from(material.kd))
-        })
-        .collect()
-}
-
-/// Default parameters for `objects` (r_max a tenth of the scene's bounding radius).
-pub fn params(objects: &[Object]) -> Params {
-    let b = vcut_scene::Bounds::of_points(objects.iter().flat_map(|o| o.positions.iter().copied()));
-    Params::for_scene(b.radius)
-}
-
-/// One screen-space frame and what each step cost.
-pub struct ScreenFrame {
-    /// The image's terms.
-    pub output: Output,
-    /// The G-buffer it was computed from.
-    pub gbuffer: GBuffer,
-    /// Milliseconds: G-buffer, then the method's passes (samples, blur, bounce).
-    pub gbuffer_ms: f64,
-    /// Milliseconds of the passes.
-    pub pass_ms: f64,
-}
-
-/// Renders `mode` (one of [`MODES`]) of `objects` lit by `light`.
-pub fn frame(
-    objects: &[Object],
-    light: &Lighting,
-    camera: &Camera,
-    (width, height): (u32, u32),
-    mode: &str,
-) -> anyhow::Result<ScreenFrame> {
-    let mut p = params(objects);
-    let method = match mode {
-        "ssao" => Method::Ssao,
-        "ssdo" => Method::Ssdo,
-        "ssdo-peeled" => {
-            p.peel = true;
-            Method::Ssdo
-        }
-        _ => anyhow::bail!("--mode {mode}: expected cuts, {}", MODES.join(", ")),
-    };
-    let t = Instant::now();
-    let gbuffer = GBuffer::new(objects, camera, width as usize, height as usize);
-    let gbuffer_ms = t.elapsed().as_secs_f64() * 1e3;
-    let sets = SampleSets::halton(p.samples, p.sets);
-    let t = Instant::now();
-    let output = render(&gbuffer, light, &sets, &p, method);
-    let pass_ms = t.elapsed().as_secs_f64() * 1e3;
-    Ok(ScreenFrame { output, gbuffer, gbuffer_ms, pass_ms })
-}
-
-/// The lighting of `objects` by `env` at the default sample count.
-pub fn lighting(env: &EnvMap, objects: &[Object]) -> Lighting {
-    Lighting::new(env, objects, params(objects).samples)
-}
-
-/// An output's total as an image.
-pub fn image(o: &Output) -> Image {
-    Image { width: o.width as u32, height: o.height as u32, rgb: o.total(), covered: o.covered.clone() }
-}
+use vcut_shade::measure::median;
+use vcut_ssdo::{Lighting, Method, Object, Params};
+use vcuts::ssdo::{ScreenMode, frame, lighting, params};
 
 /// The `ssdo` section of `bench`: per scene, SSAO / SSDO / peeled SSDO timed at
 /// `timing` resolution (median of `runs`) and measured at `eval` resolution against the
 /// ray-traced reference (`pixel_rays` per pixel).
-pub fn bench(
+pub fn run(
     scenes: &[String],
     timing: (u32, u32),
     eval: (u32, u32),
@@ -129,18 +59,17 @@ pub fn bench(
             })
             .collect();
         let camera = scene.cameras.first().cloned().unwrap_or_else(|| {
-            crate::render::auto_camera(vcut_scene::Bounds::of_points(
+            vcuts::render::auto_camera(vcut_scene::Bounds::of_points(
                 objects.iter().flat_map(|o| o.positions.iter().copied()),
             ))
         });
         let light = lighting(&scene.environment, &objects);
         let mut entry = serde_json::Map::new();
         let mut ms = std::collections::BTreeMap::new();
-        for mode in MODES {
-            let times: Vec<f64> = (0..runs.max(1))
-                .map(|_| frame(&objects, &light, &camera, timing, mode).map(|f| f.pass_ms))
-                .collect::<anyhow::Result<_>>()?;
-            ms.insert(mode, crate::bench::median(times));
+        for mode in ScreenMode::ALL {
+            let times: Vec<f64> =
+                (0..runs.max(1)).map(|_| frame(&objects, &light, &camera, timing, mode).pass_ms).collect();
+            ms.insert(mode.name(), median(times));
         }
         match gpu_times(&objects, &light, &camera, timing, runs) {
             Ok(gpu) => {
@@ -150,15 +79,15 @@ pub fn bench(
             }
             Err(e) => println!("ssdo {name}: GPU passes SKIPPED ({e})"),
         }
-        let small = frame(&objects, &light, &camera, eval, "ssao")?;
+        let small = frame(&objects, &light, &camera, eval, ScreenMode::Ssao);
         let t = Instant::now();
         let params = vcut_ssdo::ReferenceParams { pixel_rays, vertex_rays: pixel_rays };
         let reference = vcut_ssdo::reference(&objects, &small.gbuffer, &light, &params).total();
         let reference_s = t.elapsed().as_secs_f64();
-        for mode in MODES {
-            let f = frame(&objects, &light, &camera, eval, mode)?;
+        for mode in ScreenMode::ALL {
+            let f = frame(&objects, &light, &camera, eval, mode);
             let e = vcut_ssdo::rel_l2(&f.output.total(), &reference, &f.output.covered);
-            entry.insert(format!("rel_l2_{}", mode.replace('-', "_")), json!(e));
+            entry.insert(format!("rel_l2_{}", mode.key()), json!(e));
         }
         entry.insert("ms_ssao_cpu".into(), json!(ms["ssao"]));
         entry.insert("ms_ssdo_cpu".into(), json!(ms["ssdo"]));
@@ -210,13 +139,13 @@ fn gpu_times(
     // The three modes' frames timed in turn within each run, so a change of load on this shared
     // machine hits all of them alike; medians over the runs.
     let mut frames = Vec::new();
-    for mode in MODES {
+    for mode in ScreenMode::ALL {
         let mut p = params(objects);
-        p.peel = mode == "ssdo-peeled";
-        let method = if mode == "ssao" { Method::Ssao } else { Method::Ssdo };
+        p.peel = mode == ScreenMode::SsdoPeeled;
+        let method = if mode == ScreenMode::Ssao { Method::Ssao } else { Method::Ssdo };
         let f = passes.frame(&gpu, objects, light, camera, &p, method, size)?;
         f.run(&gpu)?;
-        frames.push((mode, f, Vec::new()));
+        frames.push((mode.name(), f, Vec::new()));
     }
     for _ in 0..runs.max(1) {
         for (_, f, times) in &mut frames {
@@ -236,15 +165,13 @@ fn gpu_times(
                 per_pass[k].1.push(t);
             }
         }
-        let passes: serde_json::Map<String, serde_json::Value> = per_pass
-            .into_iter()
-            .map(|(label, times)| (label.to_string(), serde_json::json!(crate::bench::median(times))))
-            .collect();
+        let passes: serde_json::Map<String, serde_json::Value> =
+            per_pass.into_iter().map(|(label, times)| (label.to_string(), serde_json::json!(median(times)))).collect();
         println!("  {mode} passes (ms): {}", serde_json::Value::Object(passes.clone()));
         out.push((format!("passes_ms_{}", mode.replace('-', "_")), serde_json::Value::Object(passes)));
     }
     let ms: std::collections::BTreeMap<&str, f64> =
-        frames.into_iter().map(|(mode, _, times)| (mode, crate::bench::median(times))).collect();
+        frames.into_iter().map(|(mode, _, times)| (mode, median(times))).collect();
     out.push(("ms_ssao".into(), serde_json::json!(ms["ssao"])));
     out.push(("ms_ssdo".into(), serde_json::json!(ms["ssdo"])));
     out.push(("ms_ssdo_peeled".into(), serde_json::json!(ms["ssdo-peeled"])));

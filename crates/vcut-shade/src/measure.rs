@@ -1,0 +1,108 @@
+//! The timed paths every measurement of a frame uses — `cargo xtask bench`, its trade-off
+//! sweeps and the `move_path` example — so they time the same work: a move along a fixed path,
+//! a BRDF edit, a camera turn after a move. Medians, not means: the machines are shared.
+
+use crate::{Frame, FrameError, MergeAlgorithm};
+use glam::Vec3;
+use std::time::Instant;
+use vcut_scene::{Material, Motion};
+
+/// The middle value (the upper one of an even count); NaN for none.
+pub fn median(mut v: Vec<f64>) -> f64 {
+    v.sort_by(f64::total_cmp);
+    if v.is_empty() { f64::NAN } else { v[v.len() / 2] }
+}
+
+/// The first movable object of `frame`, if any.
+pub fn first_movable(frame: &Frame) -> Option<usize> {
+    (0..frame.object_count()).find(|&o| frame.object(o).motion == Motion::Movable)
+}
+
+/// One step of the move path of object `o`: 0.1 of its bounding radius along (1, 0, 0.5).
+pub fn path_step(frame: &Frame, o: usize) -> Vec3 {
+    Vec3::new(1.0, 0.0, 0.5) * 0.1 * frame.object(o).mesh.bounds().radius
+}
+
+/// Median time of a BRDF edit: `runs` shadings, each after switching object `o`'s Blinn-Phong
+/// exponent 70 ↔ 15; its material is restored after.
+pub fn edit_ms(frame: &mut Frame, o: usize, eye: Vec3, runs: usize) -> f64 {
+    let rest = *frame.object(o).material;
+    let ms = median(
+        (0..runs)
+            .map(|i| {
+                let exponent = if i % 2 == 0 { 70.0 } else { 15.0 };
+                frame.set_material(o, Material { exponent, ..rest });
+                let t = Instant::now();
+                std::hint::black_box(frame.shade(eye));
+                t.elapsed().as_secs_f64() * 1e3
+            })
+            .collect(),
+    );
+    frame.set_material(o, rest);
+    ms
+}
+
+/// What a move path measured.
+pub struct PathTiming {
+    /// Median time of one step: re-merge plus shade (ms).
+    pub move_ms: f64,
+    /// Merge time of every step (ms).
+    pub merge_ms: Vec<f64>,
+    /// Vertices re-merged per step, on average.
+    pub merged: usize,
+    /// Vertices per step whose merge waits (facing away from the eye), on average.
+    pub deferred: usize,
+}
+
+/// Moves object `o` from rest along `steps` steps of [`path_step`] with `algorithm`, shading
+/// from `eye` after each, then back to rest (with the counter merge again).
+pub fn move_path(
+    frame: &mut Frame,
+    o: usize,
+    eye: Vec3,
+    algorithm: MergeAlgorithm,
+    steps: usize,
+) -> Result<PathTiming, FrameError> {
+    let step = path_step(frame, o);
+    frame.set_merge_algorithm(algorithm);
+    frame.translate(o, Vec3::ZERO)?;
+    let (mut times, mut merge_ms, mut merged, mut deferred) = (Vec::new(), Vec::new(), 0, 0);
+    for i in 1..=steps {
+        let t = Instant::now();
+        merged += frame.translate(o, step * i as f32)?;
+        std::hint::black_box(frame.shade(eye));
+        times.push(t.elapsed().as_secs_f64() * 1e3);
+        merge_ms.push(frame.last_move().merge_s * 1e3);
+        deferred += frame.last_move().deferred;
+    }
+    frame.translate(o, Vec3::ZERO)?;
+    frame.set_merge_algorithm(MergeAlgorithm::Counter);
+    let n = steps.max(1);
+    Ok(PathTiming { move_ms: median(times), merge_ms, merged: merged / n, deferred: deferred / n })
+}
+
+/// A camera turn right after a move: object `o` moved one step of [`move_path`] while shading
+/// from `eye`, then the time to set the eye `behind` (merging what the move left facing away,
+/// with deferred merges) and shade from it. Median of `runs`; returns it and the vertices the
+/// turn merged. Leaves the object at rest and `eye` set.
+pub fn turn_after_move(
+    frame: &mut Frame,
+    o: usize,
+    eye: Vec3,
+    behind: Vec3,
+    runs: usize,
+) -> Result<(f64, usize), FrameError> {
+    let step = path_step(frame, o);
+    let (mut times, mut merged) = (Vec::new(), 0);
+    for i in 0..runs {
+        frame.set_eye(eye)?;
+        frame.translate(o, step * (1 + i % 2) as f32)?;
+        let t = Instant::now();
+        merged = frame.set_eye(behind)?;
+        std::hint::black_box(frame.shade(behind));
+        times.push(t.elapsed().as_secs_f64() * 1e3);
+    }
+    frame.set_eye(eye)?;
+    frame.translate(o, Vec3::ZERO)?;
+    Ok((median(times), merged))
+}

@@ -1,0 +1,107 @@
+//! The `vcuts` binary as a user's shell sees it: a closed stdout, a run from another folder,
+//! progress in a log file, `-q`, `--threads`.
+
+use std::path::Path;
+use std::process::{Command, Output, Stdio};
+
+mod common;
+use common::scratch;
+
+fn vcuts(cwd: &Path, args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_vcuts"))
+        .current_dir(cwd)
+        .args(args)
+        .env_remove("VCUTS_PROGRESS_SECONDS")
+        .output()
+        .unwrap()
+}
+
+fn text(o: &Output) -> String {
+    format!("{}{}", String::from_utf8_lossy(&o.stdout), String::from_utf8_lossy(&o.stderr))
+}
+
+#[test]
+fn a_closed_stdout_ends_quietly_not_with_a_panic() {
+    // `vcuts inspect builtin:teapot | head -0`: the reader is gone before the first line.
+    let mut child = Command::new(env!("CARGO_BIN_EXE_vcuts"))
+        .args(["inspect", "builtin:teapot"])
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    drop(child.stdout.take());
+    let out = child.wait_with_output().unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(!stderr.contains("panicked"), "{stderr}");
+    assert_eq!(out.status.code(), Some(141), "{stderr}");
+}
+
+#[test]
+fn precompute_logs_progress_without_a_terminal_and_render_works_from_another_folder() {
+    let s = scratch("cli-render");
+    let work = s.0.join("work");
+    let elsewhere = s.0.join("elsewhere");
+    std::fs::create_dir_all(&work).unwrap();
+    std::fs::create_dir_all(&elsewhere).unwrap();
+    let scene = s.0.join("scene.toml");
+    let scene = scene.to_str().unwrap();
+    // stderr is a pipe here, as in a log file: each stage says when it starts and ends.
+    let o = vcuts(
+        &work,
+        &[
+            "--threads",
+            "1",
+            "precompute",
+            "--scene",
+            scene,
+            "--cache-dir",
+            "cache",
+            "--estimate-seconds",
+            "0.2",
+            "-o",
+            "s.vcuts",
+        ],
+    );
+    let (out, err) = (String::from_utf8_lossy(&o.stdout), String::from_utf8_lossy(&o.stderr));
+    assert!(o.status.success(), "{}", text(&o));
+    assert!(out.contains(" 1 threads"), "--threads 1 not applied:\n{out}");
+    assert!(err.contains(": started,") && err.contains(": done,"), "no progress lines on stderr:\n{err}");
+    assert!(!err.contains('\r') && !err.contains("\u{1b}["), "terminal output in a log:\n{err}");
+    // The file renders from another working directory, into a path relative to that one.
+    let file = work.join("s.vcuts");
+    let o =
+        vcuts(&elsewhere, &["render", file.to_str().unwrap(), "-o", "frame.png", "--width", "64", "--height", "48"]);
+    assert!(o.status.success(), "{}", text(&o));
+    let png = std::fs::read(elsewhere.join("frame.png")).expect("frame.png written where the command ran");
+    assert!(png.starts_with(b"\x89PNG"), "not a PNG");
+    // -q: results on stdout as before, nothing about progress on stderr.
+    let o = vcuts(
+        &work,
+        &[
+            "-q",
+            "precompute",
+            "--scene",
+            scene,
+            "--cache-dir",
+            "cache",
+            "--fresh",
+            "--estimate-seconds",
+            "0.2",
+            "-o",
+            "q.vcuts",
+        ],
+    );
+    assert!(o.status.success(), "{}", text(&o));
+    assert!(o.stderr.is_empty(), "-q printed on stderr:\n{}", String::from_utf8_lossy(&o.stderr));
+    assert!(String::from_utf8_lossy(&o.stdout).contains("output="), "{}", text(&o));
+}
+
+#[test]
+fn bad_global_options_are_refused_by_name() {
+    let o = vcuts(Path::new("."), &["--threads", "0", "inspect", "builtin:teapot"]);
+    assert_eq!(o.status.code(), Some(1), "{}", text(&o));
+    assert!(text(&o).contains("--threads 0"), "{}", text(&o));
+    let o = vcuts(Path::new("."), &["render", "x.vcuts", "--mode", "ssdo-fancy"]);
+    assert_eq!(o.status.code(), Some(2), "{}", text(&o));
+    assert!(text(&o).contains("ssdo-peeled"), "the choices are listed: {}", text(&o));
+}
