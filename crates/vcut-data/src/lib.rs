@@ -29,9 +29,11 @@
 
 pub mod field;
 pub mod file;
+pub mod params;
 pub mod precomputed;
 pub mod sections;
 
 pub use field::{FieldLayout, FieldSample, InsideSamples, RadialSpacing};
 pub use file::{FileError, Reader, SectionId, SectionKind, Writer};
-pub use precomputed::Precomputed;
+pub use params::{ParamError, PrecomputeParams};
+pub use precomputed::{Precomputed, Record};

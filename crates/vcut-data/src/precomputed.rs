@@ -3,16 +3,87 @@
 
 use crate::field::FieldLayout;
 use crate::file::{FileError, Reader, SectionId, SectionKind};
+use crate::params::PrecomputeParams;
 use crate::sections::{self, CutArray, StoredObject};
 use glam::Vec3;
 use vcut_cut::Cut;
 use vcut_dirtree::DirectionTree;
 
+/// What a `.vcuts` file records of how it was made: its `params` section, typed.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Record {
+    /// The scene as the precompute was given it (`builtin:teapot`, a path).
+    pub scene: String,
+    /// The environment to render with (a map spec, or `scene`: the scene's own).
+    pub environment: String,
+    /// Every precompute parameter.
+    pub params: PrecomputeParams,
+}
+
+impl Record {
+    /// The `params` section's text: a comment naming `writer`, then `scene`, `environment` and
+    /// every parameter as TOML `key = value` lines.
+    pub fn text(&self, writer: &str) -> String {
+        format!("# {writer}\nscene = {:?}\nenvironment = {:?}\n{}", self.scene, self.environment, self.params.to_toml())
+    }
+
+    /// Reads what [`Record::text`] wrote.
+    pub fn parse(text: &str) -> Result<Record, String> {
+        let (mut scene, mut environment, mut params) = (None, None, String::new());
+        for line in text.lines().map(str::trim).filter(|l| !l.is_empty() && !l.starts_with('#')) {
+            match line.split_once('=').map(|(k, v)| (k.trim(), v.trim())) {
+                Some(("scene", v)) => scene = Some(unquote(v).ok_or_else(|| format!("scene = {v}: not a string"))?),
+                Some(("environment", v)) => {
+                    environment = Some(unquote(v).ok_or_else(|| format!("environment = {v}: not a string"))?)
+                }
+                _ => {
+                    params.push_str(line);
+                    params.push('\n');
+                }
+            }
+        }
+        Ok(Record {
+            scene: scene.ok_or("no scene recorded")?,
+            environment: environment.ok_or("no environment recorded")?,
+            params: PrecomputeParams::from_toml(&params).map_err(|e| e.to_string())?,
+        })
+    }
+}
+
+/// The string a Rust `{:?}` of a `str` wrote (quotes, `\\`, `\"`, `\'`, `\n`, `\r`, `\t`, `\0`,
+/// `\u{..}`); `None` if it is not one.
+fn unquote(v: &str) -> Option<String> {
+    let inner = v.strip_prefix('"')?.strip_suffix('"')?;
+    let mut out = String::with_capacity(inner.len());
+    let mut chars = inner.chars();
+    while let Some(c) = chars.next() {
+        if c != '\\' {
+            out.push(c);
+            continue;
+        }
+        out.push(match chars.next()? {
+            '\\' => '\\',
+            '"' => '"',
+            '\'' => '\'',
+            'n' => '\n',
+            'r' => '\r',
+            't' => '\t',
+            '0' => '\0',
+            'u' => {
+                let hex: String = chars.by_ref().skip_while(|&c| c == '{').take_while(|&c| c != '}').collect();
+                char::from_u32(u32::from_str_radix(&hex, 16).ok()?)?
+            }
+            _ => return None,
+        });
+    }
+    Some(out)
+}
+
 /// An opened `.vcuts` file.
 pub struct Precomputed {
     reader: Reader,
-    /// The `params` section (TOML text: parameters, scene source, environment).
-    pub params_text: String,
+    /// How it was made: the scene, the environment, the parameters (its `params` section).
+    pub record: Record,
     /// Directions in generation order.
     pub directions: Vec<Vec3>,
     /// Their cells' solid angles.
@@ -30,7 +101,8 @@ impl Precomputed {
     pub fn open(path: &std::path::Path) -> Result<Precomputed, FileError> {
         let mut reader = Reader::open(path)?;
         let id = SectionId::new(SectionKind::Params, 0, 0);
-        let params_text = String::from_utf8(reader.section(id)?).map_err(|_| reader.section_error(id, "not UTF-8"))?;
+        let text = String::from_utf8(reader.section(id)?).map_err(|_| reader.section_error(id, "not UTF-8"))?;
+        let record = Record::parse(&text).map_err(|e| reader.section_error(id, e))?;
         let id = SectionId::new(SectionKind::Directions, 0, 0);
         let (directions, cell_areas, leaf_order) =
             sections::decode_directions(&reader.section(id)?).map_err(|e| reader.section_error(id, e))?;
@@ -52,25 +124,17 @@ impl Precomputed {
                 None
             });
         }
-        Ok(Precomputed { reader, params_text, directions, cell_areas, leaf_order, objects, layouts })
+        Ok(Precomputed { reader, record, directions, cell_areas, leaf_order, objects, layouts })
+    }
+
+    /// The SVC rays' origin offset along the normal, as a fraction of each object's bounding
+    /// radius (the `svc_origin_offset` parameter): references cast their rays from the same
+    /// points.
+    pub fn svc_origin_offset(&self) -> f32 {
+        self.record.params.svc_origin_offset
     }
 
     /// The direction tree, rebuilt from the stored directions and checked against the stored
-    /// The SVC rays' origin offset along the normal, as a fraction of each object's bounding
-    /// radius (the `svc_origin_offset` parameter; 1e-4 if the file does not record it): references
-    /// cast their rays from the same points.
-    pub fn svc_origin_offset(&self) -> f32 {
-        self.recorded("svc_origin_offset").and_then(|v| v.parse().ok()).unwrap_or(1e-4)
-    }
-
-    /// A value recorded in the `params` section (`key = value` lines; quotes removed).
-    pub fn recorded(&self, key: &str) -> Option<String> {
-        self.params_text.lines().find_map(|l| {
-            let (k, v) = l.split_once('=')?;
-            (k.trim() == key).then(|| v.trim().trim_matches('"').to_string())
-        })
-    }
-
     /// leaf order (a different tree would give the cuts' nodes other meanings).
     pub fn tree(&self) -> Result<DirectionTree, FileError> {
         let id = SectionId::new(SectionKind::Directions, 0, 0);
@@ -164,5 +228,34 @@ impl Precomputed {
             return Err(FileError::Missing { path: self.reader.path().into(), section: id.to_string() });
         }
         self.decoded(id, n)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_record_reads_back_what_it_wrote() {
+        for scene in
+            ["builtin:teapot", "dir with space/a \"quoted\" scene.toml", "C:\\scenes\\x.toml", "tab\there\u{7}"]
+        {
+            let r = Record {
+                scene: scene.into(),
+                environment: "scene".into(),
+                params: PrecomputeParams::preset("fast").unwrap(),
+            };
+            assert_eq!(Record::parse(&r.text("test 1")).unwrap(), r, "{scene:?}");
+        }
+    }
+
+    #[test]
+    fn a_bad_record_is_refused_with_the_reason() {
+        let good = Record { scene: "s".into(), environment: "e".into(), params: PrecomputeParams::paper() }.text("t");
+        let no_scene: String = good.lines().filter(|l| !l.starts_with("scene")).map(|l| format!("{l}\n")).collect();
+        assert!(Record::parse(&no_scene).unwrap_err().contains("no scene"));
+        let bad_value = good.replace("directions = 32768", "directions = 1000");
+        assert!(Record::parse(&bad_value).unwrap_err().contains("directions = 1000"));
+        assert!(Record::parse(&good.replace("scene = \"s\"", "scene = s")).unwrap_err().contains("not a string"));
     }
 }

@@ -37,7 +37,8 @@
 
 pub mod estimate;
 pub mod field;
-pub mod params;
+/// The parameters (they describe the file, so they live with it in `vcut-data`).
+pub use vcut_data::params;
 pub mod run;
 pub mod setup;
 pub mod svc;

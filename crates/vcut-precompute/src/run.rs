@@ -342,13 +342,9 @@ pub fn precompute_with<'a>(
     // Stage 1: parameters, directions and tree, meshes, field layouts.
     let t0 = Instant::now();
     progress.stage("directions", 1);
-    let params_text = format!(
-        "# vcut-precompute {}\nscene = {:?}\nenvironment = {:?}\n{}",
-        env!("CARGO_PKG_VERSION"),
-        job.scene_source,
-        job.environment,
-        p.to_toml()
-    );
+    let record =
+        vcut_data::Record { scene: job.scene_source.clone(), environment: job.environment.clone(), params: p.clone() };
+    let params_text = record.text(concat!("vcut-precompute ", env!("CARGO_PKG_VERSION")));
     writer.put(SectionId::new(SectionKind::Params, 0, 0), params_text.as_bytes())?;
     let setup = match setup {
         Some(s) => s,

@@ -160,12 +160,7 @@ pub fn cached_or_run(scene: &str, preset: &str) -> Result<PathBuf> {
     let params = PrecomputeParams::preset(preset).with_context(|| format!("--preset {preset}"))?;
     let file = PathBuf::from(format!("target/vcuts/{}-{}.vcuts", scene_stem(scene), params.preset));
     let cached = vcut_data::Precomputed::open(&file)
-        .map(|d| {
-            d.recorded("scene").as_deref() == Some(scene)
-                && vcut_precompute::params::KEYS
-                    .iter()
-                    .all(|k| d.recorded(k).as_deref() == params.get(k).as_deref().map(|v| v.trim_matches('"')))
-        })
+        .map(|d| d.record.scene == scene && d.record.params == params)
         .unwrap_or(false);
     if cached {
         println!("precompute: cached in {} (delete it to precompute again)", file.display());

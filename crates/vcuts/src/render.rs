@@ -192,14 +192,18 @@ pub struct Opened {
 /// Opens `input` under environment `env` (default: the one recorded, else the scene's).
 pub fn open(input: &Path, env: Option<&str>) -> Result<Opened> {
     let mut data = Precomputed::open(input)?;
-    let source = data.recorded("scene").unwrap_or_default();
-    let scene = Scene::open(&source).ok();
-    let env_spec = env.map(str::to_string).or_else(|| data.recorded("environment").filter(|e| e != "scene"));
+    let scene = Scene::open(&data.record.scene).ok();
+    let recorded = Some(data.record.environment.clone()).filter(|e| e != "scene");
+    let env_spec = env.map(str::to_string).or(recorded);
     let (env, env_name): (EnvMap, String) = match (&env_spec, &scene) {
         (Some(e), _) => (crate::inspect::load_envmap(e).with_context(|| format!("--env {e}"))?, e.clone()),
         (None, Some(s)) => (s.environment.clone(), "scene".into()),
         (None, None) => {
-            bail!("{}: its scene '{source}' does not open here; name an environment with --env", input.display())
+            bail!(
+                "{}: its scene '{}' does not open here; name an environment with --env",
+                input.display(),
+                data.record.scene
+            )
         }
     };
     let t = Instant::now();

@@ -202,8 +202,8 @@ pub fn run(args: &ViewArgs) -> Result<()> {
     let camera = crate::render::camera(scene.as_ref(), args.camera.as_deref(), &frame)?;
     let summary = vec![
         ("file".to_string(), input.display().to_string()),
-        ("preset".into(), data.recorded("preset").unwrap_or_else(|| "?".into())),
-        ("directions".into(), data.recorded("directions").unwrap_or_else(|| "?".into())),
+        ("preset".into(), data.record.params.preset.clone()),
+        ("directions".into(), data.record.params.directions.to_string()),
         (
             "data size".into(),
             std::fs::metadata(&input).map_or("?".into(), |m| format!("{:.1} MB", m.len() as f64 / 1e6)),

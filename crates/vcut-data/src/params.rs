@@ -1,13 +1,14 @@
 //! Precompute parameters and their presets `fast`, `balanced`, `paper`.
 //!
 //! Every parameter has a name (the key in a scene file's `[precompute]` table and in
-//! `cargo xtask precompute --set KEY=VALUE`), is recorded in the output's `params` section
-//! ([`PrecomputeParams::to_toml`]), and is checked when set.
+//! `vcuts precompute --set KEY=VALUE`), is recorded in the output's `params` section
+//! ([`PrecomputeParams::to_toml`]; read back typed as [`crate::Precomputed::record`]), and is
+//! checked when set.
 
+use crate::RadialSpacing;
 use std::f64::consts::PI;
 use vcut_cut::codec::{ShapeCoding, ValueFormat};
 use vcut_cut::select::SelectParams;
-use vcut_data::RadialSpacing;
 
 /// Everything that decides the precomputed data.
 #[derive(Debug, Clone, PartialEq)]
