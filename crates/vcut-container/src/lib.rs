@@ -571,8 +571,8 @@ impl<K: Kind, R: Read + Seek> Reader<K, R> {
     }
 
     /// An error about section `id` of this file.
-    pub fn section_error(&self, id: SectionId<K>, reason: impl Into<String>) -> FileError {
-        FileError::Section { path: self.path.clone(), section: id.to_string(), reason: reason.into() }
+    pub fn section_error(&self, id: SectionId<K>, reason: impl std::fmt::Display) -> FileError {
+        FileError::Section { path: self.path.clone(), section: id.to_string(), reason: reason.to_string() }
     }
 
     /// Reads and checks every section; returns the first problem.

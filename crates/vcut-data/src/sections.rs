@@ -84,6 +84,16 @@ pub fn encode_cut_array(
     out
 }
 
+/// A cut of a cut array that does not decode.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[error("cut {index}: {error}")]
+pub struct CutDecodeError {
+    /// The cut's index in its array.
+    pub index: usize,
+    /// What the codec found.
+    pub error: codec::DecodeError,
+}
+
 /// A parsed cut array owning its payload: cuts are decoded on demand.
 #[derive(Debug, Clone)]
 pub struct CutArray {
@@ -197,13 +207,15 @@ impl CutArray {
     }
 
     /// Decodes cut `i` (`i < len`).
-    pub fn cut(&self, i: usize) -> Result<Cut, String> {
-        self.coding.decode(self.cut_bytes(i), self.root_height, self.format).map_err(|e| format!("cut {i}: {e}"))
+    pub fn cut(&self, i: usize) -> Result<Cut, CutDecodeError> {
+        self.coding
+            .decode(self.cut_bytes(i), self.root_height, self.format)
+            .map_err(|error| CutDecodeError { index: i, error })
     }
 
     /// Node count of cut `i` without decoding it.
-    pub fn node_count(&self, i: usize) -> Result<usize, String> {
-        codec::decode_count(self.cut_bytes(i)).map_err(|e| format!("cut {i}: {e}"))
+    pub fn node_count(&self, i: usize) -> Result<usize, CutDecodeError> {
+        codec::decode_count(self.cut_bytes(i)).map_err(|error| CutDecodeError { index: i, error })
     }
 
     /// Whether sample `i` lies inside the object (field arrays; `false` elsewhere).

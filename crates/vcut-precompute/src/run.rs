@@ -68,17 +68,20 @@ pub enum PrecomputeError {
     File(#[from] FileError),
     /// The direction set could not be made.
     #[error("directions: {0}")]
-    Directions(String),
+    Directions(#[from] vcut_sphere::SphereError),
+    /// The direction tree could not be built over the set.
+    #[error("direction tree: {0}")]
+    Tree(#[from] vcut_dirtree::TreeError),
     /// Bad parameters.
     #[error(transparent)]
     Params(#[from] crate::params::ParamError),
     /// A cut did not encode (a value outside the chosen format's range).
-    #[error("{section}: {reason}")]
+    #[error("{section}: {error}")]
     Encode {
         /// Section.
         section: String,
         /// What failed.
-        reason: String,
+        error: vcut_cut::codec::EncodeError,
     },
     /// The scene cannot be precomputed.
     #[error("scene {scene}: {reason}")]
@@ -209,11 +212,9 @@ pub fn directions(
     let set = match cache_dir {
         Some(dir) => DirectionSet::load_or_generate(dir, n, &rp, |_, _| {}).map(|r| r.0),
         None => DirectionSet::generate(n, &rp, |_, _| {}),
-    }
-    .map_err(|e| PrecomputeError::Directions(e.to_string()))?;
+    }?;
     let areas = set.cell_areas();
-    let tree =
-        DirectionTree::build(set.directions(), &areas).map_err(|e| PrecomputeError::Directions(e.to_string()))?;
+    let tree = DirectionTree::build(set.directions(), &areas)?;
     Ok((set, areas, tree))
 }
 
@@ -226,7 +227,7 @@ fn encode_all(
     cuts.iter()
         .map(|c| coding.encode(c, format))
         .collect::<Result<_, _>>()
-        .map_err(|e| PrecomputeError::Encode { section: id.to_string(), reason: e.to_string() })
+        .map_err(|error| PrecomputeError::Encode { section: id.to_string(), error })
 }
 
 /// Raw occlusion rays/s, measured on samples of a stage's own rays (collected first, then cast

@@ -7,7 +7,7 @@
 use super::keys::{CellKey, FieldKey, take_held};
 use super::lists::ShadeList;
 use super::object::{node_ends, placed};
-use super::{Frame, FrameError, MergeAlgorithm, MoveTiming};
+use super::{CutFailure, Frame, FrameError, MergeAlgorithm, MoveTiming};
 use glam::Vec3;
 use rayon::prelude::*;
 use std::time::Instant;
@@ -66,8 +66,8 @@ impl Frame {
                 Some(c) => Ok(c),
                 None => self.objects[j as usize].field[sphere as usize].cut(point as usize),
             })
-            .collect::<Result<_, String>>()
-            .map_err(|reason| FrameError::Cut { object: o, vertex, reason })
+            .collect::<Result<_, _>>()
+            .map_err(|e| FrameError::cut(o, vertex, e))
     }
 
     /// Merges the vertices of object `o` marked in `changed` with their keys into `merged`
@@ -135,7 +135,7 @@ impl Frame {
                         }
                     })
                     .collect::<Result<_, _>>()
-                    .map_err(|e| FrameError::Cut { object: o, vertex: first, reason: e.to_string() })?;
+                    .map_err(|e| FrameError::cut(o, first, e))?;
                 timing.refine_s += start.elapsed().as_secs_f64();
                 let start = Instant::now();
                 let result = merged
@@ -188,8 +188,7 @@ impl Frame {
                             list.clear();
                             return Ok(());
                         }
-                        let err = |reason: String| FrameError::Cut { object: o, vertex: v, reason };
-                        let svc_cut = me.svc_cut(v).map_err(err)?;
+                        let svc_cut = me.svc_cut(v).map_err(|e| FrameError::cut(o, v, e))?;
                         let svc_ends = node_ends(&svc_cut);
                         let svc = IndexCut::from_cut(&svc_cut);
                         let svc_refs = [&svc];
@@ -213,7 +212,7 @@ impl Frame {
                                 .zip(&lookups)
                                 .map(|(c, (cell, w))| IndexGroup { cuts: c, weights: &w[..usize::from(cell.len)] }),
                         );
-                        baseline::merge(&groups, out).map_err(|e| err(e.to_string()))?;
+                        baseline::merge(&groups, out).map_err(|e| FrameError::cut(o, v, e))?;
                         if facing(v) {
                             list.rebuild(out, normals[v], table, Some(&svc_ends), &mut Vec::new());
                         } else {
@@ -249,11 +248,11 @@ impl Frame {
             return Ok(None);
         }
         let me = &self.objects[o];
-        let err = |reason: String| FrameError::Cut { object: o, vertex: v, reason };
+        let err = |e: CutFailure| FrameError::cut(o, v, e);
         let svc = match me.svc_refined.get(v) {
             Some(cached) => cached,
             None => {
-                scratch.rebuild(&[&me.svc_cut(v).map_err(err)?]).map_err(|e| err(e.to_string()))?;
+                scratch.rebuild(&[&me.svc_cut(v).map_err(|e| err(e.into()))?]).map_err(|e| err(e.into()))?;
                 &*scratch
             }
         };
@@ -263,7 +262,7 @@ impl Frame {
         for (c, weights) in &lookups {
             factors.push(Factor { refinement: cell(c), weights: &weights[..usize::from(c.len)] });
         }
-        merge_refined(&factors, out).map_err(|e| err(e.to_string()))?;
+        merge_refined(&factors, out).map_err(|e| err(e.into()))?;
         Ok(Some(svc.ends()))
     }
 
@@ -271,7 +270,7 @@ impl Frame {
     /// vertex whose merge waits): [`Frame::merge_vertex`] with its cells refined here, so the
     /// cut a merge would keep, bit for bit.
     pub(super) fn merge_one(&self, o: usize, v: usize, out: &mut MergedCut) -> Result<(), FrameError> {
-        let err = |reason: String| FrameError::Cut { object: o, vertex: v, reason };
+        let err = |e: CutFailure| FrameError::cut(o, v, e);
         let keys = self.keys(o, v);
         let mut local: Vec<(CellKey, Refinement)> = Vec::new();
         for (cell, _) in keys.iter().filter(|k| k.samples.is_some()).filter_map(CellKey::of) {
@@ -279,9 +278,9 @@ impl Frame {
                 .samples()
                 .iter()
                 .map(|&(j, sphere, point)| self.objects[j as usize].field[sphere as usize].cut(point as usize))
-                .collect::<Result<Vec<Cut>, String>>()
-                .map_err(err)?;
-            local.push((cell, Refinement::new(&cuts.iter().collect::<Vec<_>>()).map_err(|e| err(e.to_string()))?));
+                .collect::<Result<Vec<Cut>, _>>()
+                .map_err(|e| err(e.into()))?;
+            local.push((cell, Refinement::new(&cuts.iter().collect::<Vec<_>>()).map_err(|e| err(e.into()))?));
         }
         let cell = |c: &CellKey| &local.iter().find(|(k, _)| k == c).unwrap_or_else(|| unreachable!("refined above")).1;
         self.merge_vertex(o, v, &keys, &cell, &mut Refinement::default(), out)?;

@@ -104,15 +104,33 @@ pub enum FrameError {
     #[error(transparent)]
     File(#[from] FileError),
     /// A cut in the data does not decode or merge.
-    #[error("object {object}, vertex {vertex}: {reason}")]
+    #[error("object {object}, vertex {vertex}: {error}")]
     Cut {
         /// Object index.
         object: usize,
         /// Vertex index.
         vertex: usize,
         /// What failed.
-        reason: String,
+        error: CutFailure,
     },
+}
+
+/// Why a vertex's cuts could not be merged.
+#[derive(Debug, thiserror::Error)]
+pub enum CutFailure {
+    /// A stored cut (its SVC or a field sample's) does not decode.
+    #[error(transparent)]
+    Decode(#[from] vcut_data::sections::CutDecodeError),
+    /// The merge refused its inputs.
+    #[error(transparent)]
+    Merge(#[from] vcut_merge::MergeError),
+}
+
+impl FrameError {
+    /// A failure of object `object`'s vertex `vertex`.
+    pub(crate) fn cut(object: usize, vertex: usize, error: impl Into<CutFailure>) -> FrameError {
+        FrameError::Cut { object, vertex, error: error.into() }
+    }
 }
 
 /// Which merge a move uses. Both give the same merged cuts bit for bit (tested), so they can be
@@ -325,8 +343,8 @@ impl Frame {
                 let cached = (0..s.mesh.vertex_count())
                     .into_par_iter()
                     .map(|v| {
-                        let err = |reason: String| FrameError::Cut { object: o, vertex: v, reason };
-                        Refinement::new(&[&s.svc_cut(v).map_err(err)?]).map_err(|e| err(e.to_string()))
+                        let svc = s.svc_cut(v).map_err(|e| FrameError::cut(o, v, e))?;
+                        Refinement::new(&[&svc]).map_err(|e| FrameError::cut(o, v, e))
                     })
                     .collect::<Result<_, _>>()?;
                 self.objects[o].svc_refined = cached;
@@ -343,7 +361,7 @@ impl Frame {
     }
 
     /// The SVC of vertex `v` of object `o`.
-    pub fn svc(&self, o: usize, v: usize) -> Result<Cut, String> {
+    pub fn svc(&self, o: usize, v: usize) -> Result<Cut, vcut_data::sections::CutDecodeError> {
         self.objects[o].svc_cut(v)
     }
 

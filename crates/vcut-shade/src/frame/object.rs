@@ -52,7 +52,7 @@ impl ObjectState {
         list.rebuild(&self.merged[v], self.mesh.normals()[v], nodes, self.svc_ends(v).as_deref(), below);
     }
 
-    pub(super) fn svc_cut(&self, v: usize) -> Result<Cut, String> {
+    pub(super) fn svc_cut(&self, v: usize) -> Result<Cut, vcut_data::sections::CutDecodeError> {
         let chunk = self.svc_starts.partition_point(|&s| s <= v) - 1;
         self.svc[chunk].cut(v - self.svc_starts[chunk])
     }
