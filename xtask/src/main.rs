@@ -40,8 +40,9 @@ enum Command {
     /// matches), render it at rest and with the teapot moved and its BRDF edited, against the
     /// exact-direction reference, and write target/demo/report.md.
     Demo,
-    /// Write a bench report's Table 1 into README.md and docs/benchmarks.md (between their
-    /// markers) and keep it in docs/report/; --check only verifies they hold it.
+    /// Write the generated docs: a bench report's Table 1 into README.md and docs/benchmarks.md
+    /// (between their markers, kept in docs/report/) and each library crate's README.md from its
+    /// crate documentation; --check only verifies they are current.
     Publish(publish::PublishArgs),
 }
 

@@ -1,8 +1,8 @@
-//! `cargo xtask publish`: a bench report's generated tables into the docs. Copies
-//! `table1.md` (and the trade-off plot, when there is one) from the report folder to
-//! `docs/report/`, and writes the table between the `<!-- table1 -->` and `<!-- /table1 -->`
-//! markers of `README.md` and `docs/benchmarks.md`, so the tables there are always a command's
-//! output, never edited by hand.
+//! `cargo xtask publish`: what the docs show, generated. Copies a bench report's `table1.md`
+//! (and the trade-off plot, when there is one) to `docs/report/` and writes the table between
+//! the `<!-- table1 -->` and `<!-- /table1 -->` markers of `README.md` and
+//! `docs/benchmarks.md`; and writes each library crate's `README.md` (what a registry page
+//! shows) from its crate documentation — so none of them is edited by hand.
 
 use anyhow::{Context, Result, bail};
 use std::path::{Path, PathBuf};
@@ -39,12 +39,12 @@ pub fn run(args: &PublishArgs) -> Result<()> {
     if !table.trim_start().starts_with("| scene |") {
         bail!("{}: not a Table 1 written by `cargo xtask bench`", source.display());
     }
-    let mut stale = Vec::new();
+    let mut stale: Vec<String> = crate_readmes(args.check)?;
     for doc in DOCS {
         let text = std::fs::read_to_string(doc).with_context(|| format!("reading {doc}"))?;
         let new = splice(&text, &table).with_context(|| format!("{doc}: no {BEGIN} … {END} markers"))?;
         if new != text {
-            stale.push(doc);
+            stale.push(doc.to_string());
             if !args.check {
                 std::fs::write(doc, new).with_context(|| format!("writing {doc}"))?;
             }
@@ -67,9 +67,78 @@ pub fn run(args: &PublishArgs) -> Result<()> {
         }
     }
     for doc in DOCS {
-        println!("{doc}: {}", if stale.contains(&doc) { "table written" } else { "already current" });
+        println!("{doc}: {}", if stale.iter().any(|s| s == doc) { "table written" } else { "already current" });
+    }
+    for s in stale.iter().filter(|s| s.ends_with("/README.md")) {
+        println!("{s}: written from the crate documentation");
     }
     Ok(())
+}
+
+/// A crate's `README.md`: its name, its description, and its crate documentation (the `//!`
+/// lines of `src/lib.rs`) with rustdoc's links made plain code and its examples Rust blocks.
+pub fn crate_readme(name: &str, description: &str, lib_rs: &str) -> String {
+    let mut out = format!("# {name}\n\n{description}\n\n");
+    let mut in_code = false;
+    for line in lib_rs.lines().take_while(|l| l.starts_with("//!") || l.trim().is_empty()) {
+        let Some(text) = line.strip_prefix("//!") else { continue };
+        let text = text.strip_prefix(' ').unwrap_or(text);
+        if let Some(fence) = text.strip_prefix("```") {
+            in_code = !in_code;
+            out.push_str(if in_code && !fence.contains("text") { "```rust" } else { "```" });
+        } else if in_code {
+            out.push_str(text);
+        } else {
+            // [`x`] and [`x`](path) links to items resolve on docs.rs, not here; the docs'
+            // headings sit one level below the README's title.
+            let mut t = if text.starts_with('#') { format!("#{text}") } else { text.to_string() };
+            while let Some(a) = t.find("[`") {
+                let Some(b) = t[a..].find("`]").map(|b| a + b) else { break };
+                let mut end = b + 2;
+                if t[end..].starts_with('(') {
+                    end = t[end..].find(')').map_or(end, |c| end + c + 1);
+                }
+                t = format!("{}`{}`{}", &t[..a], &t[a + 2..b], &t[end..]);
+            }
+            out.push_str(&t);
+        }
+        out.push('\n');
+    }
+    out.push_str("\nPart of the vcuts workspace: see its README and ARCHITECTURE.md.\n");
+    out
+}
+
+/// Writes (or with `check`, only compares) every library crate's README; returns the stale ones.
+fn crate_readmes(check: bool) -> Result<Vec<String>> {
+    let mut stale = Vec::new();
+    let mut dirs: Vec<PathBuf> = std::fs::read_dir("crates")
+        .context("reading crates/")?
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| p.join("src/lib.rs").exists())
+        .collect();
+    dirs.sort();
+    for dir in dirs {
+        let manifest = std::fs::read_to_string(dir.join("Cargo.toml"))
+            .with_context(|| format!("reading {}", dir.join("Cargo.toml").display()))?;
+        let field = |key: &str| {
+            manifest.lines().find_map(|l| {
+                let (k, v) = l.split_once('=')?;
+                (k.trim() == key).then(|| v.trim().trim_matches('"').replace("\\\"", "\""))
+            })
+        };
+        let name = field("name").with_context(|| format!("{}: no package name", dir.display()))?;
+        let description = field("description").unwrap_or_default();
+        let lib = std::fs::read_to_string(dir.join("src/lib.rs"))?;
+        let readme = crate_readme(&name, &description, &lib);
+        let path = dir.join("README.md");
+        if std::fs::read_to_string(&path).ok().as_deref() != Some(readme.as_str()) {
+            stale.push(path.display().to_string());
+            if !check {
+                std::fs::write(&path, readme).with_context(|| format!("writing {}", path.display()))?;
+            }
+        }
+    }
+    Ok(stale)
 }
 
 #[cfg(test)]
@@ -82,5 +151,14 @@ mod tests {
         assert_eq!(splice(text, "| scene |\n").unwrap(), "a\n<!-- table1 -->\n| scene |\n<!-- /table1 -->\nb\n");
         assert_eq!(splice(&splice(text, "| x |").unwrap(), "| x |").unwrap(), splice(text, "| x |").unwrap());
         assert!(splice("no markers", "t").is_none());
+    }
+
+    #[test]
+    fn a_crate_readme_is_its_crate_docs_made_plain() {
+        let lib = "//! Cuts, see [`Cut`] and [`merge`](crate::merge).\n//!\n//! # Example\n//! ```no_run\n//! let x = 1;\n//! ```\n\nuse x;\n//! not docs\n";
+        let r = crate_readme("vcut-x", "What it is.", lib);
+        let want = "# vcut-x\n\nWhat it is.\n\nCuts, see `Cut` and `merge`.\n\n## Example\n```rust\nlet x = 1;\n```\n";
+        assert!(r.starts_with(want), "{r}");
+        assert!(!r.contains("not docs"));
     }
 }
