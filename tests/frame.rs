@@ -175,14 +175,14 @@ fn moves_re_merge_only_what_changed_and_edits_never_merge() {
     frame.translate(ball, moved).unwrap();
     let counter: Vec<_> = (0..n_ground).map(|v| frame.merged(ground, v).clone()).collect();
     let shaded = frame.shade(EYE);
-    frame.set_merge_algorithm(MergeAlgorithm::Index);
+    frame.set_merge_algorithm(MergeAlgorithm::Index).unwrap();
     frame.translate(ball, Vec3::ZERO).unwrap();
     frame.translate(ball, moved).unwrap();
     assert!((0..n_ground).all(|v| *frame.merged(ground, v) == counter[v]));
     assert!(frame.shade(EYE) == shaded);
 
     // So does the default merge with every SVC decoded at each merge instead of kept decoded.
-    frame.set_merge_algorithm(MergeAlgorithm::Counter);
+    frame.set_merge_algorithm(MergeAlgorithm::Counter).unwrap();
     assert!(frame.svc_cache_bytes() > 0);
     frame.set_svc_cache(false).unwrap();
     assert_eq!(frame.svc_cache_bytes(), 0);

@@ -288,9 +288,9 @@ fn bench_scene(name: &str, preset: &str, data_dir: &Path, no_mc: bool, reuse: bo
          a camera turn after a move {turn_ms:.1} ms ({turn_merged} merged), eager {turn_ms_eager:.1} ms",
         counter.move_ms, counter.merged, counter.deferred, eager.move_ms, eager.merged
     );
-    frame.set_merge_algorithm(MergeAlgorithm::Index);
+    frame.set_merge_algorithm(MergeAlgorithm::Index)?;
     let edit_index = edit_ms(&mut frame, movable, eye, 11);
-    frame.set_merge_algorithm(MergeAlgorithm::Counter);
+    frame.set_merge_algorithm(MergeAlgorithm::Counter)?;
     let (move_ms, move_ms_index) = (counter.move_ms, index.move_ms);
     let merge_s: f64 = counter.merge_ms.iter().sum::<f64>() / 1e3;
     let merge_s_index: f64 = index.merge_ms.iter().sum::<f64>() / 1e3;

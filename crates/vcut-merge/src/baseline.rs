@@ -59,6 +59,11 @@ fn node(root: u32, index: u32) -> (u32, u64, u64) {
     (h, start, start + (1u64 << h))
 }
 
+/// One past the last leaf of the node at level-order `index` under a root of height `root`.
+pub(crate) fn node_end(root: u32, index: u32) -> u64 {
+    node(root, index).2
+}
+
 /// Merges `Π_g Σ_{k∈g} w_k V_k` over index-coded cuts into `out` (cleared first).
 pub fn merge(groups: &[IndexGroup<'_>], out: &mut MergedCut) -> Result<usize, MergeError> {
     let root = check_groups(groups.iter().map(|g| (g.cuts, g.weights)), |c: &&IndexCut| c.root_height)?;

@@ -22,6 +22,9 @@
 //! emits the smallest. It produces exactly the same cut (tested), so the two can be timed on the
 //! same inputs.
 //!
+//! **The seam** ([`prepared`]): callers prepare each group once with an [`Algorithm`] and merge
+//! the prepared groups with [`merge_prepared`], one code path for either algorithm.
+//!
 //! # Example
 //! ```
 //! use vcut_cut::Cut;
@@ -36,8 +39,10 @@
 //! ```
 
 pub mod baseline;
+pub mod prepared;
 pub mod refined;
 
+pub use prepared::{Algorithm, Prepared, merge_prepared};
 pub use refined::{Factor, Refinement, merge_refined};
 
 use vcut_cut::Cut;
@@ -114,6 +119,12 @@ pub enum MergeError {
     /// Nothing to merge.
     #[error("no cuts")]
     Empty,
+    /// Prepared groups of different algorithms ([`merge_prepared`]).
+    #[error("group {group} was prepared for another merge algorithm than group 0")]
+    Mixed {
+        /// The first group of another algorithm.
+        group: usize,
+    },
 }
 
 /// Checks the groups (cuts, weights) and returns the common root height.

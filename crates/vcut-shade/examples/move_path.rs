@@ -64,9 +64,9 @@ fn main() -> Result<(), String> {
     let mut index_ms = Vec::new();
     for round in 0..rounds {
         if round == 1 {
-            frame.set_merge_algorithm(MergeAlgorithm::Index);
+            frame.set_merge_algorithm(MergeAlgorithm::Index).map_err(|e| e.to_string())?;
         } else {
-            frame.set_merge_algorithm(MergeAlgorithm::Counter);
+            frame.set_merge_algorithm(MergeAlgorithm::Counter).map_err(|e| e.to_string())?;
         }
         frame.translate(o, Vec3::ZERO).map_err(|e| e.to_string())?;
         for i in 1..=steps {
@@ -78,7 +78,7 @@ fn main() -> Result<(), String> {
             }
         }
     }
-    frame.set_merge_algorithm(MergeAlgorithm::Counter);
+    frame.set_merge_algorithm(MergeAlgorithm::Counter).map_err(|e| e.to_string())?;
     frame.translate(o, Vec3::ZERO).map_err(|e| e.to_string())?;
     let (cpu0, wall0) = (cpu_seconds(), Instant::now());
     for i in 1..=steps {

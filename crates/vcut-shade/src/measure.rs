@@ -64,7 +64,7 @@ pub fn move_path(
     steps: usize,
 ) -> Result<PathTiming, FrameError> {
     let step = path_step(frame, o);
-    frame.set_merge_algorithm(algorithm);
+    frame.set_merge_algorithm(algorithm)?;
     frame.translate(o, Vec3::ZERO)?;
     let (mut times, mut merge_ms, mut merged, mut deferred) = (Vec::new(), Vec::new(), 0, 0);
     for i in 1..=steps {
@@ -76,7 +76,7 @@ pub fn move_path(
         deferred += frame.last_move().deferred;
     }
     frame.translate(o, Vec3::ZERO)?;
-    frame.set_merge_algorithm(MergeAlgorithm::Counter);
+    frame.set_merge_algorithm(MergeAlgorithm::Counter)?;
     let n = steps.max(1);
     Ok(PathTiming { move_ms: median(times), merge_ms, merged: merged / n, deferred: deferred / n })
 }

@@ -1,30 +1,31 @@
 //! Merges: a move looks up every vertex's field inputs again and re-merges those that changed
 //! (`rekey`, deferring the ones facing away: see the module docs of [`super`]); each cell's cuts
-//! are refined once per move and kept for the next; one [`Frame::merge_vertex`] serves a
-//! move's batch and a merge on the spot. The index baseline ([`MergeAlgorithm::Index`]) merges
-//! the same inputs as index-coded cuts, for timing against.
+//! are prepared once per move and kept for the next; one [`Frame::merge_vertex`] serves a
+//! move's batch and a merge on the spot, whichever [`super::MergeAlgorithm`] prepared its
+//! inputs (the seam is `vcut_merge::prepared`).
 
 use super::keys::{CellKey, FieldKey, take_held};
 use super::lists::ShadeList;
-use super::object::{node_ends, placed};
-use super::{CutFailure, Frame, FrameError, MergeAlgorithm, MoveTiming};
+use super::object::placed;
+use super::{CutFailure, Frame, FrameError, MoveTiming};
 use glam::Vec3;
 use rayon::prelude::*;
+use std::borrow::Cow;
 use std::time::Instant;
 use vcut_cut::Cut;
 use vcut_data::InsideSamples;
-use vcut_merge::baseline::{self, IndexCut, IndexGroup};
-use vcut_merge::{Factor, MergedCut, Refinement, merge_refined};
+use vcut_merge::{MergedCut, Prepared, merge_prepared};
 
 /// What the last merge of an object's vertices built, for the next move (a move along a path
-/// needs mostly the same cells and samples again): the cells' refinements, sorted by cell, and
+/// needs mostly the same cells and samples again): the cells prepared for the merge (refined
+/// for the counter merge), sorted by cell, and
 /// the field cuts it decoded, by (object, sphere, point), sorted.
 #[derive(Default)]
 pub(super) struct FieldCache {
     pub(super) keys: Vec<(u32, u32, u32)>,
     pub(super) cuts: Vec<Cut>,
     pub(super) cells: Vec<CellKey>,
-    pub(super) refined: Vec<Refinement>,
+    pub(super) refined: Vec<Prepared>,
 }
 
 /// The merged cut of a vertex inside an object (a cut of one zero node).
@@ -91,140 +92,66 @@ impl Frame {
         let eye = self.eye();
         let facing = |v: usize| eye.is_none_or(|e| me.faces(v, e));
         let table = &self.nodes;
-        let h = self.tree.height();
         let old = std::mem::take(cache);
-        let occluded = |v: usize| keys[v].iter().any(|k| k.samples.is_none());
         let start = Instant::now();
-        let result = match self.algorithm {
-            MergeAlgorithm::Counter => {
-                // The cells the vertices use; those the last move refined are kept.
-                let mut cells: Vec<CellKey> =
-                    vertices.iter().flat_map(|&v| keys[v].iter()).filter_map(|k| CellKey::of(k).map(|c| c.0)).collect();
-                cells.sort_unstable();
-                cells.dedup();
-                let reused = take_held(old.cells, old.refined, &cells);
-                // The new cells' samples, each decoded once.
-                let mut wanted: Vec<(u32, u32, u32)> = cells
-                    .iter()
-                    .zip(&reused)
-                    .filter(|(_, r)| r.is_none())
-                    .flat_map(|(c, _)| c.samples().iter().copied())
-                    .collect();
-                wanted.sort_unstable();
-                wanted.dedup();
-                timing.refine_s += start.elapsed().as_secs_f64();
-                let start = Instant::now();
-                let decoded = self.decode_samples(o, first, &wanted, old.keys, old.cuts)?;
-                timing.decode_s += start.elapsed().as_secs_f64();
-                let start = Instant::now();
-                let refined: Vec<Refinement> = cells
-                    .par_iter()
-                    .zip(reused.into_par_iter())
-                    .map(|(c, hit)| match hit {
-                        Some(r) => Ok(r),
-                        None => {
-                            let cuts: Vec<&Cut> = c
-                                .samples()
-                                .iter()
-                                .map(|x| {
-                                    &decoded
-                                        [wanted.binary_search(x).unwrap_or_else(|_| unreachable!("collected above"))]
-                                })
-                                .collect();
-                            Refinement::new(&cuts)
-                        }
-                    })
-                    .collect::<Result<_, _>>()
-                    .map_err(|e| FrameError::cut(o, first, e))?;
-                timing.refine_s += start.elapsed().as_secs_f64();
-                let start = Instant::now();
-                let result = merged
-                    .par_iter_mut()
-                    .zip(lists.par_iter_mut())
-                    .enumerate()
-                    .filter(|(v, _)| changed[*v])
-                    .try_for_each_init(
-                        || (Refinement::default(), Vec::new()),
-                        |(scratch, below), (v, (out, list))| {
-                            let cell = |c: &CellKey| {
-                                &refined[cells.binary_search(c).unwrap_or_else(|_| unreachable!("collected above"))]
-                            };
-                            let svc = self.merge_vertex(o, v, &keys[v], &cell, scratch, out)?;
-                            // The list while the cut is still in cache.
-                            match svc {
-                                None => list.clear(),
-                                Some(_) if !facing(v) => list.mark_stale(),
-                                Some(ends) => list.rebuild(out, normals[v], table, Some(ends), below),
-                            }
-                            Ok(())
-                        },
-                    );
-                timing.merge_s += start.elapsed().as_secs_f64();
-                *cache = FieldCache { keys: wanted, cuts: decoded, cells, refined };
-                result
-            }
-            MergeAlgorithm::Index => {
-                // Every sample the vertices use, decoded once and converted to indices.
-                let mut wanted: Vec<(u32, u32, u32)> = vertices
-                    .iter()
-                    .flat_map(|&v| keys[v].iter())
-                    .filter_map(|k| CellKey::of(k).map(|c| c.0))
-                    .flat_map(|c| c.samples().to_vec())
-                    .collect();
-                wanted.sort_unstable();
-                wanted.dedup();
-                let decoded = self.decode_samples(o, first, &wanted, old.keys, old.cuts)?;
-                let decoded_index: Vec<IndexCut> = decoded.par_iter().map(IndexCut::from_cut).collect();
-                timing.decode_s += start.elapsed().as_secs_f64();
-                let start = Instant::now();
-                let result = merged
-                    .par_iter_mut()
-                    .zip(lists.par_iter_mut())
-                    .enumerate()
-                    .filter(|(v, _)| changed[*v])
-                    .try_for_each(|(v, (out, list))| {
-                        if occluded(v) {
-                            *out = full_zero(h);
-                            list.clear();
-                            return Ok(());
-                        }
-                        let svc_cut = me.svc_cut(v).map_err(|e| FrameError::cut(o, v, e))?;
-                        let svc_ends = node_ends(&svc_cut);
-                        let svc = IndexCut::from_cut(&svc_cut);
-                        let svc_refs = [&svc];
-                        let lookups: Vec<(CellKey, [f32; 8])> = keys[v].iter().filter_map(CellKey::of).collect();
-                        let cuts: Vec<Vec<&IndexCut>> = lookups
-                            .iter()
-                            .map(|(c, _)| {
-                                c.samples()
-                                    .iter()
-                                    .map(|x| {
-                                        &decoded_index[wanted
-                                            .binary_search(x)
-                                            .unwrap_or_else(|_| unreachable!("collected above"))]
-                                    })
-                                    .collect()
-                            })
-                            .collect();
-                        let mut groups = vec![IndexGroup { cuts: &svc_refs, weights: &[1.0] }];
-                        groups.extend(
-                            cuts.iter()
-                                .zip(&lookups)
-                                .map(|(c, (cell, w))| IndexGroup { cuts: c, weights: &w[..usize::from(cell.len)] }),
-                        );
-                        baseline::merge(&groups, out).map_err(|e| FrameError::cut(o, v, e))?;
-                        if facing(v) {
-                            list.rebuild(out, normals[v], table, Some(&svc_ends), &mut Vec::new());
-                        } else {
-                            list.mark_stale();
-                        }
-                        Ok(())
-                    });
-                timing.merge_s += start.elapsed().as_secs_f64();
-                *cache = FieldCache { keys: wanted, cuts: decoded, cells: Vec::new(), refined: Vec::new() };
-                result
-            }
-        };
+        // The cells the vertices use; those the last move prepared are kept.
+        let mut cells: Vec<CellKey> =
+            vertices.iter().flat_map(|&v| keys[v].iter()).filter_map(|k| CellKey::of(k).map(|c| c.0)).collect();
+        cells.sort_unstable();
+        cells.dedup();
+        let reused = take_held(old.cells, old.refined, &cells);
+        // The new cells' samples, each decoded once.
+        let mut wanted: Vec<(u32, u32, u32)> = cells
+            .iter()
+            .zip(&reused)
+            .filter(|(_, r)| r.is_none())
+            .flat_map(|(c, _)| c.samples().iter().copied())
+            .collect();
+        wanted.sort_unstable();
+        wanted.dedup();
+        timing.refine_s += start.elapsed().as_secs_f64();
+        let start = Instant::now();
+        let decoded = self.decode_samples(o, first, &wanted, old.keys, old.cuts)?;
+        timing.decode_s += start.elapsed().as_secs_f64();
+        let start = Instant::now();
+        let algorithm = self.algorithm;
+        let refined: Vec<Prepared> = cells
+            .par_iter()
+            .zip(reused.into_par_iter())
+            .map(|(c, hit)| match hit {
+                Some(r) => Ok(r),
+                None => {
+                    let cuts: Vec<&Cut> = c
+                        .samples()
+                        .iter()
+                        .map(|x| &decoded[wanted.binary_search(x).unwrap_or_else(|_| unreachable!("collected above"))])
+                        .collect();
+                    algorithm.prepare(&cuts)
+                }
+            })
+            .collect::<Result<_, _>>()
+            .map_err(|e| FrameError::cut(o, first, e))?;
+        timing.refine_s += start.elapsed().as_secs_f64();
+        let start = Instant::now();
+        let result =
+            merged.par_iter_mut().zip(lists.par_iter_mut()).enumerate().filter(|(v, _)| changed[*v]).try_for_each_init(
+                || (Prepared::default(), Vec::new()),
+                |(scratch, below), (v, (out, list))| {
+                    let cell = |c: &CellKey| {
+                        &refined[cells.binary_search(c).unwrap_or_else(|_| unreachable!("collected above"))]
+                    };
+                    let svc = self.merge_vertex(o, v, &keys[v], &cell, scratch, out)?;
+                    // The list while the cut is still in cache.
+                    match svc {
+                        None => list.clear(),
+                        Some(_) if !facing(v) => list.mark_stale(),
+                        Some(ends) => list.rebuild(out, normals[v], table, Some(&ends), below),
+                    }
+                    Ok(())
+                },
+            );
+        timing.merge_s += start.elapsed().as_secs_f64();
+        *cache = FieldCache { keys: wanted, cuts: decoded, cells, refined };
         result.map(|()| vertices.len())
     }
 
@@ -239,10 +166,10 @@ impl Frame {
         o: usize,
         v: usize,
         keys: &[FieldKey],
-        cell: &dyn Fn(&CellKey) -> &'r Refinement,
-        scratch: &'r mut Refinement,
+        cell: &dyn Fn(&CellKey) -> &'r Prepared,
+        scratch: &'r mut Prepared,
         out: &mut MergedCut,
-    ) -> Result<Option<&'r [u32]>, FrameError> {
+    ) -> Result<Option<Cow<'r, [u32]>>, FrameError> {
         if keys.iter().any(|k| k.samples.is_none()) {
             *out = full_zero(self.tree.height());
             return Ok(None);
@@ -252,17 +179,18 @@ impl Frame {
         let svc = match me.svc_refined.get(v) {
             Some(cached) => cached,
             None => {
-                scratch.rebuild(&[&me.svc_cut(v).map_err(|e| err(e.into()))?]).map_err(|e| err(e.into()))?;
+                let cut = me.svc_cut(v).map_err(|e| err(e.into()))?;
+                self.algorithm.prepare_into(&[&cut], scratch).map_err(|e| err(e.into()))?;
                 &*scratch
             }
         };
         let lookups: Vec<(CellKey, [f32; 8])> = keys.iter().filter_map(CellKey::of).collect();
-        let mut factors = Vec::with_capacity(1 + lookups.len());
-        factors.push(Factor { refinement: svc, weights: &[1.0] });
+        let mut factors: Vec<(&Prepared, &[f32])> = Vec::with_capacity(1 + lookups.len());
+        factors.push((svc, &[1.0]));
         for (c, weights) in &lookups {
-            factors.push(Factor { refinement: cell(c), weights: &weights[..usize::from(c.len)] });
+            factors.push((cell(c), &weights[..usize::from(c.len)]));
         }
-        merge_refined(&factors, out).map_err(|e| err(e.into()))?;
+        merge_prepared(&factors, out).map_err(|e| err(e.into()))?;
         Ok(Some(svc.ends()))
     }
 
@@ -272,7 +200,7 @@ impl Frame {
     pub(super) fn merge_one(&self, o: usize, v: usize, out: &mut MergedCut) -> Result<(), FrameError> {
         let err = |e: CutFailure| FrameError::cut(o, v, e);
         let keys = self.keys(o, v);
-        let mut local: Vec<(CellKey, Refinement)> = Vec::new();
+        let mut local: Vec<(CellKey, Prepared)> = Vec::new();
         for (cell, _) in keys.iter().filter(|k| k.samples.is_some()).filter_map(CellKey::of) {
             let cuts = cell
                 .samples()
@@ -280,10 +208,10 @@ impl Frame {
                 .map(|&(j, sphere, point)| self.objects[j as usize].field[sphere as usize].cut(point as usize))
                 .collect::<Result<Vec<Cut>, _>>()
                 .map_err(|e| err(e.into()))?;
-            local.push((cell, Refinement::new(&cuts.iter().collect::<Vec<_>>()).map_err(|e| err(e.into()))?));
+            local.push((cell, self.algorithm.prepare(&cuts.iter().collect::<Vec<_>>()).map_err(|e| err(e.into()))?));
         }
         let cell = |c: &CellKey| &local.iter().find(|(k, _)| k == c).unwrap_or_else(|| unreachable!("refined above")).1;
-        self.merge_vertex(o, v, &keys, &cell, &mut Refinement::default(), out)?;
+        self.merge_vertex(o, v, &keys, &cell, &mut Prepared::default(), out)?;
         Ok(())
     }
 

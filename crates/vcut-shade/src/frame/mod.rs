@@ -94,7 +94,7 @@ use vcut_data::{FileError, InsideSamples, Precomputed};
 use vcut_dirtree::DirectionTree;
 use vcut_envmap::EnvMap;
 use vcut_lighttree::{LightTree, LightTreeBuilder};
-use vcut_merge::{MergedCut, Refinement};
+use vcut_merge::MergedCut;
 use vcut_scene::{Material, Mesh, Motion};
 
 /// Why a frame could not be set up.
@@ -133,20 +133,11 @@ impl FrameError {
     }
 }
 
-/// Which merge a move uses. Both give the same merged cuts bit for bit (tested), so they can be
-/// timed on the same frames.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
-pub enum MergeAlgorithm {
-    /// The paper's counter merge over height-coded cuts, through refinements: each field cell's
-    /// cuts (the 8 samples of a lookup, shared by the vertices around them) are merged once
-    /// into their common refinement ([`vcut_merge::Refinement`]), then every vertex merges its
-    /// SVC with its cells' refinements ([`vcut_merge::merge_refined`], the same cut to the bit).
-    #[default]
-    Counter,
-    /// The index baseline (Cheslack-Postava 2008 style): cuts converted to level-order indices
-    /// when decoded, merged by "advance until nested".
-    Index,
-}
+/// Which merge a move uses: [`vcut_merge::Algorithm`]. Both give the same merged cuts bit for
+/// bit (tested), so they can be timed on the same frames; the counter merge refines each field
+/// cell's cuts (the 8 samples of a lookup, shared by the vertices around them) once into their
+/// common refinement, then merges every vertex's SVC with its cells' refinements.
+pub use vcut_merge::Algorithm as MergeAlgorithm;
 
 /// Where the last move's time went (seconds, wall clock over both cores).
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
@@ -326,15 +317,32 @@ impl Frame {
         }
     }
 
-    /// Chooses the merge that later moves use.
-    pub fn set_merge_algorithm(&mut self, algorithm: MergeAlgorithm) {
+    /// Chooses the merge that later moves use: the kept SVCs are prepared again in its form,
+    /// and the field cells the last moves kept are dropped.
+    pub fn set_merge_algorithm(&mut self, algorithm: MergeAlgorithm) -> Result<(), FrameError> {
+        if algorithm == self.algorithm {
+            return Ok(());
+        }
         self.algorithm = algorithm;
+        let cached = self.svc_cache_on();
+        for s in &mut self.objects {
+            s.decoded.cells.clear();
+            s.decoded.refined.clear();
+            s.svc_refined = Vec::new();
+        }
+        self.set_svc_cache(cached)
+    }
+
+    /// Whether the SVCs are kept prepared ([`Frame::set_svc_cache`]).
+    fn svc_cache_on(&self) -> bool {
+        self.objects.iter().any(|s| !s.svc_refined.is_empty())
     }
 
     /// Keeps every vertex's SVC decoded (`on`, the default) or decodes it at every merge.
     /// Keeping them spares a move the SVCs' decoding (split flags walked bit by bit) at
     /// [`Frame::svc_cache_bytes`] of memory (8 bytes a node); `cargo xtask bench` reports both.
     pub fn set_svc_cache(&mut self, on: bool) -> Result<(), FrameError> {
+        let algorithm = self.algorithm;
         for o in 0..self.objects.len() {
             let s = &self.objects[o];
             if !on {
@@ -344,7 +352,7 @@ impl Frame {
                     .into_par_iter()
                     .map(|v| {
                         let svc = s.svc_cut(v).map_err(|e| FrameError::cut(o, v, e))?;
-                        Refinement::new(&[&svc]).map_err(|e| FrameError::cut(o, v, e))
+                        algorithm.prepare(&[&svc]).map_err(|e| FrameError::cut(o, v, e))
                     })
                     .collect::<Result<_, _>>()?;
                 self.objects[o].svc_refined = cached;

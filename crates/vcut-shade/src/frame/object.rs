@@ -11,7 +11,7 @@ use glam::Vec3;
 use vcut_cut::Cut;
 use vcut_data::FieldLayout;
 use vcut_data::sections::CutArray;
-use vcut_merge::{MergedCut, Refinement};
+use vcut_merge::{MergedCut, Prepared};
 use vcut_scene::{Material, Mesh, Motion};
 
 /// An object at run time.
@@ -35,7 +35,7 @@ pub(super) struct ObjectState {
     pub(super) decoded: FieldCache,
     /// Every vertex's SVC decoded once, ready to merge (empty with the cache off: then each
     /// merge decodes it from the file's bytes).
-    pub(super) svc_refined: Vec<Refinement>,
+    pub(super) svc_refined: Vec<Prepared>,
     /// Vertices whose merge waits ([`Frame::set_deferred_merges`]): their field inputs changed
     /// while they faced away from the eye; `merged` and `keys` are still the last merge's.
     pub(super) pending: Vec<bool>,
@@ -61,7 +61,7 @@ impl ObjectState {
     /// (`None` if that fails; the setup's merge decoded it once, so it does not in practice).
     pub(super) fn svc_ends(&self, v: usize) -> Option<std::borrow::Cow<'_, [u32]>> {
         if let Some(r) = self.svc_refined.get(v) {
-            return Some(std::borrow::Cow::Borrowed(r.ends()));
+            return Some(r.ends());
         }
         Some(std::borrow::Cow::Owned(node_ends(&self.svc_cut(v).ok()?)))
     }

@@ -3,7 +3,7 @@
 
 use super::{Frame, MoveTiming};
 use glam::Vec3;
-use vcut_merge::Refinement;
+use vcut_merge::Prepared;
 
 impl Frame {
     /// Vertices re-merged by moves so far, and by camera turns or [`Frame::merge_pending`]
@@ -47,6 +47,6 @@ impl Frame {
 
     /// Bytes of the decoded SVCs kept for merging (0 with the cache off).
     pub fn svc_cache_bytes(&self) -> usize {
-        self.objects.iter().flat_map(|s| &s.svc_refined).map(Refinement::bytes).sum()
+        self.objects.iter().flat_map(|s| &s.svc_refined).map(Prepared::bytes).sum()
     }
 }
