@@ -9,7 +9,7 @@ secs="${1:-60}"
 shift || true
 targets=("$@")
 if [ ${#targets[@]} -eq 0 ]; then
-  targets=(scene_toml scene_files hdr exr cut_decode merge vcuts vleaf)
+  targets=(scene_toml scene_files hdr exr cut_decode merge vcuts vleaf sampling light_tree brdf mesh_precompute)
 fi
 command -v cargo-fuzz >/dev/null || cargo install --locked cargo-fuzz
 for t in "${targets[@]}"; do

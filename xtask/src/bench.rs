@@ -14,7 +14,7 @@
 use anyhow::{Context, Result, bail};
 use glam::Vec3;
 use rayon::prelude::*;
-use serde_json::{Value, json};
+use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 use vcut_data::{InsideSamples, Precomputed};
@@ -26,6 +26,10 @@ use vcut_shade::measure::{edit_ms, first_movable, median, move_path, turn_after_
 use vcut_shade::reference::{MonteCarloParams, errors, exact_direction, monte_carlo};
 use vcut_shade::{Frame, MergeAlgorithm, SunRays};
 use vcut_sphere::{DirectionSet, RepulsionParams};
+use vcuts::report::{
+    Directions, Machine, PrecomputeFigures, RandomStart, Report, SceneFigures, Tradeoff, replace_section, write_atomic,
+    write_json,
+};
 
 /// Arguments of `bench`.
 #[derive(clap::Args)]
@@ -215,7 +219,7 @@ fn rays(summary: &Summary) -> (f64, f64) {
 /// One scene: precompute, edit, move (both merges), references.
 /// What the precompute of a scene measured: kept beside its output (`.summary.json`) so
 /// `--reuse` can time frames again without precomputing.
-fn precompute_figures(name: &str, preset: &str, data_dir: &Path, reuse: bool) -> Result<(PathBuf, Value)> {
+fn precompute_figures(name: &str, preset: &str, data_dir: &Path, reuse: bool) -> Result<(PathBuf, PrecomputeFigures)> {
     let file = data_dir.join(format!("{name}-{preset}.vcuts"));
     let sidecar = file.with_extension("summary.json");
     if reuse
@@ -223,7 +227,7 @@ fn precompute_figures(name: &str, preset: &str, data_dir: &Path, reuse: bool) ->
         && let Ok(text) = std::fs::read_to_string(&sidecar)
     {
         println!("\n== {name}: reusing {} (precomputed earlier)", file.display());
-        let figures: Value = serde_json::from_str(&text).with_context(|| format!("reading {}", sidecar.display()))?;
+        let figures = serde_json::from_str(&text).with_context(|| format!("reading {}", sidecar.display()))?;
         return Ok((file, figures));
     }
     println!("\n== {name}: precompute at preset {preset}");
@@ -239,22 +243,22 @@ fn precompute_figures(name: &str, preset: &str, data_dir: &Path, reuse: bool) ->
     let index_bytes: u64 = summary.sizes.iter().map(|z| z.index_baseline_bytes).sum();
     let heights_bytes: u64 = summary.sizes.iter().map(|z| z.heights_codec_bytes).sum();
     let other_bytes = summary.file_bytes - cut_bytes;
-    let figures = json!({
-        "precompute_s": precompute_s,
-        "rays_per_s": rays_per_s,
-        "raw_rays_per_s": raw_rays_per_s,
-        "rays_per_s_vs_raw": rays_per_s / raw_rays_per_s.max(1e-12),
-        "data_bytes_height": summary.file_bytes,
-        "data_bytes_index": other_bytes + index_bytes,
-        "data_bytes_height_codec_4bit": other_bytes + heights_bytes,
-        "data_size_vs_index": summary.file_bytes as f64 / (other_bytes + index_bytes) as f64,
-    });
-    write_atomic(&sidecar, serde_json::to_string_pretty(&figures)?.as_bytes())?;
+    let figures = PrecomputeFigures {
+        precompute_s,
+        rays_per_s,
+        raw_rays_per_s,
+        rays_per_s_vs_raw: rays_per_s / raw_rays_per_s.max(1e-12),
+        data_bytes_height: summary.file_bytes,
+        data_bytes_index: other_bytes + index_bytes,
+        data_bytes_height_codec_4bit: other_bytes + heights_bytes,
+        data_size_vs_index: summary.file_bytes as f64 / (other_bytes + index_bytes) as f64,
+    };
+    write_json(&sidecar, &figures)?;
     Ok((file, figures))
 }
 
 /// One scene: precompute (or reuse), edit, move (both merges), references.
-fn bench_scene(name: &str, preset: &str, data_dir: &Path, no_mc: bool, reuse: bool) -> Result<Value> {
+fn bench_scene(name: &str, preset: &str, data_dir: &Path, no_mc: bool, reuse: bool) -> Result<SceneFigures> {
     let (file, pre) = precompute_figures(name, preset, data_dir, reuse)?;
     let scene = Scene::open(&format!("builtin:{name}"))?;
     let eye = scene.cameras.first().map(|c| c.position).context("the built-in scene has a camera")?;
@@ -327,57 +331,51 @@ fn bench_scene(name: &str, preset: &str, data_dir: &Path, no_mc: bool, reuse: bo
     println!(
         "{name}: edit {edit:.1} ms, move {move_ms:.1} ms (index {move_ms_index:.1} ms), rel L2 vs exact {rel_l2_exact:.4}"
     );
-    let mut out = json!({
-        "preset": preset,
-        "vertices": vertices,
-        "objects": frame.object_count(),
-        "moved_object": frame.object(movable).name,
-        "setup_s": setup_s,
-        "edit_ms": edit,
-        "move_ms": move_ms,
-        "edit_ms_index": edit_index,
-        "move_ms_index": move_ms_index,
-        "move_vs_index": move_ms / move_ms_index,
-        "move_ms_svc_decoded": svc_decoded.move_ms,
-        "svc_cache_bytes": svc_cache_bytes,
-        "merge_s_path": merge_s,
-        "merge_s_path_index": merge_s_index,
-        "merge_speedup": merge_s_index / merge_s.max(1e-12),
-        "vertices_merged_per_move": merged_per_move,
-        "vertices_deferred_per_move": counter.deferred,
-        "move_ms_eager": eager.move_ms,
-        "vertices_merged_per_move_eager": eager.merged,
-        "turn_ms": turn_ms,
-        "turn_merged_vertices": turn_merged,
-        "turn_ms_eager": turn_ms_eager,
-        "exact_reference_ms": exact_ms,
-        "edit_vs_exact_reference": edit / exact_ms,
-        "move_vs_exact_reference": move_ms / exact_ms,
-        "shade_bytes": shade_bytes,
-        "merged_cut_bytes": merged_bytes,
-        "rel_l2_exact": rel_l2_exact,
-        "max_err_exact": max_exact,
-        "rel_l2_exact_inside_dropped": rel_l2_dropped,
-        "max_err_exact_inside_dropped": max_dropped,
-        "sun_leaves": sun_leaves,
-        "rel_l2_exact_cuts_only": rel_l2_cuts,
-        "max_err_exact_cuts_only": max_cuts,
-        "move_ms_cuts_only": cuts_path.move_ms,
-        "rel_l2_mc": mc.map(|m| m.0),
-        "mc_reference_s": mc.map(|m| m.1),
-    });
-    for (k, v) in pre.as_object().context("precompute figures")? {
-        out[k] = v.clone();
-    }
-    Ok(out)
-}
-
-fn f(v: &Value, k: &str) -> f64 {
-    v[k].as_f64().unwrap_or(f64::NAN)
+    Ok(SceneFigures {
+        preset: preset.into(),
+        vertices,
+        objects: frame.object_count(),
+        moved_object: frame.object(movable).name.to_string(),
+        setup_s,
+        edit_ms: edit,
+        move_ms,
+        edit_ms_index: edit_index,
+        move_ms_index,
+        move_vs_index: move_ms / move_ms_index,
+        move_ms_svc_decoded: svc_decoded.move_ms,
+        svc_cache_bytes,
+        merge_s_path: merge_s,
+        merge_s_path_index: merge_s_index,
+        merge_speedup: merge_s_index / merge_s.max(1e-12),
+        vertices_merged_per_move: merged_per_move,
+        vertices_deferred_per_move: counter.deferred,
+        move_ms_eager: eager.move_ms,
+        vertices_merged_per_move_eager: eager.merged,
+        turn_ms,
+        turn_merged_vertices: turn_merged,
+        turn_ms_eager,
+        exact_reference_ms: exact_ms,
+        edit_vs_exact_reference: edit / exact_ms,
+        move_vs_exact_reference: move_ms / exact_ms,
+        shade_bytes,
+        merged_cut_bytes: merged_bytes,
+        rel_l2_exact,
+        max_err_exact: max_exact,
+        rel_l2_exact_inside_dropped: rel_l2_dropped,
+        max_err_exact_inside_dropped: max_dropped,
+        sun_leaves,
+        rel_l2_exact_cuts_only: rel_l2_cuts,
+        max_err_exact_cuts_only: max_cuts,
+        move_ms_cuts_only: cuts_path.move_ms,
+        rel_l2_mc: mc.map(|m| m.0),
+        mc_reference_s: mc.map(|m| m.1),
+        precompute: pre,
+        bounds: None,
+    })
 }
 
 /// Table 1 as Markdown and CSV rows.
-fn table1(scenes: &serde_json::Map<String, Value>) -> (String, String) {
+fn table1(scenes: &BTreeMap<String, SceneFigures>) -> (String, String) {
     let mut md = String::from(
         "| scene | preset | vertices | objects | data MB (ours / index baseline) | edit ms (ours / index) | move ms (ours / index) | paper: data MB (paper / baseline) | paper: edit s (paper / baseline) | paper: move s (paper / baseline) |\n|---|---|---:|---:|---:|---:|---:|---:|---:|---:|\n",
     );
@@ -386,15 +384,14 @@ fn table1(scenes: &serde_json::Map<String, Value>) -> (String, String) {
     );
     for (name, s) in scenes {
         let p = PAPER.iter().find(|p| p.scene == name);
-        let preset = s["preset"].as_str().unwrap_or("?");
-        let (vertices, objects) = (&s["vertices"], &s["objects"]);
+        let (preset, vertices, objects) = (&s.preset, s.vertices, s.objects);
         let [data, data_index, edit, edit_index, mv, mv_index] = [
-            f(s, "data_bytes_height") / 1e6,
-            f(s, "data_bytes_index") / 1e6,
-            f(s, "edit_ms"),
-            f(s, "edit_ms_index"),
-            f(s, "move_ms"),
-            f(s, "move_ms_index"),
+            s.precompute.data_bytes_height as f64 / 1e6,
+            s.precompute.data_bytes_index as f64 / 1e6,
+            s.edit_ms,
+            s.edit_ms_index,
+            s.move_ms,
+            s.move_ms_index,
         ];
         md.push_str(&format!(
             "| {name} | {preset} | {vertices} | {objects} | {data:.1} / {data_index:.1} | {edit:.1} / {edit_index:.1} | {mv:.0} / {mv_index:.0} | {} | {} | {} |\n",
@@ -418,15 +415,8 @@ fn table1(scenes: &serde_json::Map<String, Value>) -> (String, String) {
     (md, csv)
 }
 
-/// Writes `bytes` to `path` whole (a temporary file renamed into place).
-fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
-    let tmp = path.with_extension("partial");
-    std::fs::write(&tmp, bytes).with_context(|| format!("writing {}", tmp.display()))?;
-    std::fs::rename(&tmp, path).with_context(|| format!("renaming {} to {}", tmp.display(), path.display()))
-}
-
 /// The two trade-off plots.
-fn plots(points: &[crate::tradeoff::Point], out: &Path) -> Result<()> {
+fn plots(points: &[vcuts::report::Point], out: &Path) -> Result<()> {
     crate::tradeoff::plot(points, "data_bytes", "data size (MB)", &out.join("tradeoff_size.png"))?;
     crate::tradeoff::plot(points, "move_ms", "object move (ms)", &out.join("tradeoff_move.png"))?;
     println!("plots={}", out.join("tradeoff_size.png").display());
@@ -448,17 +438,12 @@ pub fn run(args: &BenchArgs) -> Result<()> {
     }
     if args.only_ssdo || args.only_leaves {
         let path = args.out.join("report.json");
-        let mut report: serde_json::Value = match std::fs::read_to_string(&path) {
-            Ok(text) => serde_json::from_str(&text).with_context(|| format!("{}", path.display()))?,
-            Err(_) => json!({}),
-        };
-        if args.only_ssdo {
-            report["ssdo"] = ssdo_section(args)?;
-        } else {
-            report["leaves"] = crate::bench_leaves::run(args.quick, &args.out.join("leaves"))?;
-        }
         std::fs::create_dir_all(&args.out).with_context(|| format!("creating {}", args.out.display()))?;
-        write_atomic(&path, serde_json::to_string_pretty(&report)?.as_bytes())?;
+        if args.only_ssdo {
+            replace_section(&path, "ssdo", &ssdo_section(args)?)?;
+        } else {
+            replace_section(&path, "leaves", &crate::bench_leaves::run(args.quick, &args.out.join("leaves"))?)?;
+        }
         println!("report={}", path.display());
         return Ok(());
     }
@@ -504,62 +489,64 @@ pub fn run(args: &BenchArgs) -> Result<()> {
             .collect(),
     );
 
-    let mut scenes = serde_json::Map::new();
+    let mut scenes = BTreeMap::new();
     for name in &args.scenes {
         let preset = scene_preset(args.quick, name);
-        scenes.insert(name.clone(), bench_scene(name, preset, &data_dir, args.no_mc, args.reuse)?);
-    }
-    for s in scenes.values_mut() {
-        let bound_ms = f(s, "shade_bytes") / (bandwidth * 1e9) * 1e3;
-        s["shade_bandwidth_bound_ms"] = json!(bound_ms);
-        s["edit_vs_bandwidth_bound"] = json!(f(s, "edit_ms") / bound_ms);
-        // The floor: streaming the merged cuts themselves once.
-        let stream_ms = f(s, "merged_cut_bytes") / (bandwidth * 1e9) * 1e3;
-        s["merged_cut_stream_ms"] = json!(stream_ms);
-        s["edit_vs_merged_cut_stream"] = json!(f(s, "edit_ms") / stream_ms);
+        let mut figures = bench_scene(name, preset, &data_dir, args.no_mc, args.reuse)?;
+        figures.bound(bandwidth);
+        scenes.insert(name.clone(), figures);
     }
     let first = scenes.values().next();
-    let raw = first.map(|s| f(s, "raw_rays_per_s")).unwrap_or(f64::NAN);
+    let raw = first.map(|s| s.precompute.raw_rays_per_s).unwrap_or(f64::NAN);
     let teapot = scenes.get("teapot").or(first);
-    let report = json!({
-        "quick": args.quick,
-        "machine": {
-            "cpu": cpu_name(),
-            "cores": rayon::current_num_threads(),
-            "memory_bandwidth_gb_s": bandwidth,
-            "raw_rays_per_s": raw,
+    let mut report = Report {
+        quick: args.quick,
+        machine: Machine {
+            cpu: cpu_name(),
+            cores: rayon::current_num_threads(),
+            memory_bandwidth_gb_s: bandwidth,
+            raw_rays_per_s: raw,
         },
-        "directions": {
-            "n": u.n, "cv_cell_area": u.cv_cell_area, "min_nn_ratio": u.min_nn_ratio, "generate_s": fib_s,
-            "random": {
-                "seed": 1, "cv_cell_area": ru.cv_cell_area, "min_nn_ratio": ru.min_nn_ratio,
-                "generate_s": random_s, "time_vs_fibonacci": random_s / fib_s,
+        directions: Directions {
+            n: u.n,
+            cv_cell_area: u.cv_cell_area,
+            min_nn_ratio: u.min_nn_ratio,
+            generate_s: fib_s,
+            random: RandomStart {
+                seed: 1,
+                cv_cell_area: ru.cv_cell_area,
+                min_nn_ratio: ru.min_nn_ratio,
+                generate_s: random_s,
+                time_vs_fibonacci: random_s / fib_s,
             },
         },
-        "light_tree_rebuild_ms": rebuild_ms,
-        "merge_speedup": teapot.map(|s| f(s, "merge_speedup")),
-        "codec_size_ratio": teapot.map(|s| f(s, "data_bytes_height_codec_4bit") / f(s, "data_bytes_index")),
-        "stored_size_ratio": teapot.map(|s| f(s, "data_size_vs_index")),
-        "scenes": scenes,
-    });
-    let mut report = report;
+        light_tree_rebuild_ms: rebuild_ms,
+        merge_speedup: teapot.map(|s| s.merge_speedup),
+        codec_size_ratio: teapot
+            .map(|s| s.precompute.data_bytes_height_codec_4bit as f64 / s.precompute.data_bytes_index as f64),
+        stored_size_ratio: teapot.map(|s| s.precompute.data_size_vs_index),
+        scenes,
+        tradeoff: None,
+        ssdo: None,
+        leaves: None,
+        bench_s: 0.0,
+    };
     if !args.no_tradeoff {
         let base = if args.quick { "fast" } else { "balanced" };
         let points = crate::tradeoff::run("teapot", base, args.quick, &data_dir, args.no_mc)?;
         write_atomic(&args.out.join("tradeoff.csv"), crate::tradeoff::csv(&points).as_bytes())?;
         plots(&points, &args.out)?;
-        report["tradeoff"] =
-            json!({ "scene": "teapot", "base_preset": base, "points": crate::tradeoff::json(&points) });
+        report.tradeoff = Some(Tradeoff { scene: "teapot".into(), base_preset: base.into(), points });
     }
     if !args.no_ssdo {
-        report["ssdo"] = ssdo_section(args)?;
+        report.ssdo = Some(ssdo_section(args)?);
     }
     if !args.no_leaves {
-        report["leaves"] = crate::bench_leaves::run(args.quick, &args.out.join("leaves"))?;
+        report.leaves = Some(crate::bench_leaves::run(args.quick, &args.out.join("leaves"))?);
     }
-    report["bench_s"] = json!(started.elapsed().as_secs_f64());
-    let (md, csv) = table1(report["scenes"].as_object().context("scenes")?);
-    write_atomic(&args.out.join("report.json"), serde_json::to_string_pretty(&report)?.as_bytes())?;
+    report.bench_s = started.elapsed().as_secs_f64();
+    let (md, csv) = table1(&report.scenes);
+    write_json(&args.out.join("report.json"), &report)?;
     write_atomic(&args.out.join("table1.md"), md.as_bytes())?;
     write_atomic(&args.out.join("table1.csv"), csv.as_bytes())?;
     println!("\n{md}");
@@ -568,7 +555,7 @@ pub fn run(args: &BenchArgs) -> Result<()> {
 }
 
 /// The `ssdo` section: the scenes asked for (and, in a full run, the plant).
-fn ssdo_section(args: &BenchArgs) -> Result<serde_json::Value> {
+fn ssdo_section(args: &BenchArgs) -> Result<vcuts::report::SsdoSection> {
     println!("== screen space: SSAO, SSDO, SSDO peeled against the ray-traced reference");
     let mut names = args.scenes.clone();
     if !args.quick && !names.iter().any(|n| n == "plant") {
@@ -584,14 +571,25 @@ mod tests {
 
     #[test]
     fn table1_puts_the_papers_figures_beside_ours() {
-        let mut scenes = serde_json::Map::new();
+        let mut scenes = BTreeMap::new();
+        let precompute = PrecomputeFigures {
+            data_bytes_height: 56_000_000,
+            data_bytes_index: 560_000_000,
+            ..PrecomputeFigures::default()
+        };
         scenes.insert(
-            "teapot".into(),
-            json!({
-                "preset": "paper", "vertices": 11564, "objects": 3, "data_bytes_height": 56_000_000u64,
-                "data_bytes_index": 560_000_000u64, "edit_ms": 30.0, "edit_ms_index": 31.0,
-                "move_ms": 400.0, "move_ms_index": 900.0,
-            }),
+            "teapot".to_string(),
+            SceneFigures {
+                preset: "paper".into(),
+                vertices: 11564,
+                objects: 3,
+                edit_ms: 30.0,
+                edit_ms_index: 31.0,
+                move_ms: 400.0,
+                move_ms_index: 900.0,
+                precompute,
+                ..SceneFigures::default()
+            },
         );
         let (md, csv) = table1(&scenes);
         let row = md.lines().nth(2).unwrap();

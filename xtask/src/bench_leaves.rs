@@ -3,7 +3,6 @@
 //! and its precomputes' estimates.
 
 use anyhow::{Context, Result};
-use serde_json::json;
 use std::path::Path;
 use std::time::Instant;
 use vcut_leaf::image::render;
@@ -16,6 +15,7 @@ use vcut_leaf::shade::{Lighting, Shader, SunMethod, TwoSided};
 use vcut_leaf::store::{Inputs, LeafEstimate, Reuse};
 use vcut_shade::image::{auto_exposure, write_png};
 use vcuts::leaves::{EstimateArgs, bar, camera, frame_figures, precompute, subset, to_image};
+use vcuts::report::{LeafGoals, LeavesSection};
 
 /// The `leaves` section's precomputes, estimated from samples of `seconds` each: the large
 /// plant's maps (twice: as stored and cosine-baked) and transfer, the larger plant's one sun
@@ -55,7 +55,7 @@ pub fn estimates(quick: bool, seconds: f64) -> Result<Vec<(String, LeafEstimate)
 /// The `leaves` section of `cargo xtask bench`: RLE ratio, decode and shade times for a 100k-vertex
 /// plant (and shade time for 500k), errors against the path-traced reference. `quick` runs a
 /// smaller plant so CI stays short (the keys then say which size they measured).
-pub fn run(quick: bool, out: &Path) -> Result<serde_json::Value> {
+pub fn run(quick: bool, out: &Path) -> Result<LeavesSection> {
     let est = EstimateArgs::default();
     println!("== leaves: LVC + PRT against the path-traced reference");
     let m = LeafMaterial::default();
@@ -136,29 +136,29 @@ pub fn run(quick: bool, out: &Path) -> Result<serde_json::Value> {
     ] {
         println!("{k}={v:.4}");
     }
-    Ok(json!({
-        "vertices_100k": scene.vertex_count(),
-        "vertices_500k": huge_scene.vertex_count(),
-        "quick": quick,
-        "rle_ratio": rle_ratio,
-        "rle_ratio_cosine_baked": baked_ratio,
-        "lvc_raw_bytes": pre.data.lvc.raw_bytes(),
-        "lvc_rle_bytes": pre.data.lvc.compressed_bytes(),
-        "lvc_s": pre.seconds.0,
-        "prt_s": pre.seconds.1,
-        "prt_rays": prt_rays,
-        "transfer_bytes": pre.data.transfer.bytes(),
-        "decode_ms_100k": f.decode_ms,
-        "shade_ms_100k": f.shade_ms,
-        "shade_ms_500k": fh.shade_ms,
-        "prt_s_500k": huge_pre.seconds.1,
-        "rel_l2_lvc_prt": rel_lvc,
-        "rel_l2_sh_only": rel_sh,
-        "reference_noise_rel_l2": noise,
-        "reference_vertices": verts.len(),
-        "reference_paths": ref_paths,
-        "reference_s": reference_s,
-        "goals": { "rle_ratio_min": 8.0, "decode_ms_100k_max": 2.0, "shade_ms_100k_max": 28.0, "shade_ms_500k_max": 100.0 },
-        "images": [out.join("leaves.png"), out.join("leaves-sh-only.png")],
-    }))
+    Ok(LeavesSection {
+        vertices_100k: scene.vertex_count(),
+        vertices_500k: huge_scene.vertex_count(),
+        quick,
+        rle_ratio,
+        rle_ratio_cosine_baked: baked_ratio,
+        lvc_raw_bytes: pre.data.lvc.raw_bytes(),
+        lvc_rle_bytes: pre.data.lvc.compressed_bytes(),
+        lvc_s: pre.seconds.0,
+        prt_s: pre.seconds.1,
+        prt_rays,
+        transfer_bytes: pre.data.transfer.bytes(),
+        decode_ms_100k: f.decode_ms,
+        shade_ms_100k: f.shade_ms,
+        shade_ms_500k: fh.shade_ms,
+        prt_s_500k: huge_pre.seconds.1,
+        rel_l2_lvc_prt: rel_lvc,
+        rel_l2_sh_only: rel_sh,
+        reference_noise_rel_l2: noise,
+        reference_vertices: verts.len(),
+        reference_paths: ref_paths,
+        reference_s,
+        goals: LeafGoals::PAPER,
+        images: vec![out.join("leaves.png"), out.join("leaves-sh-only.png")],
+    })
 }

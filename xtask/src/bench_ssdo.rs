@@ -3,10 +3,12 @@
 //! reference.
 
 use glam::Vec3;
+use std::collections::BTreeMap;
 use std::time::Instant;
 use vcut_scene::Camera;
 use vcut_shade::measure::median;
 use vcut_ssdo::{Lighting, Method, Object, Params};
+use vcuts::report::{SsdoGpu, SsdoScene, SsdoSection};
 use vcuts::ssdo::{ScreenMode, frame, lighting, params};
 
 /// The `ssdo` section of `bench`: per scene, SSAO / SSDO / peeled SSDO timed at
@@ -18,9 +20,8 @@ pub fn run(
     eval: (u32, u32),
     pixel_rays: usize,
     runs: usize,
-) -> anyhow::Result<serde_json::Value> {
-    use serde_json::json;
-    let mut out = serde_json::Map::new();
+) -> anyhow::Result<SsdoSection> {
+    let mut out = BTreeMap::new();
     for name in scenes {
         let spec = match name.as_str() {
             "plant" => {
@@ -64,61 +65,62 @@ pub fn run(
             ))
         });
         let light = lighting(&scene.environment, &objects);
-        let mut entry = serde_json::Map::new();
-        let mut ms = std::collections::BTreeMap::new();
+        let mut ms = BTreeMap::new();
         for mode in ScreenMode::ALL {
             let times: Vec<f64> =
                 (0..runs.max(1)).map(|_| frame(&objects, &light, &camera, timing, mode).pass_ms).collect();
             ms.insert(mode.name(), median(times));
         }
-        match gpu_times(&objects, &light, &camera, timing, runs) {
-            Ok(gpu) => {
-                for (k, v) in gpu {
-                    entry.insert(k, json!(v));
-                }
-            }
-            Err(e) => println!("ssdo {name}: GPU passes SKIPPED ({e})"),
-        }
+        let gpu = gpu_times(&objects, &light, &camera, timing, runs)
+            .inspect_err(|e| println!("ssdo {name}: GPU passes SKIPPED ({e})"))
+            .ok();
         let small = frame(&objects, &light, &camera, eval, ScreenMode::Ssao);
         let t = Instant::now();
         let params = vcut_ssdo::ReferenceParams { pixel_rays, vertex_rays: pixel_rays };
         let reference = vcut_ssdo::reference(&objects, &small.gbuffer, &light, &params).total();
         let reference_s = t.elapsed().as_secs_f64();
-        for mode in ScreenMode::ALL {
+        let rel_l2 = |mode| {
             let f = frame(&objects, &light, &camera, eval, mode);
-            let e = vcut_ssdo::rel_l2(&f.output.total(), &reference, &f.output.covered);
-            entry.insert(format!("rel_l2_{}", mode.key()), json!(e));
-        }
-        entry.insert("ms_ssao_cpu".into(), json!(ms["ssao"]));
-        entry.insert("ms_ssdo_cpu".into(), json!(ms["ssdo"]));
-        entry.insert("ms_ssdo_peeled_cpu".into(), json!(ms["ssdo-peeled"]));
-        entry.insert("cost_ratio_vs_ssao_cpu".into(), json!(ms["ssdo"] / ms["ssao"]));
-        entry.insert("reference_s".into(), json!(reference_s));
-        entry.insert("vertices".into(), json!(objects.iter().map(|o| o.positions.len()).sum::<usize>()));
-        if !grey.is_empty() {
-            entry.insert("grey_albedo_objects".into(), json!(grey));
-        }
-        println!("ssdo {name}: {}", serde_json::Value::Object(entry.clone()));
-        out.insert(name.clone(), serde_json::Value::Object(entry));
+            vcut_ssdo::rel_l2(&f.output.total(), &reference, &f.output.covered)
+        };
+        let entry = SsdoScene {
+            gpu,
+            rel_l2_ssao: rel_l2(ScreenMode::Ssao),
+            rel_l2_ssdo: rel_l2(ScreenMode::Ssdo),
+            rel_l2_ssdo_peeled: rel_l2(ScreenMode::SsdoPeeled),
+            ms_ssao_cpu: ms["ssao"],
+            ms_ssdo_cpu: ms["ssdo"],
+            ms_ssdo_peeled_cpu: ms["ssdo-peeled"],
+            cost_ratio_vs_ssao_cpu: ms["ssdo"] / ms["ssao"],
+            reference_s,
+            vertices: objects.iter().map(|o| o.positions.len()).sum(),
+            grey_albedo_objects: grey,
+        };
+        println!("ssdo {name}: {}", serde_json::to_string(&entry)?);
+        out.insert(name.clone(), entry);
     }
     let p = Params::for_scene(1.0);
-    let mut section = json!({
-        "device": "ms_*: the WGSL passes on the first wgpu adapter (see gpu_adapter); ms_*_cpu: vcut-ssdo on the CPU",
-        "cpu_threads": rayon::current_num_threads(),
-        "timing_resolution": [timing.0, timing.1],
-        "eval_resolution": [eval.0, eval.1],
-        "samples": p.samples,
-        "sets": p.sets,
-        "radius": "0.1 x scene radius",
-        "reference": format!("ray traced: direct (sun shadow ray + {pixel_rays} cosine rays) + one diffuse bounce"),
-        "scenes": out,
-    });
     // The keys at the top: the first scene measured (the teapot when it ran).
-    if let Some(first) = section["scenes"].as_object().and_then(|m| m.get("teapot").or(m.values().next())).cloned() {
-        for k in ["ms_ssao", "ms_ssdo", "cost_ratio_vs_ssao", "rel_l2_ssao", "rel_l2_ssdo", "rel_l2_ssdo_peeled"] {
-            section[k] = first[k].clone();
-        }
-    }
+    let first = out.get("teapot").or(out.values().next()).cloned();
+    let gpu = first.as_ref().and_then(|f| f.gpu.as_ref());
+    let section = SsdoSection {
+        device: "ms_*: the WGSL passes on the first wgpu adapter (see gpu_adapter); ms_*_cpu: vcut-ssdo on the CPU"
+            .into(),
+        cpu_threads: rayon::current_num_threads(),
+        timing_resolution: [timing.0, timing.1],
+        eval_resolution: [eval.0, eval.1],
+        samples: p.samples,
+        sets: p.sets,
+        radius: "0.1 x scene radius".into(),
+        reference: format!("ray traced: direct (sun shadow ray + {pixel_rays} cosine rays) + one diffuse bounce"),
+        ms_ssao: gpu.map(|g| g.ms_ssao),
+        ms_ssdo: gpu.map(|g| g.ms_ssdo),
+        cost_ratio_vs_ssao: gpu.map(|g| g.cost_ratio_vs_ssao),
+        rel_l2_ssao: first.as_ref().map(|f| f.rel_l2_ssao),
+        rel_l2_ssdo: first.as_ref().map(|f| f.rel_l2_ssdo),
+        rel_l2_ssdo_peeled: first.as_ref().map(|f| f.rel_l2_ssdo_peeled),
+        scenes: out,
+    };
     Ok(section)
 }
 
@@ -132,10 +134,10 @@ fn gpu_times(
     camera: &Camera,
     size: (u32, u32),
     runs: usize,
-) -> anyhow::Result<Vec<(String, serde_json::Value)>> {
+) -> anyhow::Result<SsdoGpu> {
     let gpu = vcut_view::Gpu::headless()?;
     let passes = vcut_view::ssdo::GpuSsdo::new(&gpu)?;
-    let mut out = vec![("gpu_adapter".to_string(), serde_json::json!(gpu.describe()))];
+    let mut per_mode = BTreeMap::new();
     // The three modes' frames timed in turn within each run, so a change of load on this shared
     // machine hits all of them alike; medians over the runs.
     let mut frames = Vec::new();
@@ -165,16 +167,22 @@ fn gpu_times(
                 per_pass[k].1.push(t);
             }
         }
-        let passes: serde_json::Map<String, serde_json::Value> =
-            per_pass.into_iter().map(|(label, times)| (label.to_string(), serde_json::json!(median(times)))).collect();
-        println!("  {mode} passes (ms): {}", serde_json::Value::Object(passes.clone()));
-        out.push((format!("passes_ms_{}", mode.replace('-', "_")), serde_json::Value::Object(passes)));
+        let passes: BTreeMap<String, f64> =
+            per_pass.into_iter().map(|(label, times)| (label.to_string(), median(times))).collect();
+        println!("  {mode} passes (ms): {}", serde_json::to_string(&passes)?);
+        per_mode.insert(*mode, passes);
     }
     let ms: std::collections::BTreeMap<&str, f64> =
         frames.into_iter().map(|(mode, _, times)| (mode, median(times))).collect();
-    out.push(("ms_ssao".into(), serde_json::json!(ms["ssao"])));
-    out.push(("ms_ssdo".into(), serde_json::json!(ms["ssdo"])));
-    out.push(("ms_ssdo_peeled".into(), serde_json::json!(ms["ssdo-peeled"])));
-    out.push(("cost_ratio_vs_ssao".into(), serde_json::json!(ms["ssdo"] / ms["ssao"])));
-    Ok(out)
+    let mut pass = |mode| per_mode.remove(mode).unwrap_or_default();
+    Ok(SsdoGpu {
+        gpu_adapter: gpu.describe(),
+        passes_ms_ssao: pass("ssao"),
+        passes_ms_ssdo: pass("ssdo"),
+        passes_ms_ssdo_peeled: pass("ssdo-peeled"),
+        ms_ssao: ms["ssao"],
+        ms_ssdo: ms["ssdo"],
+        ms_ssdo_peeled: ms["ssdo-peeled"],
+        cost_ratio_vs_ssao: ms["ssdo"] / ms["ssao"],
+    })
 }

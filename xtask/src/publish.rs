@@ -2,7 +2,8 @@
 //! (and the trade-off plot, when there is one) to `docs/report/` and writes the table between
 //! the `<!-- table1 -->` and `<!-- /table1 -->` markers of `README.md` and
 //! `docs/benchmarks.md`; and writes each library crate's `README.md` (what a registry page
-//! shows) from its crate documentation — so none of them is edited by hand.
+//! shows) from its crate documentation — so none of them is edited by hand. It also requires
+//! every library crate to carry a version of its own and a `CHANGELOG.md` entry for it.
 
 use anyhow::{Context, Result, bail};
 use std::path::{Path, PathBuf};
@@ -127,6 +128,14 @@ fn crate_readmes(check: bool) -> Result<Vec<String>> {
             })
         };
         let name = field("name").with_context(|| format!("{}: no package name", dir.display()))?;
+        let version = field("version").with_context(|| {
+            format!("{}: no version of its own (each library crate is versioned alone)", dir.display())
+        })?;
+        let changelog = dir.join("CHANGELOG.md");
+        let log = std::fs::read_to_string(&changelog).with_context(|| format!("reading {}", changelog.display()))?;
+        if !has_entry(&log, &version) {
+            bail!("{}: no `## {version}` entry for the version in {}/Cargo.toml", changelog.display(), dir.display());
+        }
         let description = field("description").unwrap_or_default();
         let lib = std::fs::read_to_string(dir.join("src/lib.rs"))?;
         let readme = crate_readme(&name, &description, &lib);
@@ -141,6 +150,13 @@ fn crate_readmes(check: bool) -> Result<Vec<String>> {
     Ok(stale)
 }
 
+/// Whether `changelog` has a `## VERSION` heading (followed by the end of the line or a space).
+fn has_entry(changelog: &str, version: &str) -> bool {
+    changelog.lines().any(|l| {
+        l.strip_prefix("## ").and_then(|r| r.strip_prefix(version)).is_some_and(|r| r.is_empty() || r.starts_with(' '))
+    })
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -151,6 +167,13 @@ mod tests {
         assert_eq!(splice(text, "| scene |\n").unwrap(), "a\n<!-- table1 -->\n| scene |\n<!-- /table1 -->\nb\n");
         assert_eq!(splice(&splice(text, "| x |").unwrap(), "| x |").unwrap(), splice(text, "| x |").unwrap());
         assert!(splice("no markers", "t").is_none());
+    }
+
+    #[test]
+    fn a_changelog_entry_names_the_exact_version() {
+        let log = "# Changelog\n\n## 0.2.0 — unreleased\n\n## 0.1.0\n";
+        assert!(has_entry(log, "0.2.0") && has_entry(log, "0.1.0"));
+        assert!(!has_entry(log, "0.1") && !has_entry(log, "0.2.1") && !has_entry("0.1.0", "0.1.0"));
     }
 
     #[test]

@@ -8,7 +8,6 @@
 use anyhow::{Context, Result};
 use glam::Vec3;
 use plotters::prelude::*;
-use serde_json::{Value, json};
 use std::collections::BTreeMap;
 use std::path::Path;
 use std::time::Instant;
@@ -17,23 +16,7 @@ use vcut_scene::Scene;
 use vcut_shade::measure::{edit_ms, first_movable, median, move_path};
 use vcut_shade::reference::{MonteCarloParams, errors, exact_direction, monte_carlo};
 use vcut_shade::{Frame, MergeAlgorithm};
-
-/// One point of a sweep.
-#[derive(Debug, Clone)]
-pub struct Point {
-    /// Which knob (`preset` for the presets themselves).
-    pub sweep: String,
-    /// Its value.
-    pub value: String,
-    /// The preset it starts from.
-    pub preset: String,
-    /// Figures, by report key.
-    pub figures: BTreeMap<&'static str, f64>,
-    /// On the error-versus-size Pareto front.
-    pub pareto_size: bool,
-    /// On the error-versus-move-time Pareto front.
-    pub pareto_move: bool,
-}
+use vcuts::report::Point;
 
 /// The sweeps: (knob, values). `quick` keeps them short.
 fn sweeps(quick: bool) -> Vec<(&'static str, Vec<&'static str>)> {
@@ -214,25 +197,6 @@ pub fn parse_csv(text: &str) -> Result<Vec<Point>> {
         .collect()
 }
 
-/// The points under report keys.
-pub fn json(points: &[Point]) -> Value {
-    Value::Array(
-        points
-            .iter()
-            .map(|p| {
-                let mut v = json!({
-                    "sweep": p.sweep, "value": p.value, "preset": p.preset,
-                    "pareto_size": p.pareto_size, "pareto_move": p.pareto_move,
-                });
-                for (k, x) in &p.figures {
-                    v[*k] = if x.is_finite() { json!(x) } else { Value::Null };
-                }
-                v
-            })
-            .collect(),
-    )
-}
-
 /// Registers a system sans-serif font for the plots' text; false if none is found (the plots
 /// are then drawn without text).
 fn font() -> bool {
@@ -364,6 +328,10 @@ mod tests {
         assert_eq!(header.len(), row.len());
         assert_eq!(row[header.iter().position(|h| *h == "rel_l2_exact").unwrap()], "6");
         assert_eq!(&row[row.len() - 2..], ["1", "0"]);
-        assert_eq!(json(&[p])[0]["move_ms"], 5.0);
+        let json = serde_json::to_value(&p).unwrap();
+        assert_eq!(
+            (&json["move_ms"], &json["sweep"], &json["pareto_size"]),
+            (&5.0.into(), &p.sweep.clone().into(), &true.into())
+        );
     }
 }

@@ -194,10 +194,38 @@ impl<'a> Lobe<'a> {
     }
 }
 
+/// Why a material edit ([`parse_spec`]) was refused.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum SpecError {
+    /// MODEL is none of the known ones.
+    #[error("unknown BRDF model '{0}' (lambert, blinn-phong, phong, ggx)")]
+    Model(String),
+    /// A parameter without `=`.
+    #[error("'{0}': expected KEY=VALUE")]
+    NotKeyValue(String),
+    /// A value that is not a finite number ≥ 0, or not one value or `r/g/b`.
+    #[error("{key} = {value}: {reason}")]
+    Value {
+        /// The key.
+        key: String,
+        /// The value as given.
+        value: String,
+        /// What is wrong with it.
+        reason: &'static str,
+    },
+    /// KEY is none of the known ones.
+    #[error("unknown BRDF parameter '{0}' (kd, ks, alpha, roughness)")]
+    Parameter(String),
+    /// The edited material is out of range (as a scene file's would be refused).
+    #[error("{0}")]
+    Material(String),
+}
+
 /// Parses a material edit `MODEL[:KEY=VALUE,...]` over `base`: MODEL is `lambert`,
-/// `blinn-phong`, `phong`, `ggx` or `same`; keys `kd` and `ks` (one value or `r/g/b`), `alpha`
-/// or `exponent` (Phong exponents), `roughness` (GGX α). Example: `blinn-phong:alpha=70`.
-pub fn parse_spec(base: Material, spec: &str) -> Result<Material, String> {
+/// `blinn-phong`, `phong`, `ggx` or `same`; keys `kd` and `ks` (one value or `r/g/b`, each in
+/// [0, 1]), `alpha` or `exponent` (Phong exponents), `roughness` (GGX α). The result passes
+/// [`Material::validate`], as a scene file's material must. Example: `blinn-phong:alpha=70`.
+pub fn parse_spec(base: Material, spec: &str) -> Result<Material, SpecError> {
     let (model, rest) = spec.split_once(':').unwrap_or((spec, ""));
     let mut m = base;
     m.model = match model.trim() {
@@ -206,20 +234,21 @@ pub fn parse_spec(base: Material, spec: &str) -> Result<Material, String> {
         "phong" => BrdfModel::Phong,
         "ggx" => BrdfModel::Ggx,
         "same" | "" => base.model,
-        other => return Err(format!("unknown BRDF model '{other}' (lambert, blinn-phong, phong, ggx)")),
+        other => return Err(SpecError::Model(other.into())),
     };
     for kv in rest.split(',').map(str::trim).filter(|s| !s.is_empty()) {
-        let (k, v) = kv.split_once('=').ok_or_else(|| format!("'{kv}': expected KEY=VALUE"))?;
-        let num = |x: &str| -> Result<f32, String> {
-            let f: f32 = x.trim().parse().map_err(|_| format!("{k} = {x}: not a number"))?;
-            if f.is_finite() && f >= 0.0 { Ok(f) } else { Err(format!("{k} = {x}: must be finite and ≥ 0")) }
+        let (k, v) = kv.split_once('=').ok_or_else(|| SpecError::NotKeyValue(kv.into()))?;
+        let bad = |x: &str, reason| SpecError::Value { key: k.into(), value: x.into(), reason };
+        let num = |x: &str| -> Result<f32, SpecError> {
+            let f: f32 = x.trim().parse().map_err(|_| bad(x, "not a number"))?;
+            if f.is_finite() && f >= 0.0 { Ok(f) } else { Err(bad(x, "must be finite and ≥ 0")) }
         };
-        let rgb = |x: &str| -> Result<[f32; 3], String> {
+        let rgb = |x: &str| -> Result<[f32; 3], SpecError> {
             let parts: Vec<f32> = x.split('/').map(num).collect::<Result<_, _>>()?;
             match parts.as_slice() {
                 [g] => Ok([*g; 3]),
                 [r, g, b] => Ok([*r, *g, *b]),
-                _ => Err(format!("{k} = {x}: one value or r/g/b")),
+                _ => Err(bad(x, "one value or r/g/b")),
             }
         };
         match k.trim() {
@@ -227,9 +256,10 @@ pub fn parse_spec(base: Material, spec: &str) -> Result<Material, String> {
             "ks" => m.ks = rgb(v)?,
             "alpha" | "exponent" => m.exponent = num(v)?.max(1e-3),
             "roughness" => m.roughness = num(v)?.clamp(1e-3, 1.0),
-            other => return Err(format!("unknown BRDF parameter '{other}' (kd, ks, alpha, roughness)")),
+            other => return Err(SpecError::Parameter(other.into())),
         }
     }
+    m.validate().map_err(SpecError::Material)?;
     Ok(m)
 }
 
@@ -319,9 +349,11 @@ mod tests {
         assert_eq!((m.model, m.exponent, m.kd), (BrdfModel::BlinnPhong, 70.0, [0.1, 0.2, 0.3]));
         let g = parse_spec(m, "ggx:roughness=0.2").unwrap();
         assert_eq!((g.model, g.roughness, g.kd), (BrdfModel::Ggx, 0.2, [0.1, 0.2, 0.3]));
-        assert!(parse_spec(m, "velvet").unwrap_err().contains("velvet"));
-        assert!(parse_spec(m, "phong:alpha=-3").unwrap_err().contains("alpha"));
-        assert!(parse_spec(m, "phong:shine=3").unwrap_err().contains("shine"));
+        assert_eq!(parse_spec(m, "velvet"), Err(SpecError::Model("velvet".into())));
+        assert!(parse_spec(m, "phong:alpha=-3").unwrap_err().to_string().contains("alpha = -3"));
+        assert_eq!(parse_spec(m, "phong:shine=3"), Err(SpecError::Parameter("shine".into())));
+        // Values a scene file refuses are refused here too.
+        assert!(parse_spec(m, "lambert:kd=5").unwrap_err().to_string().contains("[0, 1]"));
     }
 
     #[test]

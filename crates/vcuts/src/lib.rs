@@ -14,6 +14,7 @@ pub mod leaves;
 pub mod precompute;
 pub mod progress;
 pub mod render;
+pub mod report;
 pub mod resources;
 pub mod ssdo;
 #[cfg(feature = "viewer")]
