@@ -17,8 +17,13 @@
 //!    Both are blurred by the geometry-aware separable [`ssdo::blur`].
 //! 5. [`reference::reference`]: ray-traced direct light with visibility plus one diffuse
 //!    bounce, to measure them against.
+//!
+//! With the feature `gpu`, `gpu::GpuSsdo` runs the same passes as WGSL on any wgpu adapter
+//! (lavapipe and llvmpipe included) over the same inputs, so the two images can be compared.
 
 pub mod gbuffer;
+#[cfg(feature = "gpu")]
+pub mod gpu;
 pub mod light;
 pub mod reference;
 pub mod samples;

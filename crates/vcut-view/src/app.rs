@@ -1,12 +1,14 @@
-//! The window: winit 0.30 events, the scene drawn by [`SceneRenderer`], an egui panel on top.
+//! The cut viewer's window (hosted by [`crate::host`]): the scene drawn by
+//! [`crate::SceneRenderer`], an egui panel beside it.
 //!
 //! Mouse: left-drag on empty space orbits, right- or middle-drag pans, the wheel zooms;
 //! left-drag on a movable object moves it over the horizontal plane through the grabbed point
 //! (with Shift: vertically). While dragging, the object is re-merged at every mouse move if
 //! the last move cost less than [`ViewOptions::live_move_ms`], otherwise once on release.
 
-use crate::camera::ray_plane;
+use crate::camera::{OrbitCamera, ray_plane};
 use crate::gpu::ViewError;
+use crate::host::{ViewportPoint, WindowApp};
 use crate::render::Viewport;
 use crate::session::{Mode, Session};
 use crate::window::WindowState;
@@ -14,10 +16,7 @@ use glam::Vec3;
 use std::time::{Duration, Instant};
 use vcut_envmap::EnvMap;
 use vcut_scene::{BrdfModel, Material, Motion};
-use winit::application::ApplicationHandler;
-use winit::event::{ElementState, MouseButton, WindowEvent};
-use winit::event_loop::{ActiveEventLoop, ControlFlow, EventLoop};
-use winit::window::WindowId;
+use vcut_ssdo::gpu::{GpuSsdo, SsdoFrame};
 
 /// Loads an environment map by name (for the panel's environment menu).
 pub type EnvLoader = Box<dyn Fn(&str) -> Result<EnvMap, String>>;
@@ -38,10 +37,15 @@ pub struct ViewOptions {
     pub max_frames: Option<u64>,
 }
 
-enum Drag {
-    Orbit,
-    Pan,
-    Object { o: usize, grab: Vec3, start: Vec3, vertical: bool, pending: Option<Vec3> },
+/// A movable object being dragged: grabbed at `grab` (world), from translation `start`, over
+/// the horizontal plane (or, `vertical`, a vertical one); `pending` the move waiting for the
+/// release when moves are too slow to follow the mouse.
+struct ObjectDrag {
+    o: usize,
+    grab: Vec3,
+    start: Vec3,
+    vertical: bool,
+    pending: Option<Vec3>,
 }
 
 /// What a screen-space frame was made from: the session's colour version and the viewport size.
@@ -50,262 +54,185 @@ type ScreenKey = (u64, (u32, u32));
 struct App {
     session: Session,
     options: ViewOptions,
-    state: Option<WindowState>,
     /// The screen-space passes, compiled on first use.
-    ssdo: Option<crate::ssdo::GpuSsdo>,
+    ssdo: Option<GpuSsdo>,
     /// The last screen-space frame and what it was made from (the session's colour version and
     /// the viewport size): redrawn only when either changes.
-    screen: Option<(ScreenKey, crate::ssdo::SsdoFrame)>,
-    error: Option<ViewError>,
-    cursor: Option<(f32, f32)>,
-    drag: Option<Drag>,
-    shift: bool,
-    frames: u64,
-    status: String,
-    last_frame: Instant,
-    frame_ms: f64,
+    screen: Option<(ScreenKey, SsdoFrame)>,
+    drag: Option<ObjectDrag>,
+    /// What the panel asked for this frame.
+    actions: PanelActions,
     /// Last screen-space frame (lighting set-up + passes), ms.
     screen_ms: f64,
-    /// Where the scene is drawn (right of the panel), physical pixels.
-    viewport: Viewport,
 }
 
 /// Opens the window and runs until it is closed.
 pub fn run_window(session: Session, options: ViewOptions) -> Result<(), ViewError> {
-    let event_loop = EventLoop::new().map_err(|e| ViewError::NoDisplay(e.to_string()))?;
-    event_loop.set_control_flow(ControlFlow::Wait);
-    let mut app = App {
+    crate::host::run(App {
         session,
         options,
-        state: None,
         ssdo: None,
         screen: None,
-        error: None,
-        cursor: None,
         drag: None,
-        shift: false,
-        frames: 0,
-        status: String::new(),
-        last_frame: Instant::now(),
-        frame_ms: 0.0,
+        actions: PanelActions::default(),
         screen_ms: 0.0,
-        viewport: Viewport::full(1, 1),
-    };
-    event_loop.run_app(&mut app).map_err(|e| ViewError::Window(e.to_string()))?;
-    match app.error {
-        Some(e) => Err(e),
-        None => Ok(()),
-    }
+    })
 }
 
 impl App {
-    fn create(&mut self, event_loop: &ActiveEventLoop) -> Result<WindowState, ViewError> {
-        let state = WindowState::create(event_loop, &self.options.title, self.session.env())?;
-        self.status = format!("adapter: {}", state.gpu.describe());
-        Ok(state)
-    }
-
-    /// The cursor position `(x, y)` relative to the scene's viewport, and the viewport's size.
-    fn in_viewport(&self, (x, y): (f32, f32)) -> (f32, f32, f32, f32) {
-        let v = self.viewport;
-        (x - v.x, y - v.y, v.width.max(1.0), v.height.max(1.0))
-    }
-
-    fn pointer(&mut self, button: MouseButton, pressed: bool) {
-        if !pressed {
-            if let Some(Drag::Object { o, pending: Some(t), .. }) = self.drag.take() {
-                self.apply_move(o, t);
-            }
-            self.drag = None;
-            return;
-        }
-        let Some(cursor) = self.cursor else { return };
-        let (x, y, w, h) = self.in_viewport(cursor);
-        if x < 0.0 || y < 0.0 {
-            return;
-        }
-        self.drag = match button {
-            MouseButton::Left => {
-                let (origin, dir) = self.session.camera.ray(x, y, w, h);
-                match self.session.pick(origin, dir) {
-                    Some((o, t)) => {
-                        self.session.selected = Some(o);
-                        let vcut_shade::FrameObject { motion, translation: start, .. } = self.session.frame().object(o);
-                        if motion == Motion::Movable {
-                            Some(Drag::Object { o, grab: origin + dir * t, start, vertical: self.shift, pending: None })
-                        } else {
-                            Some(Drag::Orbit)
-                        }
-                    }
-                    None => Some(Drag::Orbit),
-                }
-            }
-            MouseButton::Right | MouseButton::Middle => Some(Drag::Pan),
-            _ => None,
-        };
-    }
-
-    fn apply_move(&mut self, o: usize, t: Vec3) {
+    fn apply_move(&mut self, o: usize, t: Vec3, status: &mut String) {
         match self.session.translate(o, t) {
             Ok(()) => {
                 let tm = self.session.timings;
-                self.status = format!("moved: {} vertices re-merged in {:.1} ms", tm.merged_vertices, tm.merge_ms);
+                *status = format!("moved: {} vertices re-merged in {:.1} ms", tm.merged_vertices, tm.merge_ms);
             }
-            Err(e) => self.status = e,
+            Err(e) => *status = e,
         }
     }
 
-    fn cursor_moved(&mut self, x: f32, y: f32) {
-        let previous = self.cursor.replace((x, y));
-        let Some((px, py)) = previous else { return };
-        let (dx, dy) = (x - px, y - py);
-        let (x, y, w, h) = self.in_viewport((x, y));
-        let live = self.session.timings.merge_ms < self.options.live_move_ms;
-        let camera = self.session.camera;
-        match &mut self.drag {
-            Some(Drag::Orbit) => self.session.camera.orbit(dx * 0.01, dy * 0.01),
-            Some(Drag::Pan) => self.session.camera.pan(dx / h, dy / h),
-            Some(Drag::Object { o, grab, start, vertical, pending }) => {
-                let (origin, dir) = camera.ray(x, y, w, h);
-                let target = if *vertical {
-                    let forward = camera.target - camera.eye();
-                    let normal = Vec3::new(forward.x, 0.0, forward.z).normalize_or(Vec3::Z);
-                    ray_plane(origin, dir, *grab, normal).map(|p| Vec3::new(0.0, p.y - grab.y, 0.0))
-                } else {
-                    ray_plane(origin, dir, *grab, Vec3::Y).map(|p| Vec3::new(p.x - grab.x, 0.0, p.z - grab.z))
-                };
-                if let Some(delta) = target {
-                    let t = *start + delta;
-                    let o = *o;
-                    if live {
-                        *pending = None;
-                        self.apply_move(o, t);
-                    } else {
-                        *pending = Some(t);
-                        self.status = format!(
-                            "release to move (the last move took {:.0} ms, over {:.0} ms)",
-                            self.session.timings.merge_ms, self.options.live_move_ms
-                        );
+    /// The screen-space modes: their passes run (when the colours or the viewport changed) and
+    /// their image is returned for display.
+    fn screen_image(
+        &mut self,
+        state: &WindowState,
+        viewport: Viewport,
+        status: &mut String,
+    ) -> Option<wgpu::TextureView> {
+        if !self.session.mode().screen_space() {
+            self.screen = None;
+            return None;
+        }
+        let size = (viewport.width as u32, viewport.height as u32);
+        let key = (self.session.colour_version(), size);
+        if self.screen.as_ref().is_none_or(|(k, _)| *k != key) {
+            let start = Instant::now();
+            if self.ssdo.is_none() {
+                // An adapter lacking what the passes need: said on the status line, and the
+                // viewer goes back to the precomputed cuts.
+                match GpuSsdo::new(&state.gpu) {
+                    Ok(p) => self.ssdo = Some(p),
+                    Err(e) => {
+                        *status = e.to_string();
+                        let _ = self.session.set_mode(Mode::Cuts);
                     }
                 }
             }
-            None => return,
+            if let Some(passes) = &self.ssdo {
+                match crate::screen::session_frame(&state.gpu, passes, &mut self.session, size) {
+                    Ok(f) => self.screen = f.map(|f| ((self.session.colour_version(), size), f)),
+                    Err(e) => *status = e.to_string(),
+                }
+            }
+            self.screen_ms = start.elapsed().as_secs_f64() * 1e3;
         }
-        self.request_redraw();
+        self.screen.as_ref().map(|(_, f)| f.output())
+    }
+}
+
+impl WindowApp for App {
+    fn title(&self) -> &str {
+        &self.options.title
     }
 
-    fn request_redraw(&self) {
-        if let Some(s) = &self.state {
-            s.window.request_redraw();
-        }
+    fn env(&self) -> &EnvMap {
+        self.session.env()
     }
 
-    fn redraw(&mut self, event_loop: &ActiveEventLoop) {
-        let Some(state) = self.state.as_mut() else { return };
-        let now = Instant::now();
-        self.frame_ms = (now - self.last_frame).as_secs_f64() * 1e3;
-        self.last_frame = now;
+    fn max_frames(&self) -> Option<u64> {
+        self.options.max_frames
+    }
+
+    fn camera(&mut self) -> &mut OrbitCamera {
+        &mut self.session.camera
+    }
+
+    fn prepare(&mut self, state: &mut WindowState, status: &mut String) -> Result<bool, ViewError> {
         self.session.update();
         let more_reference = self.session.step_reference(Duration::from_millis(40));
-        let upload_ms = match state.scene.upload(&state.gpu, &self.session) {
-            Ok(ms) => ms,
-            Err(e) => {
-                self.error = Some(e);
-                event_loop.exit();
-                return;
-            }
-        };
+        let upload_ms = state.scene.upload(&state.gpu, &self.session)?;
         if upload_ms > 0.0 {
             self.session.timings.upload_ms = upload_ms;
         }
-        let Some(texture) = state.acquire() else { return };
-        let draw_start = Instant::now();
         if let Some(e) = self.session.turn_error.take() {
-            self.status = e;
+            *status = e;
         }
-        // The panel first: its width decides the scene's viewport.
-        let raw = state.egui_state.take_egui_input(&state.window);
-        let ctx = state.egui_ctx.clone();
-        let mut actions = PanelActions::default();
-        let mut panel_points = 0.0;
-        let output = ctx.run_ui(raw, |ui| {
-            panel_points = panel(
-                ui,
-                &mut self.session,
-                &self.options,
-                &self.status,
-                (self.frame_ms, self.screen_ms),
-                &mut actions,
-            );
-        });
-        let size = (state.config.width, state.config.height);
-        let left = (panel_points * output.pixels_per_point).round().clamp(0.0, size.0 as f32 - 1.0);
-        self.viewport = Viewport { x: left, y: 0.0, width: size.0 as f32 - left, height: size.1 as f32 };
-        let view = texture.texture.create_view(&Default::default());
-        // The screen-space modes: their passes run first, then their image is displayed.
-        if self.session.mode().screen_space() {
-            let size = (self.viewport.width as u32, self.viewport.height as u32);
-            let key = (self.session.colour_version(), size);
-            if self.screen.as_ref().is_none_or(|(k, _)| *k != key) {
-                let start = Instant::now();
-                if self.ssdo.is_none() {
-                    // An adapter lacking what the passes need: said on the status line, and the
-                    // viewer goes back to the precomputed cuts.
-                    match crate::ssdo::GpuSsdo::new(&state.gpu) {
-                        Ok(p) => self.ssdo = Some(p),
-                        Err(e) => {
-                            self.status = e.to_string();
-                            let _ = self.session.set_mode(Mode::Cuts);
-                        }
-                    }
-                }
-                if let Some(passes) = &self.ssdo {
-                    match crate::ssdo::SsdoFrame::of_session(&state.gpu, passes, &mut self.session, size) {
-                        Ok(f) => self.screen = f.map(|f| ((self.session.colour_version(), size), f)),
-                        Err(e) => self.status = e.to_string(),
-                    }
-                }
-                self.screen_ms = start.elapsed().as_secs_f64() * 1e3;
-            }
-        } else {
-            self.screen = None;
-        }
-        let image = self.screen.as_ref().map(|(_, f)| f.output());
-        let mut encoder = state.gpu.device.create_command_encoder(&Default::default());
-        state.scene.draw_with(
-            &state.gpu,
-            &mut encoder,
-            &view,
-            &state.depth,
-            &self.session,
-            &self.session.camera,
-            self.viewport,
-            image.as_ref(),
-        );
-        let repaint = output.viewport_output.values().any(|v| v.repaint_delay.is_zero());
-        if let Err(e) = state.paint_and_present(encoder, &view, texture, output) {
-            self.error = Some(e);
-            event_loop.exit();
-            return;
-        }
-        self.session.timings.draw_ms = draw_start.elapsed().as_secs_f64() * 1e3;
-        self.frames += 1;
+        Ok(more_reference)
+    }
 
+    fn panel(&mut self, ui: &mut egui::Ui, frame_ms: f64, status: &str) -> f32 {
+        self.actions = PanelActions::default();
+        panel(ui, &mut self.session, &self.options, status, (frame_ms, self.screen_ms), &mut self.actions)
+    }
+
+    fn draw(
+        &mut self,
+        state: &mut WindowState,
+        encoder: &mut wgpu::CommandEncoder,
+        view: &wgpu::TextureView,
+        viewport: Viewport,
+        status: &mut String,
+    ) -> Result<(), ViewError> {
+        let image = self.screen_image(state, viewport, status);
+        state.scene.draw(&state.gpu, encoder, (view, &state.depth), self.session.shown(viewport), image.as_ref());
+        Ok(())
+    }
+
+    fn presented(&mut self, draw_ms: f64, status: &mut String) -> bool {
+        self.session.timings.draw_ms = draw_ms;
+        let actions = std::mem::take(&mut self.actions);
         if let Some(name) = actions.env {
             match (self.options.load_env)(&name) {
                 Ok(env) => self.session.set_environment(&name, env),
-                Err(e) => self.status = format!("{name}: {e}"),
+                Err(e) => *status = format!("{name}: {e}"),
             }
         }
         if let Some(e) = actions.error {
-            self.status = e;
+            *status = e;
         }
-        if self.options.max_frames.is_some_and(|n| self.frames >= n) {
-            event_loop.exit();
-            return;
+        actions.changed
+    }
+
+    fn press(&mut self, at: ViewportPoint, shift: bool) -> bool {
+        let (origin, dir) = self.session.camera.ray(at.x, at.y, at.width, at.height);
+        let Some((o, t)) = self.session.pick(origin, dir) else { return false };
+        self.session.selected = Some(o);
+        let vcut_shade::FrameObject { motion, translation: start, .. } = self.session.frame().object(o);
+        if motion != Motion::Movable {
+            return false;
         }
-        if more_reference || actions.changed || repaint {
-            state.window.request_redraw();
+        self.drag = Some(ObjectDrag { o, grab: origin + dir * t, start, vertical: shift, pending: None });
+        true
+    }
+
+    fn drag(&mut self, at: ViewportPoint, status: &mut String) {
+        let live = self.session.timings.merge_ms < self.options.live_move_ms;
+        let camera = self.session.camera;
+        let Some(ObjectDrag { o, grab, start, vertical, pending }) = &mut self.drag else { return };
+        let (origin, dir) = camera.ray(at.x, at.y, at.width, at.height);
+        let target = if *vertical {
+            let forward = camera.target - camera.eye();
+            let normal = Vec3::new(forward.x, 0.0, forward.z).normalize_or(Vec3::Z);
+            ray_plane(origin, dir, *grab, normal).map(|p| Vec3::new(0.0, p.y - grab.y, 0.0))
+        } else {
+            ray_plane(origin, dir, *grab, Vec3::Y).map(|p| Vec3::new(p.x - grab.x, 0.0, p.z - grab.z))
+        };
+        let Some(delta) = target else { return };
+        let (t, o) = (*start + delta, *o);
+        if live {
+            *pending = None;
+            self.apply_move(o, t, status);
+        } else {
+            *pending = Some(t);
+            *status = format!(
+                "release to move (the last move took {:.0} ms, over {:.0} ms)",
+                self.session.timings.merge_ms, self.options.live_move_ms
+            );
+        }
+    }
+
+    fn release(&mut self, status: &mut String) {
+        if let Some(ObjectDrag { o, pending: Some(t), .. }) = self.drag.take() {
+            self.apply_move(o, t, status);
         }
     }
 }
@@ -496,54 +423,5 @@ fn object_controls(ui: &mut egui::Ui, session: &mut Session, actions: &mut Panel
         }
     } else {
         ui.label("static (no visibility field): cannot move");
-    }
-}
-
-impl ApplicationHandler for App {
-    fn resumed(&mut self, event_loop: &ActiveEventLoop) {
-        if self.state.is_some() {
-            return;
-        }
-        match self.create(event_loop) {
-            Ok(s) => {
-                s.window.request_redraw();
-                self.state = Some(s);
-            }
-            Err(e) => {
-                self.error = Some(e);
-                event_loop.exit();
-            }
-        }
-    }
-
-    fn window_event(&mut self, event_loop: &ActiveEventLoop, _id: WindowId, event: WindowEvent) {
-        let Some(state) = self.state.as_mut() else { return };
-        let (response, done) = state.common_event(event_loop, &event);
-        if done {
-            return;
-        }
-        match event {
-            WindowEvent::RedrawRequested => self.redraw(event_loop),
-            WindowEvent::ModifiersChanged(m) => self.shift = m.state().shift_key(),
-            WindowEvent::CursorMoved { position, .. } => {
-                if response.consumed && self.drag.is_none() {
-                    self.cursor = Some((position.x as f32, position.y as f32));
-                } else {
-                    self.cursor_moved(position.x as f32, position.y as f32);
-                }
-            }
-            WindowEvent::MouseInput { state: s, button, .. } => {
-                let pressed = s == ElementState::Pressed;
-                if !(pressed && response.consumed) {
-                    self.pointer(button, pressed);
-                    self.request_redraw();
-                }
-            }
-            WindowEvent::MouseWheel { delta, .. } if !response.consumed => {
-                self.session.camera.zoom(0.9f32.powf(crate::window::wheel_lines(delta)));
-                self.request_redraw();
-            }
-            _ => {}
-        }
     }
 }

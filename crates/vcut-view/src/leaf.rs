@@ -231,4 +231,27 @@ impl LeafSession {
     pub fn exposure_in_use(&self) -> f32 {
         self.exposure.unwrap_or(self.auto_exposure)
     }
+
+    /// What the renderer draws: the plant's positions, both sides' radiance, the triangles
+    /// drawn, the version of the last re-shade.
+    pub fn mesh(&self) -> crate::render::LeafMesh<'_> {
+        crate::render::LeafMesh {
+            positions: self.scene.positions(),
+            radiance: &self.radiance,
+            triangles: &self.selection.triangles,
+            version: self.version,
+            env: &self.env,
+        }
+    }
+
+    /// How its frame is shown in `viewport` (radiance, at the exposure in use).
+    pub fn shown(&self, viewport: crate::render::Viewport) -> crate::render::Shown<'_> {
+        crate::render::Shown {
+            env: &self.env,
+            camera: &self.camera,
+            exposure: self.exposure_in_use(),
+            radiance: true,
+            viewport,
+        }
+    }
 }

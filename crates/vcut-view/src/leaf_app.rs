@@ -1,20 +1,18 @@
 //! The leaf viewer's window: the plant drawn two-sided by [`crate::SceneRenderer`], a panel for
 //! the sun (direction or time of day), the method (two passes or SH alone), level of detail, the
 //! leaf tissue (σ_a, σ_s per channel, thickness), each side's gloss (ρ_s, m) and the vein maps.
-//! Left-drag orbits, right-drag pans, the wheel zooms.
+//! Left-drag orbits, right-drag pans, the wheel zooms (the host's gestures, [`crate::host`]).
 
+use crate::camera::OrbitCamera;
 use crate::gpu::ViewError;
+use crate::host::WindowApp;
 use crate::leaf::LeafSession;
 use crate::render::Viewport;
 use crate::window::WindowState;
 use glam::Vec3;
-use std::time::Instant;
+use vcut_envmap::EnvMap;
 use vcut_leaf::material::SideMaps;
 use vcut_leaf::shade::{SunMethod, sun_at};
-use winit::application::ApplicationHandler;
-use winit::event::{ElementState, MouseButton, WindowEvent};
-use winit::event_loop::{ActiveEventLoop, ControlFlow, EventLoop};
-use winit::window::WindowId;
 
 /// What the leaf window shows besides the session.
 pub struct LeafViewOptions {
@@ -26,116 +24,68 @@ pub struct LeafViewOptions {
     pub max_frames: Option<u64>,
 }
 
-#[derive(Clone, Copy, PartialEq)]
-enum Drag {
-    Orbit,
-    Pan,
-}
-
 struct LeafApp {
     session: LeafSession,
     options: LeafViewOptions,
-    state: Option<WindowState>,
-    error: Option<ViewError>,
-    cursor: Option<(f32, f32)>,
-    drag: Option<Drag>,
-    frames: u64,
-    status: String,
-    last_frame: Instant,
-    frame_ms: f64,
     /// Sun by time of day (else by elevation and azimuth), and the hour shown.
     by_time: Option<f32>,
-    viewport: Viewport,
+    /// The panel changed something this frame.
+    changed: bool,
 }
 
 /// Opens the leaf window and runs until it is closed.
 pub fn run_leaf_window(session: LeafSession, options: LeafViewOptions) -> Result<(), ViewError> {
-    let event_loop = EventLoop::new().map_err(|e| ViewError::NoDisplay(e.to_string()))?;
-    event_loop.set_control_flow(ControlFlow::Wait);
-    let mut app = LeafApp {
-        session,
-        options,
-        state: None,
-        error: None,
-        cursor: None,
-        drag: None,
-        frames: 0,
-        status: String::new(),
-        last_frame: Instant::now(),
-        frame_ms: 0.0,
-        by_time: None,
-        viewport: Viewport::full(1, 1),
-    };
-    event_loop.run_app(&mut app).map_err(|e| ViewError::Window(e.to_string()))?;
-    match app.error {
-        Some(e) => Err(e),
-        None => Ok(()),
-    }
+    crate::host::run(LeafApp { session, options, by_time: None, changed: false })
 }
 
-impl LeafApp {
-    fn redraw(&mut self, event_loop: &ActiveEventLoop) {
-        let Some(state) = self.state.as_mut() else { return };
-        let now = Instant::now();
-        self.frame_ms = (now - self.last_frame).as_secs_f64() * 1e3;
-        self.last_frame = now;
-        let Some(texture) = state.acquire() else { return };
-        let draw_start = Instant::now();
-        let raw = state.egui_state.take_egui_input(&state.window);
-        let ctx = state.egui_ctx.clone();
-        let mut changed = false;
-        let mut panel_points = 0.0;
-        let output = ctx.run_ui(raw, |ui| {
-            panel_points = leaf_panel(
-                ui,
-                &mut self.session,
-                (&self.options, &self.status),
-                self.frame_ms,
-                &mut self.by_time,
-                &mut changed,
-            );
-        });
-        let size = (state.config.width, state.config.height);
-        let left = (panel_points * output.pixels_per_point).round().clamp(0.0, size.0 as f32 - 1.0);
-        self.viewport = Viewport { x: left, y: 0.0, width: size.0 as f32 - left, height: size.1 as f32 };
-        if let Err(e) = self.session.update(self.viewport.height as u32) {
-            self.status = format!("LVC map: {e}");
+impl WindowApp for LeafApp {
+    fn title(&self) -> &str {
+        &self.options.title
+    }
+
+    fn env(&self) -> &EnvMap {
+        self.session.env()
+    }
+
+    fn max_frames(&self) -> Option<u64> {
+        self.options.max_frames
+    }
+
+    fn camera(&mut self) -> &mut OrbitCamera {
+        &mut self.session.camera
+    }
+
+    fn camera_moved(&mut self) {
+        self.session.touch();
+    }
+
+    fn panel(&mut self, ui: &mut egui::Ui, frame_ms: f64, status: &str) -> f32 {
+        leaf_panel(ui, &mut self.session, (&self.options, status), frame_ms, &mut self.by_time, &mut self.changed)
+    }
+
+    fn draw(
+        &mut self,
+        state: &mut WindowState,
+        encoder: &mut wgpu::CommandEncoder,
+        view: &wgpu::TextureView,
+        viewport: Viewport,
+        status: &mut String,
+    ) -> Result<(), ViewError> {
+        // The level of detail follows the viewport's height.
+        if let Err(e) = self.session.update(viewport.height as u32) {
+            *status = format!("LVC map: {e}");
         }
-        let upload = match state.scene.upload_leaves(&state.gpu, &self.session) {
-            Ok(ms) => ms,
-            Err(e) => {
-                self.error = Some(e);
-                event_loop.exit();
-                return;
-            }
-        };
+        let upload = state.scene.upload_leaves(&state.gpu, &self.session.mesh())?;
         if upload > 0.0 {
             self.session.timings.upload_ms = upload;
         }
-        let view = texture.texture.create_view(&Default::default());
-        let mut encoder = state.gpu.device.create_command_encoder(&Default::default());
-        state.scene.draw_leaves(&state.gpu, &mut encoder, (&view, &state.depth), &self.session, self.viewport);
-        let repaint = output.viewport_output.values().any(|v| v.repaint_delay.is_zero());
-        if let Err(e) = state.paint_and_present(encoder, &view, texture, output) {
-            self.error = Some(e);
-            event_loop.exit();
-            return;
-        }
-        self.session.timings.draw_ms = draw_start.elapsed().as_secs_f64() * 1e3;
-        self.frames += 1;
-        if self.options.max_frames.is_some_and(|n| self.frames >= n) {
-            event_loop.exit();
-            return;
-        }
-        if changed || repaint || self.options.max_frames.is_some() {
-            state.window.request_redraw();
-        }
+        state.scene.draw_leaves(&state.gpu, encoder, (view, &state.depth), self.session.shown(viewport));
+        Ok(())
     }
 
-    fn request_redraw(&self) {
-        if let Some(s) = &self.state {
-            s.window.request_redraw();
-        }
+    fn presented(&mut self, draw_ms: f64, _status: &mut String) -> bool {
+        self.session.timings.draw_ms = draw_ms;
+        std::mem::take(&mut self.changed)
     }
 }
 
@@ -286,65 +236,4 @@ fn leaf_panel(
         });
     });
     response.response.rect.right()
-}
-
-impl ApplicationHandler for LeafApp {
-    fn resumed(&mut self, event_loop: &ActiveEventLoop) {
-        if self.state.is_some() {
-            return;
-        }
-        match WindowState::create(event_loop, &self.options.title, self.session.env()) {
-            Ok(s) => {
-                self.status = format!("adapter: {}", s.gpu.describe());
-                s.window.request_redraw();
-                self.state = Some(s);
-            }
-            Err(e) => {
-                self.error = Some(e);
-                event_loop.exit();
-            }
-        }
-    }
-
-    fn window_event(&mut self, event_loop: &ActiveEventLoop, _id: WindowId, event: WindowEvent) {
-        let Some(state) = self.state.as_mut() else { return };
-        let (response, done) = state.common_event(event_loop, &event);
-        if done {
-            return;
-        }
-        match event {
-            WindowEvent::RedrawRequested => self.redraw(event_loop),
-            WindowEvent::CursorMoved { position, .. } => {
-                let (x, y) = (position.x as f32, position.y as f32);
-                let previous = self.cursor.replace((x, y));
-                if let (Some((px, py)), Some(drag)) = (previous, self.drag) {
-                    let (dx, dy) = (x - px, y - py);
-                    match drag {
-                        Drag::Orbit => self.session.camera.orbit(dx * 0.01, dy * 0.01),
-                        Drag::Pan => self
-                            .session
-                            .camera
-                            .pan(dx / self.viewport.height.max(1.0), dy / self.viewport.height.max(1.0)),
-                    }
-                    self.session.touch();
-                    self.request_redraw();
-                }
-            }
-            WindowEvent::MouseInput { state: s, button, .. } => {
-                let pressed = s == ElementState::Pressed;
-                let inside = self.cursor.is_some_and(|(x, _)| x >= self.viewport.x);
-                self.drag = match (pressed && !response.consumed && inside, button) {
-                    (true, MouseButton::Left) => Some(Drag::Orbit),
-                    (true, MouseButton::Right | MouseButton::Middle) => Some(Drag::Pan),
-                    _ => None,
-                };
-            }
-            WindowEvent::MouseWheel { delta, .. } if !response.consumed => {
-                self.session.camera.zoom(0.9f32.powf(crate::window::wheel_lines(delta)));
-                self.session.touch();
-                self.request_redraw();
-            }
-            _ => {}
-        }
-    }
 }

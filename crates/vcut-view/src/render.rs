@@ -1,11 +1,11 @@
 //! The scene renderer (environment background + meshes with per-vertex colours, the CPU
-//! renderer's display transform) on a [`Gpu`], and headless rendering to an image.
+//! renderer's display transform) on a [`Gpu`]. It takes draw inputs — [`Meshes`] (what a
+//! session's frame shows, read only when its versions change), [`LeafMesh`] and [`Shown`] —
+//! not sessions; `crate::headless` renders sessions to images with it.
 
 use crate::camera::OrbitCamera;
 use crate::gpu::{Gpu, ViewError};
-use crate::leaf::LeafSession;
-use crate::session::{Display, Session};
-use glam::Mat3;
+use glam::{Mat3, Vec3};
 use std::time::Instant;
 use vcut_envmap::{EnvMap, Layout};
 
@@ -57,7 +57,52 @@ struct ObjectBuffers {
     vertex_count: usize,
 }
 
-/// Draws a [`Session`]'s frame: background, then meshes.
+/// The meshes of a frame as the renderer reads them (the cut viewer's session is one): read
+/// only when their versions change.
+pub trait Meshes {
+    /// Versions of the environment's texels, the vertex positions and the vertex colours: a
+    /// change uploads that part again.
+    fn versions(&self) -> [u64; 3];
+    /// The environment drawn behind.
+    fn env(&self) -> &EnvMap;
+    /// Every object's triangles (vertex indices).
+    fn triangles(&self) -> Vec<&[[u32; 3]]>;
+    /// Every object's vertex positions and colours (linear radiance, or display values; see
+    /// [`Shown::radiance`]).
+    fn vertices(&self) -> Vec<(Vec<Vec3>, Vec<Vec3>)>;
+}
+
+/// A plant's leaves as the renderer reads them.
+pub struct LeafMesh<'a> {
+    /// Vertex positions.
+    pub positions: &'a [Vec3],
+    /// Per vertex, the radiance of its side along the normal and of the other side.
+    pub radiance: &'a [[Vec3; 2]],
+    /// The triangles drawn.
+    pub triangles: &'a [[u32; 3]],
+    /// Bumped whenever any of the above changes.
+    pub version: u64,
+    /// The environment drawn behind.
+    pub env: &'a EnvMap,
+}
+
+/// How a frame is shown.
+#[derive(Clone, Copy)]
+pub struct Shown<'a> {
+    /// The environment drawn behind.
+    pub env: &'a EnvMap,
+    /// The camera.
+    pub camera: &'a OrbitCamera,
+    /// Exposure applied to radiance.
+    pub exposure: f32,
+    /// The colours are radiance (exposure and the display transform applied); else display
+    /// values shown as they are (the difference heat map).
+    pub radiance: bool,
+    /// Where in the target, in pixels.
+    pub viewport: Viewport,
+}
+
+/// Draws a frame: background, then meshes.
 pub struct SceneRenderer {
     format: wgpu::TextureFormat,
     uniforms: wgpu::Buffer,
@@ -69,7 +114,7 @@ pub struct SceneRenderer {
     image: wgpu::RenderPipeline,
     env_size: (u32, u32),
     objects: Vec<ObjectBuffers>,
-    uploaded: Option<(u64, u64, u64)>,
+    uploaded: Option<[u64; 3]>,
     leaf: wgpu::RenderPipeline,
     leaves: Option<(ObjectBuffers, u64)>,
 }
@@ -96,7 +141,7 @@ impl SceneRenderer {
         gpu.require_format(format, wgpu::TextureUsages::RENDER_ATTACHMENT, "draw the scene")?;
         gpu.require_format(DEPTH_FORMAT, wgpu::TextureUsages::RENDER_ATTACHMENT, "draw the scene")?;
         gpu.require_format(ENV_FORMAT, wgpu::TextureUsages::TEXTURE_BINDING, "draw the environment")?;
-        gpu.checked("build the scene renderer", || Self::build(gpu, format, env))
+        Ok(gpu.checked("build the scene renderer", || Self::build(gpu, format, env))?)
     }
 
     fn build(gpu: &Gpu, format: wgpu::TextureFormat, env: &EnvMap) -> SceneRenderer {
@@ -270,30 +315,32 @@ impl SceneRenderer {
         (bind_group, (w, h))
     }
 
-    /// Uploads what changed in `session` since the last call (environment texels, vertex
+    /// Uploads what changed in `meshes` since the last call (environment texels, vertex
     /// positions, colours); returns the milliseconds spent.
-    pub fn upload(&mut self, gpu: &Gpu, session: &Session) -> Result<f64, ViewError> {
-        gpu.checked("upload the frame", || self.upload_unchecked(gpu, session))
+    pub fn upload(&mut self, gpu: &Gpu, meshes: &dyn Meshes) -> Result<f64, ViewError> {
+        Ok(gpu.checked("upload the frame", || self.upload_unchecked(gpu, meshes))?)
     }
 
-    fn upload_unchecked(&mut self, gpu: &Gpu, session: &Session) -> f64 {
+    fn upload_unchecked(&mut self, gpu: &Gpu, meshes: &dyn Meshes) -> f64 {
         let start = Instant::now();
-        let versions = (session.env_version(), session.geometry_version(), session.colour_version());
-        if self.uploaded.is_some_and(|u| u.0 != versions.0) {
-            let (bg, size) = Self::env_bind_group(gpu, &self.layout, &self.uniforms, session.env());
+        let versions = meshes.versions();
+        if self.uploaded.is_some_and(|u| u[0] != versions[0]) {
+            let (bg, size) = Self::env_bind_group(gpu, &self.layout, &self.uniforms, meshes.env());
             self.bind_group = bg;
             self.env_size = size;
         }
-        if self.uploaded.is_some_and(|u| u.1 == versions.1 && u.2 == versions.2) {
+        if self.uploaded.is_some_and(|u| u[1] == versions[1] && u[2] == versions[2]) {
             return 0.0;
         }
-        let frame = session.frame();
-        if self.objects.len() != frame.object_count() {
-            self.objects = (0..frame.object_count())
-                .map(|o| {
-                    let vcut_shade::FrameObject { mesh, .. } = frame.object(o);
-                    let indices: Vec<u32> = mesh.triangles().iter().flatten().copied().collect();
-                    let vertex_count = mesh.vertex_count();
+        let vertices = meshes.vertices();
+        if self.objects.len() != vertices.len() {
+            self.objects = meshes
+                .triangles()
+                .iter()
+                .zip(&vertices)
+                .map(|(triangles, (positions, _))| {
+                    let indices: Vec<u32> = triangles.iter().flatten().copied().collect();
+                    let vertex_count = positions.len();
                     ObjectBuffers {
                         vertices: gpu.device.create_buffer(&wgpu::BufferDescriptor {
                             label: Some("vertices"),
@@ -317,12 +364,10 @@ impl SceneRenderer {
                 })
                 .collect();
         }
-        let (colours, _) = session.colours();
-        for (o, buffers) in self.objects.iter().enumerate() {
-            let positions = frame.positions(o);
+        for (buffers, (positions, colours)) in self.objects.iter().zip(&vertices) {
             let data: Vec<[f32; 6]> = positions
                 .iter()
-                .zip(&colours[o])
+                .zip(colours)
                 .map(|(p, c)| [p.x, p.y, p.z, c.x, c.y, c.z])
                 .take(buffers.vertex_count)
                 .collect();
@@ -333,45 +378,18 @@ impl SceneRenderer {
     }
 
     /// Records the scene pass into `target` (with `depth` of the same size): the whole target
-    /// cleared to black, the frame drawn in `viewport` (a region of the target, in pixels).
-    #[allow(clippy::too_many_arguments)]
+    /// cleared to black, the uploaded meshes drawn as `shown` says (in its viewport, a region
+    /// of the target) — or, with `image` (a linear texture of the viewport's size holding f32
+    /// bits, w = covered), that image instead of the meshes: the screen-space modes.
     pub fn draw(
         &self,
         gpu: &Gpu,
         encoder: &mut wgpu::CommandEncoder,
-        target: &wgpu::TextureView,
-        depth: &wgpu::TextureView,
-        session: &Session,
-        camera: &OrbitCamera,
-        viewport: Viewport,
-    ) {
-        self.draw_with(gpu, encoder, target, depth, session, camera, viewport, None);
-    }
-
-    /// [`SceneRenderer::draw`], or with `image` (a linear Rgba32Float texture of the viewport's
-    /// size, w = covered) displayed instead of the meshes: the screen-space modes.
-    #[allow(clippy::too_many_arguments)]
-    pub fn draw_with(
-        &self,
-        gpu: &Gpu,
-        encoder: &mut wgpu::CommandEncoder,
-        target: &wgpu::TextureView,
-        depth: &wgpu::TextureView,
-        session: &Session,
-        camera: &OrbitCamera,
-        viewport: Viewport,
+        (target, depth): (&wgpu::TextureView, &wgpu::TextureView),
+        shown: Shown<'_>,
         image: Option<&wgpu::TextureView>,
     ) {
-        let display = session.display() == Display::Radiance;
-        let mut pass = self.begin(
-            gpu,
-            encoder,
-            (target, depth),
-            session.env(),
-            (session.exposure_in_use(), display),
-            camera,
-            viewport,
-        );
+        let mut pass = self.begin(gpu, encoder, (target, depth), shown);
         if let Some(image) = image {
             let group = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
                 label: Some("image"),
@@ -398,16 +416,12 @@ impl SceneRenderer {
 
     /// Writes the uniforms and opens the scene pass over `viewport` (target cleared to black,
     /// depth to 1), the scene bind group set.
-    #[allow(clippy::too_many_arguments)]
     fn begin<'e>(
         &self,
         gpu: &Gpu,
         encoder: &'e mut wgpu::CommandEncoder,
         (target, depth): (&wgpu::TextureView, &wgpu::TextureView),
-        env: &EnvMap,
-        (exposure, radiance): (f32, bool),
-        camera: &OrbitCamera,
-        viewport: Viewport,
+        Shown { env, camera, exposure, radiance, viewport }: Shown<'_>,
     ) -> wgpu::RenderPass<'e> {
         let (width, height) = (viewport.width.max(1.0), viewport.height.max(1.0));
         let vp = camera.view_projection(width / height);
@@ -446,30 +460,29 @@ impl SceneRenderer {
         pass
     }
 
-    /// Uploads a leaf session's drawn triangles and two-sided radiance when it re-shaded (and
-    /// its environment the first time); returns the milliseconds spent.
-    pub fn upload_leaves(&mut self, gpu: &Gpu, session: &LeafSession) -> Result<f64, ViewError> {
-        gpu.checked("upload the leaves", || self.upload_leaves_unchecked(gpu, session))
+    /// Uploads a plant's drawn triangles and two-sided radiance when their version changed
+    /// (and its environment the first time); returns the milliseconds spent.
+    pub fn upload_leaves(&mut self, gpu: &Gpu, leaves: &LeafMesh<'_>) -> Result<f64, ViewError> {
+        Ok(gpu.checked("upload the leaves", || self.upload_leaves_unchecked(gpu, leaves))?)
     }
 
-    fn upload_leaves_unchecked(&mut self, gpu: &Gpu, session: &LeafSession) -> f64 {
+    fn upload_leaves_unchecked(&mut self, gpu: &Gpu, leaves: &LeafMesh<'_>) -> f64 {
         let start = Instant::now();
-        if self.leaves.as_ref().is_some_and(|(_, v)| *v == session.version()) {
+        if self.leaves.as_ref().is_some_and(|(_, v)| *v == leaves.version) {
             return 0.0;
         }
         if self.leaves.is_none() {
-            let (bg, size) = Self::env_bind_group(gpu, &self.layout, &self.uniforms, session.env());
+            let (bg, size) = Self::env_bind_group(gpu, &self.layout, &self.uniforms, leaves.env);
             self.bind_group = bg;
             self.env_size = size;
         }
-        let scene = session.scene();
-        let data: Vec<[f32; 9]> = scene
-            .positions()
+        let data: Vec<[f32; 9]> = leaves
+            .positions
             .iter()
-            .zip(session.radiance())
+            .zip(leaves.radiance)
             .map(|(p, r)| [p.x, p.y, p.z, r[0].x, r[0].y, r[0].z, r[1].x, r[1].y, r[1].z])
             .collect();
-        let indices: Vec<u32> = session.triangles().iter().flatten().copied().collect();
+        let indices: Vec<u32> = leaves.triangles.iter().flatten().copied().collect();
         let buffer = |label: &str, bytes: &[u8], usage: wgpu::BufferUsages| {
             let b = gpu.device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some(label),
@@ -486,11 +499,11 @@ impl SceneRenderer {
             index_count: indices.len() as u32,
             vertex_count: data.len(),
         };
-        self.leaves = Some((buffers, session.version()));
+        self.leaves = Some((buffers, leaves.version));
         start.elapsed().as_secs_f64() * 1e3
     }
 
-    /// Records a leaf session's frame: the environment behind, each triangle showing the side
+    /// Records the uploaded leaves: the environment behind, each triangle showing the side
     /// that faces the camera (front faces — counter-clockwise, as the vertex normals wind — show
     /// the side along the normal).
     pub fn draw_leaves(
@@ -498,18 +511,9 @@ impl SceneRenderer {
         gpu: &Gpu,
         encoder: &mut wgpu::CommandEncoder,
         (target, depth): (&wgpu::TextureView, &wgpu::TextureView),
-        session: &LeafSession,
-        viewport: Viewport,
+        shown: Shown<'_>,
     ) {
-        let mut pass = self.begin(
-            gpu,
-            encoder,
-            (target, depth),
-            session.env(),
-            (session.exposure_in_use(), true),
-            &session.camera,
-            viewport,
-        );
+        let mut pass = self.begin(gpu, encoder, (target, depth), shown);
         pass.set_pipeline(&self.background);
         pass.draw(0..3, 0..1);
         if let Some((b, _)) = &self.leaves
@@ -537,85 +541,4 @@ pub fn depth_view(gpu: &Gpu, width: u32, height: u32) -> wgpu::TextureView {
             view_formats: &[],
         })
         .create_view(&Default::default())
-}
-
-/// Renders `session`'s frame with no window into a `width × height` RGBA8 image (sRGB-encoded
-/// by the shader, exactly as the CPU renderer's PNG).
-pub fn screenshot(gpu: &Gpu, session: &mut Session, width: u32, height: u32) -> Result<image::RgbaImage, ViewError> {
-    let (width, height) = (width.max(1), height.max(1));
-    let screen = if session.mode().screen_space() {
-        crate::ssdo::SsdoFrame::of_session(gpu, &crate::ssdo::GpuSsdo::new(gpu)?, session, (width, height))?
-    } else {
-        None
-    };
-    let session = &*session;
-    let mut renderer = SceneRenderer::new(gpu, SCREENSHOT_FORMAT, session.env())?;
-    renderer.upload(gpu, session)?;
-    let image = screen.as_ref().map(|f| f.output());
-    read_back(gpu, (width, height), |encoder, view, depth| {
-        let viewport = Viewport::full(width, height);
-        renderer.draw_with(gpu, encoder, view, depth, session, &session.camera, viewport, image.as_ref());
-    })
-}
-
-/// Renders a leaf session's frame (re-shaded first if needed) with no window into a
-/// `width × height` RGBA8 image.
-pub fn leaf_screenshot(
-    gpu: &Gpu,
-    session: &mut LeafSession,
-    width: u32,
-    height: u32,
-) -> Result<image::RgbaImage, ViewError> {
-    let (width, height) = (width.max(1), height.max(1));
-    session.update(height).map_err(|e| ViewError::Readback(format!("LVC map: {e}")))?;
-    let mut renderer = SceneRenderer::new(gpu, SCREENSHOT_FORMAT, session.env())?;
-    renderer.upload_leaves(gpu, session)?;
-    let session = &*session;
-    read_back(gpu, (width, height), |encoder, view, depth| {
-        renderer.draw_leaves(gpu, encoder, (view, depth), session, Viewport::full(width, height));
-    })
-}
-
-/// Format of headless renders (the shader encodes sRGB).
-const SCREENSHOT_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8Unorm;
-
-/// Records `draw` into a fresh `width × height` target, submits it and reads the image back.
-fn read_back(
-    gpu: &Gpu,
-    (width, height): (u32, u32),
-    draw: impl FnOnce(&mut wgpu::CommandEncoder, &wgpu::TextureView, &wgpu::TextureView),
-) -> Result<image::RgbaImage, ViewError> {
-    let texture = gpu.checked("render a screenshot", || {
-        let texture = gpu.device.create_texture(&wgpu::TextureDescriptor {
-            label: Some("screenshot"),
-            size: wgpu::Extent3d { width, height, depth_or_array_layers: 1 },
-            mip_level_count: 1,
-            sample_count: 1,
-            dimension: wgpu::TextureDimension::D2,
-            format: SCREENSHOT_FORMAT,
-            usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
-            view_formats: &[],
-        });
-        let view = texture.create_view(&Default::default());
-        let depth = depth_view(gpu, width, height);
-        let mut encoder = gpu.device.create_command_encoder(&Default::default());
-        draw(&mut encoder, &view, &depth);
-        gpu.queue.submit([encoder.finish()]);
-        texture
-    })?;
-    let pixels = gpu.read_texture(&texture, (width, height), 4)?;
-    image::RgbaImage::from_raw(width, height, pixels).ok_or_else(|| ViewError::Readback("size mismatch".into()))
-}
-
-/// Writes an RGBA image as PNG under a temporary name, then renames it (never half-written).
-pub fn write_png(image: &image::RgbaImage, path: &std::path::Path) -> Result<(), ViewError> {
-    let fail = |e: &dyn std::fmt::Display| {
-        ViewError::Image(vcut_shade::image::ImageError::Write { path: path.into(), reason: e.to_string() })
-    };
-    let tmp = vcut_envmap::io::temp_name(path);
-    if let Err(e) = image.save_with_format(&tmp, image::ImageFormat::Png) {
-        let _ = std::fs::remove_file(&tmp);
-        return Err(fail(&e));
-    }
-    std::fs::rename(&tmp, path).map_err(|e| fail(&e))
 }

@@ -490,6 +490,39 @@ impl Session {
     }
 }
 
+impl crate::render::Meshes for Session {
+    fn versions(&self) -> [u64; 3] {
+        [self.env_version, self.geometry_version, self.colour_version]
+    }
+
+    fn env(&self) -> &EnvMap {
+        &self.env
+    }
+
+    fn triangles(&self) -> Vec<&[[u32; 3]]> {
+        (0..self.frame.object_count()).map(|o| self.frame.object(o).mesh.triangles()).collect()
+    }
+
+    fn vertices(&self) -> Vec<(Vec<Vec3>, Vec<Vec3>)> {
+        let (colours, _) = self.colours();
+        colours.into_iter().enumerate().map(|(o, c)| (self.frame.positions(o), c)).collect()
+    }
+}
+
+impl Session {
+    /// How its frame is shown in `viewport`: its environment, camera and exposure, its colours
+    /// as radiance or (the difference mode) as they are.
+    pub fn shown(&self, viewport: crate::render::Viewport) -> crate::render::Shown<'_> {
+        crate::render::Shown {
+            env: &self.env,
+            camera: &self.camera,
+            exposure: self.exposure_in_use(),
+            radiance: self.display() == Display::Radiance,
+            viewport,
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -132,7 +132,7 @@ impl WindowState {
         output: egui::FullOutput,
     ) -> Result<(), ViewError> {
         self.paint(encoder, view, texture, output);
-        self.gpu.take_errors("draw a frame")
+        Ok(self.gpu.take_errors("draw a frame")?)
     }
 
     fn paint(

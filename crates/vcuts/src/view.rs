@@ -118,7 +118,7 @@ fn run_leaves(args: &ViewArgs) -> Result<()> {
         if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
             std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
         }
-        vcut_view::render::write_png(&image, path)?;
+        vcut_view::headless::write_png(&image, path)?;
         println!("png={}", path.display());
         return Ok(());
     }
@@ -240,7 +240,7 @@ pub fn run(args: &ViewArgs) -> Result<()> {
         if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
             std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
         }
-        vcut_view::render::write_png(&image, path)?;
+        vcut_view::headless::write_png(&image, path)?;
         println!("mode={}", args.mode.name());
         println!("exposure={:.4}", session.exposure_in_use());
         println!("shade_ms={:.2}", session.timings.shade_ms);

@@ -1,16 +1,14 @@
-//! What an adapter lacks is a `ViewError` naming the adapter and the missing capability, never a
+//! What an adapter lacks is a `GpuError` naming the adapter and the missing capability, never a
 //! panic: format checks, wgpu validation errors inside `Gpu::checked`, and errors raised
 //! outside any scope (kept for `Gpu::take_errors`). Runs on whatever adapter there is (CI: the
 //! Vulkan and the OpenGL one); skipped, saying so, without one.
 
-mod common;
-use common::gpu;
-use vcut_view::ViewError;
+use vcut_gpu::{GpuError, test_device as gpu};
 
 /// A block-compressed format: sampled on many adapters, rendered to on none.
 const NEVER_RENDERABLE: wgpu::TextureFormat = wgpu::TextureFormat::Bc1RgbaUnorm;
 
-fn pipeline_into(gpu: &vcut_view::Gpu, format: wgpu::TextureFormat) -> wgpu::RenderPipeline {
+fn pipeline_into(gpu: &vcut_gpu::Gpu, format: wgpu::TextureFormat) -> wgpu::RenderPipeline {
     let shader = gpu.device.create_shader_module(wgpu::ShaderModuleDescriptor {
         label: Some("test"),
         source: wgpu::ShaderSource::Wgsl(
@@ -49,7 +47,7 @@ fn a_missing_capability_is_an_error_naming_the_adapter() {
 
     let e = gpu.require_format(NEVER_RENDERABLE, wgpu::TextureUsages::RENDER_ATTACHMENT, "draw leaves").unwrap_err();
     let text = e.to_string();
-    assert!(matches!(e, ViewError::Unsupported { .. }), "{e:?}");
+    assert!(matches!(e, GpuError::Unsupported { .. }), "{e:?}");
     assert!(text.contains(&adapter) && text.contains("draw leaves") && text.contains("Bc1RgbaUnorm"), "{text}");
     // What every pass here needs is there.
     let packed = wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING;
@@ -58,7 +56,7 @@ fn a_missing_capability_is_an_error_naming_the_adapter() {
     // A validation error inside a checked scope: an error value, no panic.
     let e = gpu.checked("build a pipeline", || pipeline_into(&gpu, NEVER_RENDERABLE)).unwrap_err();
     let text = e.to_string();
-    assert!(matches!(e, ViewError::Gpu { .. }), "{e:?}");
+    assert!(matches!(e, GpuError::Gpu { .. }), "{e:?}");
     assert!(text.contains(&adapter) && text.contains("failed to build a pipeline"), "{text}");
     assert!(text.contains("create_render_pipeline") && !text.contains('\n'), "{text}");
     // Nothing leaked past the scope; the device still works.

@@ -1,12 +1,11 @@
-//! SSDO and SSAO on the GPU (WGSL, `shaders/ssdo.wgsl`): the same passes as `vcut_ssdo` on the
-//! CPU — two-layer G-buffer, sun shadow map, sampling, bounce, blur, composite — over the same
+//! SSDO and SSAO on the GPU (WGSL, `shaders/ssdo.wgsl`; feature `gpu`): the same passes as
+//! this crate's CPU twin — two-layer G-buffer, sun shadow map, sampling, bounce, blur, composite — over the same
 //! inputs (objects, lighting, samples, parameters), so the two images can be compared.
 
-use crate::gpu::{Gpu, ViewError};
-use crate::session::{Mode, Session};
+use crate::{Lighting, Method, Object, Params, SampleSets};
 use glam::Vec3;
+use vcut_gpu::{Gpu, GpuError};
 use vcut_scene::Camera;
-use vcut_ssdo::{Lighting, Method, Object, Params, SampleSets};
 
 /// Every colour texture of the passes: four 32-bit floats stored as their bits (the shader's
 /// `ld` and `st`) — as exact as Rgba32Float, and renderable on every adapter, where OpenGL
@@ -143,7 +142,7 @@ fn bind_group(
 
 impl GpuSsdo {
     /// Compiles the passes, or says what the adapter lacks for them.
-    pub fn new(gpu: &Gpu) -> Result<GpuSsdo, ViewError> {
+    pub fn new(gpu: &Gpu) -> Result<GpuSsdo, GpuError> {
         const WHAT: &str = "run the screen-space (SSAO/SSDO) passes";
         let usages = wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING;
         gpu.require_format(PACKED, usages, WHAT)?;
@@ -152,7 +151,7 @@ impl GpuSsdo {
         gpu.require_downlevel(wgpu::DownlevelFlags::FRAGMENT_STORAGE, WHAT)?;
         let limits = gpu.device.limits();
         if limits.max_color_attachments < 2 || limits.max_color_attachment_bytes_per_sample < 32 {
-            return Err(ViewError::Unsupported {
+            return Err(GpuError::Unsupported {
                 adapter: gpu.describe(),
                 what: WHAT.into(),
                 lacks: format!(
@@ -241,7 +240,7 @@ impl GpuSsdo {
         params: &Params,
         method: Method,
         size: (u32, u32),
-    ) -> Result<SsdoFrame, ViewError> {
+    ) -> Result<SsdoFrame, GpuError> {
         gpu.checked("set up a screen-space frame", || {
             self.build_frame(gpu, objects, light, camera, params, method, size)
         })
@@ -501,14 +500,14 @@ impl GpuSsdo {
 
 impl SsdoFrame {
     /// Encodes every pass, submits, and waits for the GPU.
-    pub fn run(&self, gpu: &Gpu) -> Result<(), ViewError> {
+    pub fn run(&self, gpu: &Gpu) -> Result<(), GpuError> {
         self.submit(gpu, &self.commands)
     }
 
     /// Runs the passes one submission each, waiting after each: the wall time of every pass
     /// (label, ms), for finding where a frame's time goes. Their sum exceeds [`Self::run`]'s
     /// time by the submissions' overhead.
-    pub fn run_passes(&self, gpu: &Gpu) -> Result<Vec<(&'static str, f64)>, ViewError> {
+    pub fn run_passes(&self, gpu: &Gpu) -> Result<Vec<(&'static str, f64)>, GpuError> {
         self.commands
             .iter()
             .map(|p| {
@@ -519,7 +518,7 @@ impl SsdoFrame {
             .collect()
     }
 
-    fn submit(&self, gpu: &Gpu, passes: &[Pass]) -> Result<(), ViewError> {
+    fn submit(&self, gpu: &Gpu, passes: &[Pass]) -> Result<(), GpuError> {
         gpu.checked("run the screen-space passes", || self.encode_and_submit(gpu, passes))?;
         gpu.wait()
     }
@@ -573,28 +572,8 @@ impl SsdoFrame {
         view(&self.out)
     }
 
-    /// Builds, runs and returns the frame `session` shows in a screen-space mode (`None` in
-    /// the others).
-    pub fn of_session(
-        gpu: &Gpu,
-        passes: &GpuSsdo,
-        session: &mut Session,
-        size: (u32, u32),
-    ) -> Result<Option<SsdoFrame>, ViewError> {
-        let method = match session.mode() {
-            Mode::Ssao => Method::Ssao,
-            Mode::Ssdo => Method::Ssdo,
-            _ => return Ok(None),
-        };
-        let camera = session.camera.camera();
-        let (objects, light, params) = session.screen_space_inputs();
-        let frame = passes.frame(gpu, objects, light, &camera, &params, method, size)?;
-        frame.run(gpu)?;
-        Ok(Some(frame))
-    }
-
     /// Reads the composited linear radiance back: per pixel (RGB, covered).
-    pub fn read(&self, gpu: &Gpu) -> Result<(Vec<Vec3>, Vec<bool>), ViewError> {
+    pub fn read(&self, gpu: &Gpu) -> Result<(Vec<Vec3>, Vec<bool>), GpuError> {
         let bytes = gpu.read_texture(&self.out, (self.width, self.height), 16)?;
         let texels: Vec<[f32; 4]> = bytes
             .chunks_exact(16)

@@ -2,12 +2,11 @@
 //! a ground with two balls under the sky (sun shadow-mapped), SSAO, SSDO, and SSDO peeled.
 //! Without a wgpu adapter this says it was skipped, unless `VCUT_REQUIRE_GPU=1`.
 
-mod common;
-use common::gpu;
 use glam::Vec3;
+use vcut_gpu::test_device;
 use vcut_scene::Camera;
+use vcut_ssdo::gpu::GpuSsdo;
 use vcut_ssdo::{GBuffer, Lighting, Method, Object, Params, SampleSets, rel_l2, render};
-use vcut_view::ssdo::GpuSsdo;
 
 fn ground(half: f32, n: u32, albedo: Vec3) -> Object {
     let mut positions = Vec::new();
@@ -33,7 +32,7 @@ fn ground(half: f32, n: u32, albedo: Vec3) -> Object {
 
 #[test]
 fn the_gpu_passes_match_the_cpu_implementation() {
-    let Some(gpu) = gpu("the_gpu_passes_match_the_cpu_implementation") else { return };
+    let Some(gpu) = test_device("the_gpu_passes_match_the_cpu_implementation") else { return };
     let ball = vcut_scene::shapes::sphere(0.5, 32, 16).unwrap();
     let objects = vec![
         ground(2.0, 16, Vec3::splat(0.6)),
