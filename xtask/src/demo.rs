@@ -35,30 +35,26 @@ pub fn demo() -> Result<()> {
     args.output = "target/demo/teapot-cuts-only.png".into();
     args.no_sun_rays = true;
     let cuts_only = render::run(&args)?;
-    let get =
-        |p: &render::Printed, k: &str| p.0.iter().find(|(key, _)| key == k).map_or("-".into(), |(_, v)| v.clone());
     let mut report = String::from(
         "# Demo: the built-in teapot scene under the built-in sky (preset fast)\n\n| | at rest | moved + BRDF edit | the same, sun through the cuts |\n|---|---:|---:|---:|\n",
     );
-    for key in [
-        "setup_s",
-        "sun_leaves",
-        "move_merge_ms",
-        "move_sun_ms",
-        "move_merged_vertices",
-        "shade_ms",
-        "raster_ms",
-        "vertex_rel_l2_vs_exact",
-        "pixel_rel_l2_vs_exact",
-        "png",
-        "reference_exact_png",
-    ] {
-        report.push_str(&format!(
-            "| {key} | {} | {} | {} |\n",
-            get(&rest, key),
-            get(&edited, key),
-            get(&cuts_only, key)
-        ));
+    type Cell = fn(&render::RenderOutcome) -> Option<String>;
+    let rows: [(&str, Cell); 11] = [
+        ("setup_s", |o| Some(format!("{:.3}", o.setup_s))),
+        ("sun_leaves", |o| Some(o.sun_leaves.to_string())),
+        ("move_merge_ms", |o| Some(format!("{:.2}", o.move_ms))),
+        ("move_sun_ms", |o| o.last_move.map(|t| format!("{:.2}", t.sun_s * 1e3))),
+        ("move_merged_vertices", |o| Some(o.moved_vertices.to_string())),
+        ("shade_ms", |o| o.shade_ms.map(|x| format!("{x:.2}"))),
+        ("raster_ms", |o| o.raster_ms.map(|x| format!("{x:.2}"))),
+        ("vertex_rel_l2_vs_exact", |o| o.comparison("exact").and_then(|c| c.vertex_rel_l2).map(|x| format!("{x:.5}"))),
+        ("pixel_rel_l2_vs_exact", |o| o.comparison("exact").map(|c| format!("{:.5}", c.pixel_rel_l2))),
+        ("png", |o| Some(o.png.display().to_string())),
+        ("reference_exact_png", |o| o.comparison("exact").map(|c| c.png.display().to_string())),
+    ];
+    for (key, cell) in rows {
+        let [a, b, c] = [&rest, &edited, &cuts_only].map(|o| cell(o).unwrap_or_else(|| "-".into()));
+        report.push_str(&format!("| {key} | {a} | {b} | {c} |\n"));
     }
     let path = std::path::Path::new("target/demo/report.md");
     std::fs::write(path, &report).with_context(|| format!("writing {}", path.display()))?;

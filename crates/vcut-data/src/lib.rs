@@ -36,4 +36,4 @@ pub mod sections;
 pub use field::{FieldLayout, FieldSample, InsideSamples, RadialSpacing};
 pub use file::{FileError, Reader, SectionId, SectionKind, Writer};
 pub use params::{ParamError, PrecomputeParams};
-pub use precomputed::{Precomputed, Record};
+pub use precomputed::{Precomputed, Record, RecordError};

@@ -20,6 +20,25 @@ pub struct Record {
     pub params: PrecomputeParams,
 }
 
+/// Why a file's record (its `params` section) could not be read.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum RecordError {
+    /// `scene` or `environment` is not a quoted string.
+    #[error("{key} = {value}: not a string")]
+    NotAString {
+        /// The key.
+        key: &'static str,
+        /// Its value as written.
+        value: String,
+    },
+    /// `scene` or `environment` is missing.
+    #[error("no {0} recorded")]
+    Missing(&'static str),
+    /// A parameter out of range or unknown.
+    #[error(transparent)]
+    Params(#[from] crate::params::ParamError),
+}
+
 impl Record {
     /// The `params` section's text: a comment naming `writer`, then `scene`, `environment` and
     /// every parameter as TOML `key = value` lines.
@@ -28,13 +47,17 @@ impl Record {
     }
 
     /// Reads what [`Record::text`] wrote.
-    pub fn parse(text: &str) -> Result<Record, String> {
+    pub fn parse(text: &str) -> Result<Record, RecordError> {
         let (mut scene, mut environment, mut params) = (None, None, String::new());
         for line in text.lines().map(str::trim).filter(|l| !l.is_empty() && !l.starts_with('#')) {
             match line.split_once('=').map(|(k, v)| (k.trim(), v.trim())) {
-                Some(("scene", v)) => scene = Some(unquote(v).ok_or_else(|| format!("scene = {v}: not a string"))?),
+                Some(("scene", v)) => {
+                    scene = Some(unquote(v).ok_or_else(|| RecordError::NotAString { key: "scene", value: v.into() })?)
+                }
                 Some(("environment", v)) => {
-                    environment = Some(unquote(v).ok_or_else(|| format!("environment = {v}: not a string"))?)
+                    let value =
+                        unquote(v).ok_or_else(|| RecordError::NotAString { key: "environment", value: v.into() });
+                    environment = Some(value?)
                 }
                 _ => {
                     params.push_str(line);
@@ -43,9 +66,9 @@ impl Record {
             }
         }
         Ok(Record {
-            scene: scene.ok_or("no scene recorded")?,
-            environment: environment.ok_or("no environment recorded")?,
-            params: PrecomputeParams::from_toml(&params).map_err(|e| e.to_string())?,
+            scene: scene.ok_or(RecordError::Missing("scene"))?,
+            environment: environment.ok_or(RecordError::Missing("environment"))?,
+            params: PrecomputeParams::from_toml(&params)?,
         })
     }
 }
@@ -253,9 +276,13 @@ mod tests {
     fn a_bad_record_is_refused_with_the_reason() {
         let good = Record { scene: "s".into(), environment: "e".into(), params: PrecomputeParams::paper() }.text("t");
         let no_scene: String = good.lines().filter(|l| !l.starts_with("scene")).map(|l| format!("{l}\n")).collect();
-        assert!(Record::parse(&no_scene).unwrap_err().contains("no scene"));
+        assert_eq!(Record::parse(&no_scene), Err(RecordError::Missing("scene")));
         let bad_value = good.replace("directions = 32768", "directions = 1000");
-        assert!(Record::parse(&bad_value).unwrap_err().contains("directions = 1000"));
-        assert!(Record::parse(&good.replace("scene = \"s\"", "scene = s")).unwrap_err().contains("not a string"));
+        let e = Record::parse(&bad_value).unwrap_err();
+        assert!(matches!(e, RecordError::Params(_)) && e.to_string().contains("directions = 1000"), "{e}");
+        assert_eq!(
+            Record::parse(&good.replace("scene = \"s\"", "scene = s")),
+            Err(RecordError::NotAString { key: "scene", value: "s".into() })
+        );
     }
 }

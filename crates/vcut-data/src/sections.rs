@@ -19,7 +19,50 @@ use crate::field::{FieldLayout, RadialSpacing};
 use glam::Vec3;
 use vcut_cut::Cut;
 use vcut_cut::codec::{self, ShapeCoding, ValueFormat};
-use vcut_scene::{Material, Mesh, Motion};
+use vcut_scene::{Material, Mesh, MeshError, Motion};
+
+/// Why a section's payload could not be read (the file's reader names the section).
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum PayloadError {
+    /// The payload ends before what its layout says follows.
+    #[error("truncated at byte {at} (needs {need} more)")]
+    Truncated {
+        /// Where the read started.
+        at: usize,
+        /// Bytes it needed.
+        need: usize,
+    },
+    /// A payload whose size does not match the counts it starts with.
+    #[error("{what} need {need} bytes, got {got}")]
+    Size {
+        /// What the counts say is stored (e.g. "12 directions").
+        what: String,
+        /// Bytes that takes.
+        need: u64,
+        /// Bytes there are.
+        got: u64,
+    },
+    /// An enumeration code this version does not know.
+    #[error("unknown {what} {code}")]
+    UnknownCode {
+        /// Which code (e.g. "motion code").
+        what: &'static str,
+        /// Its value.
+        code: u32,
+    },
+    /// Parts of the payload that contradict each other (a header, offsets and lengths, ranges).
+    #[error("{0}")]
+    Inconsistent(String),
+    /// A string that is not UTF-8.
+    #[error("string is not UTF-8")]
+    NotUtf8,
+    /// The stored material does not parse.
+    #[error("material: {0}")]
+    Material(String),
+    /// The stored mesh breaks a mesh invariant.
+    #[error("mesh: {0}")]
+    Mesh(MeshError),
+}
 
 /// Value format code in the cut array header.
 pub fn format_code(f: ValueFormat) -> u8 {
@@ -116,21 +159,23 @@ fn u32_at(b: &[u8], at: usize) -> u32 {
 impl CutArray {
     /// Parses the header, the block offsets and every cut's length (checked: each block's
     /// lengths end exactly at the next block's offset).
-    pub fn parse(payload: Vec<u8>) -> Result<CutArray, String> {
+    pub fn parse(payload: Vec<u8>) -> Result<CutArray, PayloadError> {
         let bytes = payload.as_slice();
+        let bad = |what: String| Err(PayloadError::Inconsistent(what));
         if bytes.len() < 8 {
-            return Err(format!("cut array of {} bytes, shorter than its 8-byte header", bytes.len()));
+            return bad(format!("cut array of {} bytes, shorter than its 8-byte header", bytes.len()));
         }
         let count = u32_at(bytes, 0) as usize;
         let root_height = u32::from(bytes[4]);
-        let format = format_of(bytes[5]).ok_or_else(|| format!("unknown value format code {}", bytes[5]))?;
+        let format = format_of(bytes[5])
+            .ok_or(PayloadError::UnknownCode { what: "value format code", code: u32::from(bytes[5]) })?;
         let coding = match bytes[7] {
             0 => ShapeCoding::Heights,
             1 => ShapeCoding::SplitFlags,
-            c => return Err(format!("unknown shape coding {c}")),
+            c => return Err(PayloadError::UnknownCode { what: "shape coding", code: u32::from(c) }),
         };
         if root_height > 20 || bytes[6] > 1 {
-            return Err("malformed cut array header".into());
+            return bad("malformed cut array header".into());
         }
         let nblocks = count.div_ceil(CUT_BLOCK) + 1;
         let blocks_end = 8 + 4 * nblocks;
@@ -138,32 +183,34 @@ impl CutArray {
         // Every cut takes at least 2 bytes (a length and a count), so a count beyond that is
         // damage, caught before allocating for it.
         if bytes.len() < blocks_end + bits || count > bytes.len() {
-            return Err(format!("cut array of {count} cuts truncated: {} bytes", bytes.len()));
+            return bad(format!("cut array of {count} cuts truncated: {} bytes", bytes.len()));
         }
         let cuts = &bytes[blocks_end + bits..];
         let block = |j: usize| u32_at(bytes, 8 + 4 * j) as usize;
         if block(nblocks - 1) != cuts.len() {
-            return Err(format!("cut offsets end at {}, the cut bytes are {} long", block(nblocks - 1), cuts.len()));
+            return bad(format!("cut offsets end at {}, the cut bytes are {} long", block(nblocks - 1), cuts.len()));
         }
         let mut spans = Vec::with_capacity(count);
         let mut at = 0usize;
         let mut lengths = 0usize;
         for i in 0..count {
             if i % CUT_BLOCK == 0 && block(i / CUT_BLOCK) != at {
-                return Err(format!("block offset of cut {i} is {}, its bytes start at {at}", block(i / CUT_BLOCK)));
+                return bad(format!("block offset of cut {i} is {}, its bytes start at {at}", block(i / CUT_BLOCK)));
             }
             let (len, used) = codec::get_varint(&cuts[at.min(cuts.len())..])
                 .ok()
                 .and_then(|(len, used)| Some((usize::try_from(len).ok()?, used)))
-                .ok_or_else(|| format!("cut {i}: malformed length"))?;
+                .ok_or_else(|| PayloadError::Inconsistent(format!("cut {i}: malformed length")))?;
             at += used;
             lengths += used;
             spans.push(((blocks_end + bits + at) as u32, len as u32));
-            at =
-                at.checked_add(len).filter(|&e| e <= cuts.len()).ok_or_else(|| format!("cut {i} runs past the end"))?;
+            at = at
+                .checked_add(len)
+                .filter(|&e| e <= cuts.len())
+                .ok_or_else(|| PayloadError::Inconsistent(format!("cut {i} runs past the end")))?;
         }
         if at != cuts.len() {
-            return Err(format!("cuts end at {at}, the cut bytes are {} long", cuts.len()));
+            return bad(format!("cuts end at {at}, the cut bytes are {} long", cuts.len()));
         }
         let inside = (bits > 0).then_some(blocks_end..blocks_end + bits);
         let overhead = blocks_end + bits + lengths;
@@ -246,11 +293,15 @@ pub fn encode_directions(dirs: &[Vec3], cell_areas: &[f64], leaf_order: &[u32]) 
 pub type StoredDirections = (Vec<Vec3>, Vec<f64>, Vec<u32>);
 
 /// Parses a directions payload.
-pub fn decode_directions(bytes: &[u8]) -> Result<StoredDirections, String> {
+pub fn decode_directions(bytes: &[u8]) -> Result<StoredDirections, PayloadError> {
     let mut r = Cursor::new(bytes);
     let n = r.u32()? as usize;
     if (bytes.len() as u64) != 4 + 24 * n as u64 {
-        return Err(format!("{n} directions need {} bytes, got {}", 4 + 24 * n as u64, bytes.len()));
+        return Err(PayloadError::Size {
+            what: format!("{n} directions"),
+            need: 4 + 24 * n as u64,
+            got: bytes.len() as u64,
+        });
     }
     let dirs = (0..n).map(|_| r.vec3()).collect::<Result<Vec<_>, _>>()?;
     let areas = (0..n).map(|_| r.f64()).collect::<Result<Vec<_>, _>>()?;
@@ -293,23 +344,28 @@ pub fn encode_mesh(name: &str, motion: Motion, material: &Material, mesh: &Mesh)
 }
 
 /// Parses a mesh payload (the mesh is validated again).
-pub fn decode_mesh(bytes: &[u8]) -> Result<StoredObject, String> {
+pub fn decode_mesh(bytes: &[u8]) -> Result<StoredObject, PayloadError> {
     let mut r = Cursor::new(bytes);
     let name = r.str()?;
     let motion = match r.u8()? {
         0 => Motion::Static,
         1 => Motion::Movable,
-        m => return Err(format!("unknown motion code {m}")),
+        m => return Err(PayloadError::UnknownCode { what: "motion code", code: u32::from(m) }),
     };
-    let material: Material = toml::from_str(&r.str()?).map_err(|e| format!("material: {e}"))?;
+    let material: Material =
+        toml::from_str(&r.str()?).map_err(|e| PayloadError::Material(e.to_string().trim_end().to_string()))?;
     let (nv, nt) = (r.u32()? as usize, r.u32()? as usize);
     if r.rest() != nv * 24 + nt * 12 {
-        return Err(format!("{nv} vertices and {nt} triangles need {} bytes, got {}", nv * 24 + nt * 12, r.rest()));
+        return Err(PayloadError::Size {
+            what: format!("{nv} vertices and {nt} triangles"),
+            need: (nv * 24 + nt * 12) as u64,
+            got: r.rest() as u64,
+        });
     }
     let positions = (0..nv).map(|_| r.vec3()).collect::<Result<Vec<_>, _>>()?;
     let normals = (0..nv).map(|_| r.vec3()).collect::<Result<Vec<_>, _>>()?;
-    let triangles = (0..nt).map(|_| Ok([r.u32()?, r.u32()?, r.u32()?])).collect::<Result<Vec<_>, String>>()?;
-    let mesh = Mesh::from_valid_parts(positions, normals, triangles).map_err(|e| format!("mesh: {e}"))?;
+    let triangles = (0..nt).map(|_| Ok([r.u32()?, r.u32()?, r.u32()?])).collect::<Result<Vec<_>, PayloadError>>()?;
+    let mesh = Mesh::from_valid_parts(positions, normals, triangles).map_err(PayloadError::Mesh)?;
     Ok(StoredObject { name, motion, material, mesh })
 }
 
@@ -333,7 +389,7 @@ pub fn encode_field_layout(l: &FieldLayout) -> Vec<u8> {
 }
 
 /// Parses a field layout payload.
-pub fn decode_field_layout(bytes: &[u8]) -> Result<FieldLayout, String> {
+pub fn decode_field_layout(bytes: &[u8]) -> Result<FieldLayout, PayloadError> {
     let mut r = Cursor::new(bytes);
     let l = FieldLayout {
         center: r.vec3()?,
@@ -345,7 +401,7 @@ pub fn decode_field_layout(bytes: &[u8]) -> Result<FieldLayout, String> {
         spacing: match r.u32()? {
             0 => RadialSpacing::Linear,
             1 => RadialSpacing::Geometric,
-            code => return Err(format!("unknown radial spacing code {code}")),
+            code => return Err(PayloadError::UnknownCode { what: "radial spacing code", code }),
         },
     };
     let ok = r.rest() == 0
@@ -358,7 +414,7 @@ pub fn decode_field_layout(bytes: &[u8]) -> Result<FieldLayout, String> {
         && (l.inner > 0.0 || l.spacing == RadialSpacing::Linear)
         && l.outer > l.inner
         && l.outer.is_finite();
-    if ok { Ok(l) } else { Err(format!("malformed field layout {l:?}")) }
+    if ok { Ok(l) } else { Err(PayloadError::Inconsistent(format!("malformed field layout {l:?}"))) }
 }
 
 fn put_str(out: &mut Vec<u8>, s: &str) {
@@ -377,9 +433,9 @@ impl<'a> Cursor<'a> {
         Cursor { bytes, at: 0 }
     }
 
-    fn take(&mut self, n: usize) -> Result<&'a [u8], String> {
+    fn take(&mut self, n: usize) -> Result<&'a [u8], PayloadError> {
         let end = self.at.checked_add(n).filter(|&e| e <= self.bytes.len());
-        let end = end.ok_or_else(|| format!("truncated at byte {} (needs {n} more)", self.at))?;
+        let end = end.ok_or(PayloadError::Truncated { at: self.at, need: n })?;
         let s = &self.bytes[self.at..end];
         self.at = end;
         Ok(s)
@@ -389,32 +445,32 @@ impl<'a> Cursor<'a> {
         self.bytes.len() - self.at
     }
 
-    fn u8(&mut self) -> Result<u8, String> {
+    fn u8(&mut self) -> Result<u8, PayloadError> {
         Ok(self.take(1)?[0])
     }
 
-    fn u32(&mut self) -> Result<u32, String> {
+    fn u32(&mut self) -> Result<u32, PayloadError> {
         Ok(u32_at(self.take(4)?, 0))
     }
 
-    fn f32(&mut self) -> Result<f32, String> {
+    fn f32(&mut self) -> Result<f32, PayloadError> {
         Ok(f32::from_bits(self.u32()?))
     }
 
-    fn f64(&mut self) -> Result<f64, String> {
+    fn f64(&mut self) -> Result<f64, PayloadError> {
         let b = self.take(8)?;
         let mut x = [0u8; 8];
         x.copy_from_slice(b);
         Ok(f64::from_le_bytes(x))
     }
 
-    fn vec3(&mut self) -> Result<Vec3, String> {
+    fn vec3(&mut self) -> Result<Vec3, PayloadError> {
         Ok(Vec3::new(self.f32()?, self.f32()?, self.f32()?))
     }
 
-    fn str(&mut self) -> Result<String, String> {
+    fn str(&mut self) -> Result<String, PayloadError> {
         let n = self.u32()? as usize;
-        String::from_utf8(self.take(n)?.to_vec()).map_err(|_| "string is not UTF-8".to_string())
+        String::from_utf8(self.take(n)?.to_vec()).map_err(|_| PayloadError::NotUtf8)
     }
 }
 

@@ -35,6 +35,9 @@ use glam::{DVec3, Vec3};
 /// Why a tree cannot be built.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum TreeError {
+    /// A built tree breaking one of its invariants ([`DirectionTree::validate`]).
+    #[error("{0}")]
+    Invariant(String),
     /// N is not a power of two ≥ 2 (or too large for 32-bit indices).
     #[error("{0} directions: the tree needs a power of two between 2 and 2^30")]
     NotPowerOfTwo(usize),
@@ -216,40 +219,41 @@ impl DirectionTree {
 
     /// Checks every invariant (for tests): permutation, partition, solid-angle sums, unit mean
     /// directions, cones containing their leaves, index formula round trips.
-    pub fn validate(&self) -> Result<(), String> {
+    pub fn validate(&self) -> Result<(), TreeError> {
+        let bad = |what: String| Err(TreeError::Invariant(what));
         let n = self.leaf_count();
         let mut seen = vec![false; n];
         for &i in &self.leaf_to_input {
             if std::mem::replace(&mut seen[i as usize], true) {
-                return Err(format!("input {i} appears twice among the leaves"));
+                return bad(format!("input {i} appears twice among the leaves"));
             }
         }
         for k in 0..self.node_count() as u32 {
             let (h, off) = self.node(k);
             if self.index(h, off) != k {
-                return Err(format!("index {k} does not round-trip through (h={h}, offset={off})"));
+                return bad(format!("index {k} does not round-trip through (h={h}, offset={off})"));
             }
             if off % (1 << h) != 0 {
-                return Err(format!("node {k} offset {off} not aligned to 2^{h}"));
+                return bad(format!("node {k} offset {off} not aligned to 2^{h}"));
             }
             if (self.mean_dir[k as usize].length() - 1.0).abs() > 1e-4 {
-                return Err(format!("node {k} mean direction not unit"));
+                return bad(format!("node {k} mean direction not unit"));
             }
             if h > 0 {
                 let (l, r) = (2 * k + 1, 2 * k + 2);
                 let (lr, rr, pr) = (self.leaf_range(l), self.leaf_range(r), self.leaf_range(k));
                 if lr.start != pr.start || lr.end != rr.start || rr.end != pr.end {
-                    return Err(format!("children of {k} do not partition {pr:?}: {lr:?} {rr:?}"));
+                    return bad(format!("children of {k} do not partition {pr:?}: {lr:?} {rr:?}"));
                 }
                 let sum = self.solid_angle[l as usize] + self.solid_angle[r as usize];
                 if (sum - self.solid_angle[k as usize]).abs() > 1e-12 * sum.max(1.0) {
-                    return Err(format!("solid angle of {k} is not the sum of its children's"));
+                    return bad(format!("solid angle of {k} is not the sum of its children's"));
                 }
             }
             let c = self.cone[k as usize];
             for d in &self.leaf_dirs[self.leaf_range(k)] {
                 if d.dot(c.axis) < c.cos_half_angle {
-                    return Err(format!("cone of node {k} misses leaf direction {d}"));
+                    return bad(format!("cone of node {k} misses leaf direction {d}"));
                 }
             }
         }

@@ -38,6 +38,12 @@ use vcut_dirtree::{DirectionTree, level_order_index};
 use vcut_envmap::{EnvMap, Layout, layout};
 use vcut_sphere::grid::SphereGrid;
 
+/// A light tree breaking one of its invariants ([`LightTree::validate`]): a non-finite or
+/// negative node, or a parent that is not the sum of its children.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[error("{0}")]
+pub struct InvalidLightTree(pub String);
+
 /// Integrated radiance per node of the direction tree, level order.
 #[derive(Debug, Clone, PartialEq)]
 pub struct LightTree {
@@ -92,17 +98,17 @@ impl LightTree {
     }
 
     /// Checks parents equal the sums of their children and every value is finite and ≥ 0.
-    pub fn validate(&self) -> Result<(), String> {
+    pub fn validate(&self) -> Result<(), InvalidLightTree> {
         let n = self.nodes.len().div_ceil(2);
         for (k, v) in self.nodes.iter().enumerate() {
             if v.iter().any(|x| !x.is_finite() || *x < 0.0) {
-                return Err(format!("node {k} is {v:?}"));
+                return Err(InvalidLightTree(format!("node {k} is {v:?}")));
             }
             if k < n - 1 {
                 let (a, b) = (self.nodes[2 * k + 1], self.nodes[2 * k + 2]);
                 for c in 0..3 {
                     if (a[c] + b[c] - v[c]).abs() > 1e-12 * v[c].max(1e-300) {
-                        return Err(format!("node {k} channel {c} is not the sum of its children"));
+                        return Err(InvalidLightTree(format!("node {k} channel {c} is not the sum of its children")));
                     }
                 }
             }

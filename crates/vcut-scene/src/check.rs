@@ -260,7 +260,7 @@ impl ObjectDesc {
             return Err(t.bad("weld", w, "must be a finite distance ≥ 0"));
         }
         if let Some(m) = &self.material {
-            m.validate().map_err(|reason| t.bad("material", m.model, reason))?;
+            m.validate().map_err(|e| t.bad("material", m.model, e.to_string()))?;
         }
         Ok(())
     }

@@ -41,7 +41,7 @@ pub mod teapot;
 pub use budget::Budget;
 pub use check::Builtin;
 pub use desc::SceneDesc;
-pub use material::{BrdfModel, Material};
+pub use material::{BrdfModel, Material, MaterialError};
 pub use mesh::{Bounds, Mesh, MeshError, MeshOptions, MeshReport, Weld};
 
 use glam::Vec3;

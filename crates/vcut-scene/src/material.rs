@@ -83,24 +83,40 @@ impl Material {
     }
 
     /// Checks the parameters are finite and in range; names the first one that is not.
-    pub fn validate(&self) -> Result<(), String> {
-        let unit = |name: &str, v: [f32; 3]| {
+    pub fn validate(&self) -> Result<(), MaterialError> {
+        let unit = |key: &'static str, v: [f32; 3]| {
             if v.iter().all(|x| x.is_finite() && (0.0..=1.0).contains(x)) {
                 Ok(())
             } else {
-                Err(format!("{name} = {v:?} must lie in [0, 1]"))
+                Err(MaterialError { key, value: format!("{v:?}"), range: "lie in [0, 1]" })
             }
         };
         unit("kd", self.kd)?;
         unit("ks", self.ks)?;
         if !(self.exponent.is_finite() && self.exponent >= 0.0) {
-            return Err(format!("exponent = {} must be finite and ≥ 0", self.exponent));
+            return Err(MaterialError {
+                key: "exponent",
+                value: self.exponent.to_string(),
+                range: "be finite and ≥ 0",
+            });
         }
         if !(self.roughness.is_finite() && self.roughness > 0.0 && self.roughness <= 1.0) {
-            return Err(format!("roughness = {} must lie in (0, 1]", self.roughness));
+            return Err(MaterialError { key: "roughness", value: self.roughness.to_string(), range: "lie in (0, 1]" });
         }
         Ok(())
     }
+}
+
+/// A material parameter out of its range ([`Material::validate`]).
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[error("{key} = {value} must {range}")]
+pub struct MaterialError {
+    /// The parameter (`kd`, `ks`, `exponent`, `roughness`).
+    pub key: &'static str,
+    /// Its value as written.
+    pub value: String,
+    /// The range it must lie in.
+    pub range: &'static str,
 }
 
 fn sanitize(x: f32, max: f32) -> f32 {
@@ -123,6 +139,7 @@ mod tests {
         assert!((m.ks[1] - 0.6).abs() < 1e-6);
         d.validate().unwrap();
         m.validate().unwrap();
-        assert!(Material { kd: [2.0, 0.0, 0.0], ..d }.validate().is_err());
+        let e = Material { kd: [2.0, 0.0, 0.0], ..d }.validate().unwrap_err();
+        assert_eq!((e.key, e.to_string().as_str()), ("kd", "kd = [2.0, 0.0, 0.0] must lie in [0, 1]"));
     }
 }

@@ -62,6 +62,11 @@ impl MeshReport {
 /// Why a mesh is refused.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum MeshError {
+    /// Parts that break a mesh's invariants (normal count, no triangles, a non-finite
+    /// position, a non-unit normal, an unused vertex, an index out of range, a zero-area
+    /// triangle) — [`Mesh::validate`], [`Mesh::from_valid_parts`].
+    #[error("{0}")]
+    Invalid(String),
     /// A position with a NaN or infinite coordinate.
     #[error("vertex {index} has a non-finite position {position:?}")]
     NonFinitePosition {
@@ -314,25 +319,26 @@ impl Mesh {
         positions: Vec<Vec3>,
         normals: Vec<Vec3>,
         triangles: Vec<[u32; 3]>,
-    ) -> Result<Mesh, String> {
+    ) -> Result<Mesh, MeshError> {
         let mesh = Mesh { positions, normals, triangles };
         mesh.validate()?;
         Ok(mesh)
     }
 
     /// Re-checks every invariant; for tests.
-    pub fn validate(&self) -> Result<(), String> {
+    pub fn validate(&self) -> Result<(), MeshError> {
+        let bad = |what: String| Err(MeshError::Invalid(what));
         if self.positions.len() != self.normals.len() {
-            return Err("normal count".into());
+            return bad("normal count".into());
         }
         if self.triangles.is_empty() {
-            return Err("no triangles".into());
+            return bad("no triangles".into());
         }
         if let Some(p) = self.positions.iter().find(|p| !p.is_finite()) {
-            return Err(format!("non-finite position {p}"));
+            return bad(format!("non-finite position {p}"));
         }
         if let Some(n) = self.normals.iter().find(|n| !n.is_finite() || (n.length() - 1.0).abs() > 1e-3) {
-            return Err(format!("non-unit normal {n}"));
+            return bad(format!("non-unit normal {n}"));
         }
         let mut used = vec![false; self.positions.len()];
         for t in &self.triangles {
@@ -343,15 +349,15 @@ impl Mesh {
             }
         }
         if let Some(i) = used.iter().position(|&u| !u) {
-            return Err(format!("vertex {i} is used by no triangle"));
+            return bad(format!("vertex {i} is used by no triangle"));
         }
         for t in &self.triangles {
             if t.iter().any(|&i| i as usize >= self.positions.len()) {
-                return Err(format!("index out of range in {t:?}"));
+                return bad(format!("index out of range in {t:?}"));
             }
             let [a, b, c] = t.map(|i| self.positions[i as usize]);
             if (b - a).cross(c - a).length_squared() == 0.0 {
-                return Err(format!("zero-area triangle {t:?}"));
+                return bad(format!("zero-area triangle {t:?}"));
             }
         }
         Ok(())

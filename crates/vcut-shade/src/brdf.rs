@@ -217,8 +217,8 @@ pub enum SpecError {
     #[error("unknown BRDF parameter '{0}' (kd, ks, alpha, roughness)")]
     Parameter(String),
     /// The edited material is out of range (as a scene file's would be refused).
-    #[error("{0}")]
-    Material(String),
+    #[error(transparent)]
+    Material(#[from] vcut_scene::MaterialError),
 }
 
 /// Parses a material edit `MODEL[:KEY=VALUE,...]` over `base`: MODEL is `lambert`,
@@ -259,7 +259,7 @@ pub fn parse_spec(base: Material, spec: &str) -> Result<Material, SpecError> {
             other => return Err(SpecError::Parameter(other.into())),
         }
     }
-    m.validate().map_err(SpecError::Material)?;
+    m.validate()?;
     Ok(m)
 }
 

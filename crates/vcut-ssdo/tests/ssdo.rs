@@ -1,30 +1,12 @@
 //! SSDO and SSAO on scenes whose answer is known: an open plane, a deep crease lit from either
 //! side, a red wall over a white floor, and a ball on the ground against the ray-traced reference.
 
+mod common;
+use common::rect;
 use glam::Vec3;
 use vcut_envmap::{EnvMap, InvalidTexels, Layout};
 use vcut_scene::Camera;
 use vcut_ssdo::{GBuffer, Lighting, Method, Object, Params, ReferenceParams, SampleSets, reference, rel_l2, render};
-
-/// A rectangle from `corner` spanned by `u` and `v`, split into `n × n` cells, normal `u × v`.
-fn rect(corner: Vec3, u: Vec3, v: Vec3, n: u32, albedo: Vec3) -> Object {
-    let normal = u.cross(v).normalize();
-    let mut positions = Vec::new();
-    for j in 0..=n {
-        for i in 0..=n {
-            positions.push(corner + u * (i as f32 / n as f32) + v * (j as f32 / n as f32));
-        }
-    }
-    let mut triangles = Vec::new();
-    for j in 0..n {
-        for i in 0..n {
-            let a = j * (n + 1) + i;
-            triangles.push([a, a + 1, a + n + 2]);
-            triangles.push([a, a + n + 2, a + n + 1]);
-        }
-    }
-    Object { normals: vec![normal; positions.len()], positions, triangles, albedo }
-}
 
 fn camera(position: Vec3, target: Vec3) -> Camera {
     Camera { name: "test".into(), position, target, up: Vec3::Y, fov_y_deg: 40.0 }

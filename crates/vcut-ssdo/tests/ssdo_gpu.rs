@@ -2,40 +2,20 @@
 //! a ground with two balls under the sky (sun shadow-mapped), SSAO, SSDO, and SSDO peeled.
 //! Without a wgpu adapter this says it was skipped, unless `VCUT_REQUIRE_GPU=1`.
 
+mod common;
+use common::rect;
 use glam::Vec3;
 use vcut_gpu::test_device;
 use vcut_scene::Camera;
 use vcut_ssdo::gpu::GpuSsdo;
 use vcut_ssdo::{GBuffer, Lighting, Method, Object, Params, SampleSets, rel_l2, render};
 
-fn ground(half: f32, n: u32, albedo: Vec3) -> Object {
-    let mut positions = Vec::new();
-    for j in 0..=n {
-        for i in 0..=n {
-            positions.push(Vec3::new(
-                -half + 2.0 * half * i as f32 / n as f32,
-                0.0,
-                half - 2.0 * half * j as f32 / n as f32,
-            ));
-        }
-    }
-    let mut triangles = Vec::new();
-    for j in 0..n {
-        for i in 0..n {
-            let a = j * (n + 1) + i;
-            triangles.push([a, a + 1, a + n + 2]);
-            triangles.push([a, a + n + 2, a + n + 1]);
-        }
-    }
-    Object { normals: vec![Vec3::Y; positions.len()], positions, triangles, albedo }
-}
-
 #[test]
 fn the_gpu_passes_match_the_cpu_implementation() {
     let Some(gpu) = test_device("the_gpu_passes_match_the_cpu_implementation") else { return };
     let ball = vcut_scene::shapes::sphere(0.5, 32, 16).unwrap();
     let objects = vec![
-        ground(2.0, 16, Vec3::splat(0.6)),
+        rect(Vec3::new(-2.0, 0.0, 2.0), Vec3::new(4.0, 0.0, 0.0), Vec3::new(0.0, 0.0, -4.0), 16, Vec3::splat(0.6)),
         Object::from_mesh(&ball, Vec3::new(0.0, 0.55, 0.0), Vec3::new(0.7, 0.5, 0.3)),
         Object::from_mesh(&ball, Vec3::new(0.9, 0.3, -0.6), Vec3::new(0.2, 0.6, 0.3)),
     ];

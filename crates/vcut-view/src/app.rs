@@ -86,7 +86,7 @@ impl App {
                 let tm = self.session.timings;
                 *status = format!("moved: {} vertices re-merged in {:.1} ms", tm.merged_vertices, tm.merge_ms);
             }
-            Err(e) => *status = e,
+            Err(e) => *status = e.to_string(),
         }
     }
 
@@ -271,7 +271,7 @@ fn panel(
             }
             if mode != session.mode() {
                 if let Err(e) = session.set_mode(mode) {
-                    actions.error = Some(e);
+                    actions.error = Some(e.to_string());
                 }
                 actions.changed = true;
             }
@@ -417,7 +417,7 @@ fn object_controls(ui: &mut egui::Ui, session: &mut Session, actions: &mut Panel
         });
         if t != translation {
             if let Err(e) = session.translate(o, t) {
-                actions.error = Some(e);
+                actions.error = Some(e.to_string());
             }
             actions.changed = true;
         }

@@ -47,4 +47,4 @@ pub use headless::{leaf_screenshot, screenshot};
 pub use leaf::{LeafSession, LeafTimings};
 pub use leaf_app::{LeafViewOptions, run_leaf_window};
 pub use render::SceneRenderer;
-pub use session::{Display, Mode, Session, Timings};
+pub use session::{Display, Mode, Session, SessionError, Timings};

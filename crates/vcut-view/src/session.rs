@@ -108,6 +108,26 @@ struct Progressive {
     total: usize,
 }
 
+/// Why a session refused an edit.
+#[derive(Debug, thiserror::Error)]
+pub enum SessionError {
+    /// A display mode this build or data cannot show.
+    #[error("{0} is not available")]
+    Unavailable(&'static str),
+    /// No such object.
+    #[error("no object {0}")]
+    NoObject(usize),
+    /// A static object (precomputed without a visibility field) cannot move.
+    #[error("'{0}' is static: it was precomputed without a visibility field")]
+    Static(String),
+    /// A translation with a NaN or infinite component.
+    #[error("translation {0:?} is not finite")]
+    NotFinite([f32; 3]),
+    /// The frame failed to re-merge.
+    #[error(transparent)]
+    Frame(#[from] vcut_shade::FrameError),
+}
+
 /// Everything the viewer shows.
 pub struct Session {
     frame: Frame,
@@ -212,10 +232,10 @@ impl Session {
         self.mode
     }
 
-    /// Chooses the display mode (an unavailable one is refused with the reason).
-    pub fn set_mode(&mut self, mode: Mode) -> Result<(), String> {
+    /// Chooses the display mode (an unavailable one is refused).
+    pub fn set_mode(&mut self, mode: Mode) -> Result<(), SessionError> {
         if !mode.available() {
-            return Err(format!("{} is not available", mode.label()));
+            return Err(SessionError::Unavailable(mode.label()));
         }
         if mode != self.mode {
             self.mode = mode;
@@ -240,22 +260,22 @@ impl Session {
 
     /// Moves object `o` to `translation` from its rest position (re-merging what changed).
     /// Static objects have no visibility field and cannot move.
-    pub fn translate(&mut self, o: usize, translation: Vec3) -> Result<(), String> {
+    pub fn translate(&mut self, o: usize, translation: Vec3) -> Result<(), SessionError> {
         if o >= self.frame.object_count() {
-            return Err(format!("no object {o}"));
+            return Err(SessionError::NoObject(o));
         }
         let vcut_shade::FrameObject { name, motion, translation: current, .. } = self.frame.object(o);
         if motion != Motion::Movable {
-            return Err(format!("'{name}' is static: it was precomputed without a visibility field"));
+            return Err(SessionError::Static(name.to_string()));
         }
         if !translation.is_finite() {
-            return Err(format!("translation {translation} is not finite"));
+            return Err(SessionError::NotFinite(translation.to_array()));
         }
         if current == translation {
             return Ok(());
         }
         let start = Instant::now();
-        let merged = self.frame.translate(o, translation).map_err(|e| e.to_string())?;
+        let merged = self.frame.translate(o, translation)?;
         self.timings.merge_ms = start.elapsed().as_secs_f64() * 1e3;
         self.timings.merged_vertices = merged;
         self.geometry_version += 1;

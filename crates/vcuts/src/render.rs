@@ -161,15 +161,56 @@ impl RenderArgs {
     }
 }
 
-/// What a render printed, as `key=value` pairs in order (for the demo's report).
+/// What a render measured and wrote (it prints the same as `key=value` lines).
 #[derive(Debug, Default)]
-pub struct Printed(pub Vec<(String, String)>);
+pub struct RenderOutcome {
+    /// Seconds to read the data and merge every vertex.
+    pub setup_s: f64,
+    /// Light-tree leaves cast by rays as the sun.
+    pub sun_leaves: usize,
+    /// The moves and BRDF edits asked for: their time (ms) and the vertices re-merged.
+    pub move_ms: f64,
+    /// Vertices the moves re-merged.
+    pub moved_vertices: usize,
+    /// Where the last move's time went, when there was one.
+    pub last_move: Option<vcut_shade::MoveTiming>,
+    /// Shading and rasterising the frame (ms); `None` in the screen-space modes.
+    pub shade_ms: Option<f64>,
+    /// Rasterising the frame (ms); `None` in the screen-space modes.
+    pub raster_ms: Option<f64>,
+    /// The image written.
+    pub png: PathBuf,
+    /// The exposure it was written with.
+    pub exposure: f32,
+    /// Each reference compared with (`--compare`).
+    pub comparisons: Vec<Comparison>,
+    /// Every `key=value` line printed, in order.
+    pub printed: Vec<(String, String)>,
+}
 
-impl Printed {
+/// The frame against one reference.
+#[derive(Debug, Clone)]
+pub struct Comparison {
+    /// `exact`, `mc` or `raytraced`.
+    pub reference: &'static str,
+    /// Relative L2 error over the vertices (`None` for the screen-space reference).
+    pub vertex_rel_l2: Option<f64>,
+    /// Relative L2 error over the pixels.
+    pub pixel_rel_l2: f64,
+    /// The reference's image.
+    pub png: PathBuf,
+}
+
+impl RenderOutcome {
     fn emit(&mut self, key: impl Into<String>, value: String) {
         let key = key.into();
         println!("{key}={value}");
-        self.0.push((key, value));
+        self.printed.push((key, value));
+    }
+
+    /// The comparison with `reference`, if made.
+    pub fn comparison(&self, reference: &str) -> Option<&Comparison> {
+        self.comparisons.iter().find(|c| c.reference == reference)
     }
 }
 
@@ -267,15 +308,16 @@ pub fn auto_camera(b: vcut_scene::Bounds) -> Camera {
     }
 }
 
-/// Runs `render`; returns what it printed.
-pub fn run(args: &RenderArgs) -> Result<Printed> {
-    let mut out = Printed::default();
+/// Runs `render`; returns what it measured and wrote.
+pub fn run(args: &RenderArgs) -> Result<RenderOutcome> {
+    let mut out = RenderOutcome::default();
     // Checked before the data is read and merged.
     let inside = match args.inside_samples {
         Inside::Occluded => InsideSamples::Occluded,
         Inside::Dropped => InsideSamples::Dropped,
     };
     let Opened { data, mut frame, env, scene, setup_s, .. } = open(&args.input, args.env.as_deref())?;
+    out.setup_s = setup_s;
     out.emit("setup_s", format!("{setup_s:.3}"));
     if inside != InsideSamples::default() {
         frame.set_inside_samples(inside)?;
@@ -284,7 +326,8 @@ pub fn run(args: &RenderArgs) -> Result<Printed> {
     if args.no_sun_rays {
         frame.set_sun_rays(None);
     }
-    out.emit("sun_leaves", format!("{}", frame.sun_leaves()));
+    out.sun_leaves = frame.sun_leaves();
+    out.emit("sun_leaves", format!("{}", out.sun_leaves));
     frame.set_deferred_merges(!args.eager_merges)?;
     // The moves build the shading lists of the vertices facing the camera (a framing camera
     // may shift with the moves: then shading builds the few others it needs).
@@ -292,11 +335,13 @@ pub fn run(args: &RenderArgs) -> Result<Printed> {
         frame.set_eye(c.position)?;
     }
     let (move_ms, moved) = apply_edits(&mut frame, &args.brdfs, &args.moves)?;
+    (out.move_ms, out.moved_vertices) = (move_ms, moved);
     out.emit("move_merge_ms", format!("{move_ms:.2}"));
     out.emit("move_merged_vertices", format!("{moved}"));
     if moved > 0 {
         // Where the last move's time went (wall clock over all cores).
         let t = frame.last_move();
+        out.last_move = Some(t);
         out.emit("move_keys_ms", format!("{:.2}", t.keys_s * 1e3));
         out.emit("move_decode_ms", format!("{:.2}", t.decode_s * 1e3));
         out.emit("move_refine_ms", format!("{:.2}", t.refine_s * 1e3));
@@ -319,15 +364,20 @@ pub fn run(args: &RenderArgs) -> Result<Printed> {
     }
     let t = Instant::now();
     let radiance = frame.shade(camera.position);
-    out.emit("shade_ms", format!("{:.2}", t.elapsed().as_secs_f64() * 1e3));
+    let shade_ms = t.elapsed().as_secs_f64() * 1e3;
+    out.shade_ms = Some(shade_ms);
+    out.emit("shade_ms", format!("{shade_ms:.2}"));
     let t = Instant::now();
     let image = rasterize(&frame, &radiance, &camera, args.width, args.height, Some(&env));
-    out.emit("raster_ms", format!("{:.2}", t.elapsed().as_secs_f64() * 1e3));
+    let raster_ms = t.elapsed().as_secs_f64() * 1e3;
+    out.raster_ms = Some(raster_ms);
+    out.emit("raster_ms", format!("{raster_ms:.2}"));
     if let Some(dir) = args.output.parent().filter(|d| !d.as_os_str().is_empty()) {
         std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
     }
     let exposure = args.exposure.unwrap_or_else(|| auto_exposure(&image));
     write_png(&image, &args.output, exposure)?;
+    (out.png, out.exposure) = (args.output.clone(), exposure);
     out.emit("png", format!("{}", args.output.display()));
     out.emit("tone_map", "aces-narkowicz".into());
     out.emit("exposure", format!("{exposure:.4}"));
@@ -371,6 +421,7 @@ pub fn run(args: &RenderArgs) -> Result<Printed> {
         let ref_path = args.output.with_file_name(format!("{stem}-{name}.png"));
         write_png(&ref_image, &ref_path, exposure)?;
         out.emit(format!("reference_{name}_png"), format!("{}", ref_path.display()));
+        out.comparisons.push(Comparison { reference: name, vertex_rel_l2: Some(l2), pixel_rel_l2: pl2, png: ref_path });
     }
     if let [(_, exact), (_, mc)] = refs.as_slice() {
         let (l2, max) = errors(exact, mc);
@@ -388,8 +439,8 @@ fn screen_space(
     frame: &Frame,
     env: &EnvMap,
     camera: &Camera,
-    mut out: Printed,
-) -> Result<Printed> {
+    mut out: RenderOutcome,
+) -> Result<RenderOutcome> {
     let objects = crate::ssdo::objects(frame);
     let t = Instant::now();
     let light = crate::ssdo::lighting(env, &objects);
@@ -403,6 +454,7 @@ fn screen_space(
     }
     let exposure = args.exposure.unwrap_or_else(|| auto_exposure(&image));
     write_png(&image, &args.output, exposure)?;
+    (out.png, out.exposure) = (args.output.clone(), exposure);
     out.emit("png", format!("{}", args.output.display()));
     out.emit("exposure", format!("{exposure:.4}"));
     if let Some(p) = &args.exr {
@@ -422,6 +474,12 @@ fn screen_space(
         let ref_path = args.output.with_file_name(format!("{stem}-raytraced.png"));
         write_png(&crate::ssdo::image(&r), &ref_path, exposure)?;
         out.emit("reference_raytraced_png", format!("{}", ref_path.display()));
+        out.comparisons.push(Comparison {
+            reference: "raytraced",
+            vertex_rel_l2: None,
+            pixel_rel_l2: e,
+            png: ref_path,
+        });
     }
     Ok(out)
 }

@@ -224,7 +224,7 @@ pub fn run(args: &ViewArgs) -> Result<()> {
     if args.env_rotation != 0.0 {
         session.set_env_rotation(args.env_rotation);
     }
-    session.set_mode(mode).map_err(anyhow::Error::msg)?;
+    session.set_mode(mode)?;
 
     if let Some(path) = &args.screenshot {
         let t = Instant::now();
