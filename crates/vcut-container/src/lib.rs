@@ -120,6 +120,7 @@ pub struct SectionEntry<K> {
 
 /// Why a container file could not be read or written. Every variant names the file.
 #[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
 pub enum FileError {
     /// An OS error.
     #[error("{}: {error}", path.display())]

@@ -129,6 +129,7 @@ impl ShapeCoding {
 
 /// Why a cut cannot be encoded.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[non_exhaustive]
 pub enum EncodeError {
     /// A value outside what the format stores.
     #[error("node {node} value {value} is outside [0, 1], which {format} stores")]
@@ -144,6 +145,7 @@ pub enum EncodeError {
 
 /// Why bytes do not decode to a cut.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[non_exhaustive]
 pub enum DecodeError {
     /// Fewer bytes than the header promises.
     #[error("truncated: {needed} bytes needed, {got} present")]

@@ -41,6 +41,7 @@ pub const MAX_ROOT_HEIGHT: u32 = 24;
 
 /// Why a cut is invalid.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[non_exhaustive]
 pub enum CutError {
     /// Root height beyond [`MAX_ROOT_HEIGHT`].
     #[error("root height {0} exceeds {MAX_ROOT_HEIGHT}")]

@@ -57,6 +57,7 @@ pub struct PrecomputeParams {
 
 /// A parameter could not be set.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[non_exhaustive]
 pub enum ParamError {
     /// No such parameter or preset.
     #[error("unknown {what} '{name}' (known: {known})")]

@@ -22,6 +22,7 @@ pub struct Record {
 
 /// Why a file's record (its `params` section) could not be read.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[non_exhaustive]
 pub enum RecordError {
     /// `scene` or `environment` is not a quoted string.
     #[error("{key} = {value}: not a string")]

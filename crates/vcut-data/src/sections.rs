@@ -23,6 +23,7 @@ use vcut_scene::{Material, Mesh, MeshError, Motion};
 
 /// Why a section's payload could not be read (the file's reader names the section).
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[non_exhaustive]
 pub enum PayloadError {
     /// The payload ends before what its layout says follows.
     #[error("truncated at byte {at} (needs {need} more)")]

@@ -34,6 +34,7 @@ use glam::{DVec3, Vec3};
 
 /// Why a tree cannot be built.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[non_exhaustive]
 pub enum TreeError {
     /// A built tree breaking one of its invariants ([`DirectionTree::validate`]).
     #[error("{0}")]

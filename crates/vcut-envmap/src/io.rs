@@ -26,6 +26,7 @@ pub struct LoadReport {
 
 /// Why an environment map could not be loaded.
 #[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
 pub enum EnvMapError {
     /// The file could not be read.
     #[error("{}: cannot read: {source}", path.display())]

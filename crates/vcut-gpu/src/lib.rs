@@ -35,6 +35,7 @@ use std::sync::{Arc, Mutex};
 
 /// Why a GPU operation failed.
 #[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
 pub enum GpuError {
     /// No wgpu adapter at all.
     #[error(

@@ -248,6 +248,7 @@ impl Plan {
 
 /// Why LVC checkpoints could not be taken back.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[non_exhaustive]
 pub enum LvcError {
     /// A checkpoint's bytes end early or run on.
     #[error("LVC checkpoint malformed at byte {at}")]

@@ -123,6 +123,7 @@ pub struct Texture {
 
 /// Why a texture cannot be made.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[non_exhaustive]
 pub enum TextureError {
     /// The texel count is not width × height, or a size is zero.
     #[error("texture of {width}×{height} needs {} texels, got {got}", width * height)]

@@ -15,6 +15,7 @@
 
 /// Why a byte stream does not decode.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, thiserror::Error)]
+#[non_exhaustive]
 pub enum RleError {
     /// The stream ended inside a control's bytes.
     #[error("run-length data truncated at byte {at}")]

@@ -32,6 +32,7 @@ pub struct LeafObject {
 
 /// Why a leaf scene cannot be made.
 #[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
 pub enum LeafSceneError {
     /// No triangles at all.
     #[error("the scene has no triangles")]

@@ -73,6 +73,7 @@ pub fn slab(sigma_a: f64, sigma_s: f64, h: f64) -> Slab {
 
 /// Why R and T cannot be fitted.
 #[derive(Debug, Clone, Copy, PartialEq, thiserror::Error)]
+#[non_exhaustive]
 pub enum FitError {
     /// R or T is negative or not finite, T is 0 (no thickness follows), or R + T > 1.
     #[error("reflectance {r} and transmittance {t} are not a slab's: need R ≥ 0, T > 0, R + T ≤ 1")]

@@ -70,6 +70,7 @@ impl Kind for LeafSection {
 
 /// Why leaf data could not be saved or loaded.
 #[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
 pub enum StoreError {
     /// Reading or writing the file.
     #[error(transparent)]

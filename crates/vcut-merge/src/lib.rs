@@ -102,6 +102,7 @@ impl MergedCut {
 
 /// Why cuts cannot be merged.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[non_exhaustive]
 pub enum MergeError {
     /// Cuts of different trees.
     #[error("cuts of root heights {0} and {1} cannot be merged")]

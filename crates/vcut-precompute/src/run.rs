@@ -62,6 +62,7 @@ impl Progress for NoProgress {}
 
 /// Why the precompute stopped.
 #[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
 pub enum PrecomputeError {
     /// Reading or writing the output failed.
     #[error(transparent)]

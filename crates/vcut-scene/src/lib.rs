@@ -108,6 +108,7 @@ pub struct Scene {
 
 /// Why a scene could not be loaded. Every variant names the file involved.
 #[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
 pub enum SceneError {
     /// A file could not be read.
     #[error("{}: cannot read: {source}", path.display())]

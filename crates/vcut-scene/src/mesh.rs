@@ -61,6 +61,7 @@ impl MeshReport {
 
 /// Why a mesh is refused.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[non_exhaustive]
 pub enum MeshError {
     /// Parts that break a mesh's invariants (normal count, no triangles, a non-finite
     /// position, a non-unit normal, an unused vertex, an index out of range, a zero-area

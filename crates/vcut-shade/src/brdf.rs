@@ -196,6 +196,7 @@ impl<'a> Lobe<'a> {
 
 /// Why a material edit ([`parse_spec`]) was refused.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[non_exhaustive]
 pub enum SpecError {
     /// MODEL is none of the known ones.
     #[error("unknown BRDF model '{0}' (lambert, blinn-phong, phong, ggx)")]

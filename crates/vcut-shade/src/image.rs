@@ -30,6 +30,7 @@ pub struct Image {
 
 /// Why an image could not be written.
 #[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
 pub enum ImageError {
     /// An OS or encoder error.
     #[error("{}: {reason}", path.display())]

@@ -47,6 +47,7 @@ pub const MAX_DIRECTIONS: usize = 1 << 22;
 
 /// Why a set could not be made or read.
 #[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
 pub enum SphereError {
     /// N outside 4..=2^22.
     #[error("{n} directions requested; need 4 ..= {MAX_DIRECTIONS}")]

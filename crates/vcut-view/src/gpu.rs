@@ -5,6 +5,7 @@ pub use vcut_gpu::{Gpu, GpuError};
 
 /// Why the viewer could not run.
 #[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
 pub enum ViewError {
     /// The GPU device: no adapter, a refused device, a missing capability, a failed operation
     /// or read-back.

@@ -110,6 +110,7 @@ struct Progressive {
 
 /// Why a session refused an edit.
 #[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
 pub enum SessionError {
     /// A display mode this build or data cannot show.
     #[error("{0} is not available")]

@@ -99,6 +99,7 @@ use vcut_scene::{Material, Mesh, Motion};
 
 /// Why a frame could not be set up.
 #[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
 pub enum FrameError {
     /// The precomputed data is unreadable.
     #[error(transparent)]
@@ -117,6 +118,7 @@ pub enum FrameError {
 
 /// Why a vertex's cuts could not be merged.
 #[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
 pub enum CutFailure {
     /// A stored cut (its SVC or a field sample's) does not decode.
     #[error(transparent)]
