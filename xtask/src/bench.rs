@@ -13,7 +13,6 @@
 
 use anyhow::{Context, Result, bail};
 use glam::Vec3;
-use rayon::prelude::*;
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -137,70 +136,6 @@ fn scene_preset(quick: bool, name: &str) -> &'static str {
         (true, "teapot") => "balanced",
         (true, _) => "fast",
     }
-}
-
-/// A row of the paper's Table 1 (Core2 Quad Q9650 + GTX 280).
-struct PaperRow {
-    scene: &'static str,
-    vertices: u32,
-    objects: u32,
-    baseline_mb: f64,
-    baseline_edit_s: f64,
-    baseline_move_s: f64,
-    mb: f64,
-    edit_s: f64,
-    move_s: f64,
-}
-
-const PAPER: [PaperRow; 2] = [
-    PaperRow {
-        scene: "teapot",
-        vertices: 11_565,
-        objects: 3,
-        baseline_mb: 266.0,
-        baseline_edit_s: 0.13,
-        baseline_move_s: 2.03,
-        mb: 97.0,
-        edit_s: 0.13,
-        move_s: 1.79,
-    },
-    PaperRow {
-        scene: "bunny",
-        vertices: 40_172,
-        objects: 2,
-        baseline_mb: 251.0,
-        baseline_edit_s: 0.50,
-        baseline_move_s: 3.41,
-        mb: 117.0,
-        edit_s: 0.50,
-        move_s: 3.36,
-    },
-];
-
-/// Read bandwidth in GB/s: the median of 5 parallel sums over 256 MB.
-fn memory_bandwidth() -> f64 {
-    let data: Vec<u64> = (0..32u64 << 20).collect();
-    let runs: Vec<f64> = (0..5)
-        .map(|_| {
-            let t = Instant::now();
-            let s: u64 = data.par_chunks(1 << 16).map(|c| c.iter().fold(0u64, |a, &x| a.wrapping_add(x))).sum();
-            std::hint::black_box(s);
-            (data.len() * 8) as f64 / t.elapsed().as_secs_f64() / 1e9
-        })
-        .collect();
-    median(runs)
-}
-
-fn cpu_name() -> String {
-    std::fs::read_to_string("/proc/cpuinfo")
-        .ok()
-        .and_then(|s| {
-            s.lines()
-                .find(|l| l.starts_with("model name"))
-                .and_then(|l| l.split(':').nth(1))
-                .map(|x| x.trim().to_string())
-        })
-        .unwrap_or_else(|| "unknown".into())
 }
 
 /// Rays/s of the precompute's ray stages and the raw figure over the same rays.
@@ -374,47 +309,6 @@ fn bench_scene(name: &str, preset: &str, data_dir: &Path, no_mc: bool, reuse: bo
     })
 }
 
-/// Table 1 as Markdown and CSV rows.
-fn table1(scenes: &BTreeMap<String, SceneFigures>) -> (String, String) {
-    let mut md = String::from(
-        "| scene | preset | vertices | objects | data MB (ours / index baseline) | edit ms (ours / index) | move ms (ours / index) | paper: data MB (paper / baseline) | paper: edit s (paper / baseline) | paper: move s (paper / baseline) |\n|---|---|---:|---:|---:|---:|---:|---:|---:|---:|\n",
-    );
-    let mut csv = String::from(
-        "scene,preset,vertices,objects,data_mb,data_mb_index,edit_ms,edit_ms_index,move_ms,move_ms_index,paper_vertices,paper_objects,paper_data_mb,paper_data_mb_baseline,paper_edit_s,paper_move_s,paper_move_s_baseline\n",
-    );
-    for (name, s) in scenes {
-        let p = PAPER.iter().find(|p| p.scene == name);
-        let (preset, vertices, objects) = (&s.preset, s.vertices, s.objects);
-        let [data, data_index, edit, edit_index, mv, mv_index] = [
-            s.precompute.data_bytes_height as f64 / 1e6,
-            s.precompute.data_bytes_index as f64 / 1e6,
-            s.edit_ms,
-            s.edit_ms_index,
-            s.move_ms,
-            s.move_ms_index,
-        ];
-        md.push_str(&format!(
-            "| {name} | {preset} | {vertices} | {objects} | {data:.1} / {data_index:.1} | {edit:.1} / {edit_index:.1} | {mv:.0} / {mv_index:.0} | {} | {} | {} |\n",
-            p.map(|p| format!("{} / {}", p.mb, p.baseline_mb)).unwrap_or_default(),
-            p.map(|p| format!("{} / {}", p.edit_s, p.baseline_edit_s)).unwrap_or_default(),
-            p.map(|p| format!("{} / {}", p.move_s, p.baseline_move_s)).unwrap_or_default(),
-        ));
-        let paper = p.map_or_else(
-            || ",,,,,,".into(),
-            |p| {
-                format!(
-                    "{},{},{},{},{},{},{}",
-                    p.vertices, p.objects, p.mb, p.baseline_mb, p.edit_s, p.move_s, p.baseline_move_s
-                )
-            },
-        );
-        csv.push_str(&format!(
-            "{name},{preset},{vertices},{objects},{data:.3},{data_index:.3},{edit:.3},{edit_index:.3},{mv:.3},{mv_index:.3},{paper}\n"
-        ));
-    }
-    (md, csv)
-}
-
 /// The two trade-off plots.
 fn plots(points: &[vcuts::report::Point], out: &Path) -> Result<()> {
     crate::tradeoff::plot(points, "data_bytes", "data size (MB)", &out.join("tradeoff_size.png"))?;
@@ -456,7 +350,7 @@ pub fn run(args: &BenchArgs) -> Result<()> {
     let started = Instant::now();
 
     println!("== machine");
-    let bandwidth = memory_bandwidth();
+    let bandwidth = vcuts::machine::memory_bandwidth();
     println!("memory_bandwidth_gb_s={bandwidth:.2}");
 
     println!("== directions (32,768) and the light tree");
@@ -502,7 +396,7 @@ pub fn run(args: &BenchArgs) -> Result<()> {
     let mut report = Report {
         quick: args.quick,
         machine: Machine {
-            cpu: cpu_name(),
+            cpu: vcuts::machine::cpu_name(),
             cores: rayon::current_num_threads(),
             memory_bandwidth_gb_s: bandwidth,
             raw_rays_per_s: raw,
@@ -545,7 +439,7 @@ pub fn run(args: &BenchArgs) -> Result<()> {
         report.leaves = Some(crate::bench_leaves::run(args.quick, &args.out.join("leaves"))?);
     }
     report.bench_s = started.elapsed().as_secs_f64();
-    let (md, csv) = table1(&report.scenes);
+    let (md, csv) = vcuts::table1::table1(&report.scenes);
     write_json(&args.out.join("report.json"), &report)?;
     write_atomic(&args.out.join("table1.md"), md.as_bytes())?;
     write_atomic(&args.out.join("table1.csv"), csv.as_bytes())?;
@@ -568,40 +462,6 @@ fn ssdo_section(args: &BenchArgs) -> Result<vcuts::report::SsdoSection> {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn table1_puts_the_papers_figures_beside_ours() {
-        let mut scenes = BTreeMap::new();
-        let precompute = PrecomputeFigures {
-            data_bytes_height: 56_000_000,
-            data_bytes_index: 560_000_000,
-            ..PrecomputeFigures::default()
-        };
-        scenes.insert(
-            "teapot".to_string(),
-            SceneFigures {
-                preset: "paper".into(),
-                vertices: 11564,
-                objects: 3,
-                edit_ms: 30.0,
-                edit_ms_index: 31.0,
-                move_ms: 400.0,
-                move_ms_index: 900.0,
-                precompute,
-                ..SceneFigures::default()
-            },
-        );
-        let (md, csv) = table1(&scenes);
-        let row = md.lines().nth(2).unwrap();
-        assert!(
-            row.contains("| teapot | paper | 11564 | 3 | 56.0 / 560.0 | 30.0 / 31.0 | 400 / 900 | 97 / 266 |"),
-            "{row}"
-        );
-        assert!(row.contains("1.79 / 2.03"), "{row}");
-        let fields: Vec<&str> = csv.lines().nth(1).unwrap().split(',').collect();
-        assert_eq!(fields.len(), csv.lines().next().unwrap().split(',').count());
-        assert_eq!(fields[0], "teapot");
-    }
 
     #[test]
     fn medians_are_the_middle_value() {

@@ -124,10 +124,9 @@ pub fn run(
     Ok(section)
 }
 
-/// The WGSL passes (`vcut_view::ssdo`) timed per mode at `size`: a whole frame (G-buffer,
-/// shadow map, sampling, bounce, blur, composite) submitted and waited for, median of `runs`
-/// after one warm-up. Keys `ms_ssao`, `ms_ssdo`, `ms_ssdo_peeled`, `cost_ratio_vs_ssao`,
-/// `gpu_adapter`.
+/// The WGSL passes (`vcut_ssdo::gpu`) timed per mode at `size` by
+/// `vcut_ssdo::gpu_timing::time_frames`: a whole frame (G-buffer, shadow map, sampling, bounce,
+/// blur, composite), and each pass alone.
 fn gpu_times(
     objects: &[Object],
     light: &Lighting,
@@ -137,52 +136,28 @@ fn gpu_times(
 ) -> anyhow::Result<SsdoGpu> {
     let gpu = vcut_view::Gpu::headless()?;
     let passes = vcut_view::ssdo::GpuSsdo::new(&gpu)?;
-    let mut per_mode = BTreeMap::new();
-    // The three modes' frames timed in turn within each run, so a change of load on this shared
-    // machine hits all of them alike; medians over the runs.
     let mut frames = Vec::new();
     for mode in ScreenMode::ALL {
         let mut p = params(objects);
         p.peel = mode == ScreenMode::SsdoPeeled;
         let method = if mode == ScreenMode::Ssao { Method::Ssao } else { Method::Ssdo };
-        let f = passes.frame(&gpu, objects, light, camera, &p, method, size)?;
-        f.run(&gpu)?;
-        frames.push((mode.name(), f, Vec::new()));
+        frames.push((mode.name(), passes.frame(&gpu, objects, light, camera, &p, method, size)?));
     }
-    for _ in 0..runs.max(1) {
-        for (_, f, times) in &mut frames {
-            let t = Instant::now();
-            f.run(&gpu)?;
-            times.push(t.elapsed().as_secs_f64() * 1e3);
-        }
+    let named: Vec<_> = frames.iter().map(|(name, f)| (*name, f)).collect();
+    let mut t = vcut_ssdo::gpu_timing::time_frames(&gpu, &named, runs)?;
+    for (mode, timing) in &t {
+        println!("  {mode} passes (ms): {}", serde_json::to_string(&timing.passes_ms)?);
     }
-    // Where the time goes: every pass submitted and waited for alone, medians over the runs.
-    for (mode, f, _) in &frames {
-        let mut per_pass: Vec<(&str, Vec<f64>)> = Vec::new();
-        for _ in 0..runs.max(1) {
-            for (k, (label, t)) in f.run_passes(&gpu)?.into_iter().enumerate() {
-                if per_pass.len() <= k {
-                    per_pass.push((label, Vec::new()));
-                }
-                per_pass[k].1.push(t);
-            }
-        }
-        let passes: BTreeMap<String, f64> =
-            per_pass.into_iter().map(|(label, times)| (label.to_string(), median(times))).collect();
-        println!("  {mode} passes (ms): {}", serde_json::to_string(&passes)?);
-        per_mode.insert(*mode, passes);
-    }
-    let ms: std::collections::BTreeMap<&str, f64> =
-        frames.into_iter().map(|(mode, _, times)| (mode, median(times))).collect();
-    let mut pass = |mode| per_mode.remove(mode).unwrap_or_default();
+    let mut take = |mode: &str| t.remove(mode).unwrap_or_default();
+    let (ssao, ssdo, peeled) = (take("ssao"), take("ssdo"), take("ssdo-peeled"));
     Ok(SsdoGpu {
         gpu_adapter: gpu.describe(),
-        passes_ms_ssao: pass("ssao"),
-        passes_ms_ssdo: pass("ssdo"),
-        passes_ms_ssdo_peeled: pass("ssdo-peeled"),
-        ms_ssao: ms["ssao"],
-        ms_ssdo: ms["ssdo"],
-        ms_ssdo_peeled: ms["ssdo-peeled"],
-        cost_ratio_vs_ssao: ms["ssdo"] / ms["ssao"],
+        cost_ratio_vs_ssao: ssdo.frame_ms / ssao.frame_ms,
+        ms_ssao: ssao.frame_ms,
+        ms_ssdo: ssdo.frame_ms,
+        ms_ssdo_peeled: peeled.frame_ms,
+        passes_ms_ssao: ssao.passes_ms,
+        passes_ms_ssdo: ssdo.passes_ms,
+        passes_ms_ssdo_peeled: peeled.passes_ms,
     })
 }

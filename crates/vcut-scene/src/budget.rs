@@ -52,6 +52,13 @@ pub fn peak_memory() -> Option<u64> {
     status_kib("VmHWM:")
 }
 
+/// Starts a new peak: [`peak_memory`] drops to the resident memory now (Linux: `5` written to
+/// `/proc/self/clear_refs`). False where the system does not allow it; a caller then says its
+/// peak covers the process's whole life.
+pub fn reset_peak_memory() -> bool {
+    std::fs::write("/proc/self/clear_refs", "5").is_ok()
+}
+
 fn status_kib(key: &str) -> Option<u64> {
     let text = std::fs::read_to_string("/proc/self/status").ok()?;
     let kib: u64 = text.lines().find(|l| l.starts_with(key))?.split_whitespace().nth(1)?.parse().ok()?;
@@ -83,6 +90,25 @@ pub fn human(bytes: u64) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn peak_covers_an_allocation_and_resets() {
+        let Some(before) = peak_memory() else {
+            eprintln!("skipped: this system reports no VmHWM");
+            return;
+        };
+        let big = vec![1u8; 64 << 20];
+        std::hint::black_box(&big);
+        let peak = peak_memory().unwrap();
+        assert!(peak >= before && peak >= 64 << 20, "peak {peak} after a 64 MB allocation");
+        drop(big);
+        if reset_peak_memory() {
+            let after = peak_memory().unwrap();
+            assert!(after < peak, "reset peak {after} not below {peak}");
+        } else {
+            eprintln!("skipped: /proc/self/clear_refs is not writable here");
+        }
+    }
 
     #[test]
     fn estimates_saturate_and_read_well() {

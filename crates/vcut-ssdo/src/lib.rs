@@ -24,6 +24,8 @@
 pub mod gbuffer;
 #[cfg(feature = "gpu")]
 pub mod gpu;
+#[cfg(feature = "gpu")]
+pub mod gpu_timing;
 pub mod light;
 pub mod reference;
 pub mod samples;

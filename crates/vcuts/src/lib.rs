@@ -11,12 +11,14 @@
 pub mod directions;
 pub mod inspect;
 pub mod leaves;
+pub mod machine;
 pub mod precompute;
 pub mod progress;
 pub mod render;
 pub mod report;
 pub mod resources;
 pub mod ssdo;
+pub mod table1;
 #[cfg(feature = "viewer")]
 pub mod view;
 
