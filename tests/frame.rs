@@ -192,6 +192,61 @@ fn moves_re_merge_only_what_changed_and_edits_never_merge() {
     assert!(frame.shade(EYE) == shaded);
 }
 
+/// Four balls (r = 0.5, so a field reaches 5 units) 4 units apart in a row over a ground,
+/// placed as instances of one entry.
+const BALLS_IN_A_ROW: &str = r#"
+[[object]]
+name = "ground"
+source = "builtin:plane"
+size = 18.0
+resolution = 18
+translation = [6.0, 0.0, 0.0]
+
+[[object]]
+name = "ball"
+source = "builtin:sphere"
+size = 0.5
+resolution = 6
+translation = [0.0, 0.6, 0.0]
+moves = true
+instances = [[0.0, 0.0, 0.0], [4.0, 0.0, 0.0], [8.0, 0.0, 0.0], [12.0, 0.0, 0.0]]
+"#;
+
+#[test]
+fn a_move_looks_up_and_merges_only_what_it_changes() {
+    let dir = scratch("row");
+    let mut d = data(BALLS_IN_A_ROW, &[], &dir.join("r.vcuts"));
+    let mut frame = Frame::new(&mut d, &EnvMap::constant([1.0; 3])).unwrap();
+    frame.set_deferred_merges(false).unwrap();
+    let ball = |k: usize| frame.object_index(&format!("ball/{k}")).unwrap();
+    let (b0, b1, b2, b3) = (ball(0), ball(1), ball(2), ball(3));
+    let ground = frame.object_index("ground").unwrap();
+    let counts: Vec<usize> = (0..frame.object_count()).map(|o| frame.object(o).mesh.vertex_count()).collect();
+    let count = |o: usize| counts[o];
+    let far: Vec<_> = [b2, b3].iter().flat_map(|&o| (0..count(o)).map(move |v| (o, v))).collect();
+    let before: Vec<_> = far.iter().map(|&(o, v)| frame.merged(o, v).clone()).collect();
+    for step in 1..=3 {
+        let merged = frame.translate(b0, Vec3::new(0.1 * step as f32, 0.0, 0.05)).unwrap();
+        // Ball 0's own vertices, ball 1's (4 units away) and the ground's near them; never the
+        // balls beyond its reach.
+        assert!(merged >= count(b0) && merged <= count(b0) + count(b1) + count(ground), "{merged}");
+        assert!(far.iter().zip(&before).all(|(&(o, v), cut)| frame.merged(o, v) == cut));
+        // Looking every input up again finds nothing more to merge.
+        assert_eq!(frame.set_inside_samples(InsideSamples::default()).unwrap(), 0, "step {step}");
+    }
+    // Deferred: the moves leave the back-facing vertices waiting; once merged, every input is
+    // current again.
+    frame.set_deferred_merges(true).unwrap();
+    frame.set_eye(Vec3::new(0.0, 3.0, 9.0)).unwrap();
+    for step in 1..=3 {
+        frame.translate(b3, Vec3::new(-0.2 * step as f32, 0.0, 0.0)).unwrap();
+        frame.translate(b0, Vec3::new(0.0, 0.0, 0.1 * step as f32)).unwrap();
+    }
+    assert!(frame.pending_merges() > 0);
+    frame.merge_pending().unwrap();
+    assert_eq!(frame.set_inside_samples(InsideSamples::default()).unwrap(), 0);
+}
+
 #[test]
 fn back_facing_merges_and_lists_wait_for_a_camera_that_sees_them() {
     let dir = scratch("lazy");

@@ -228,6 +228,11 @@ impl CutArray {
         self.count
     }
 
+    /// Bytes held in memory (the payload and every cut's span).
+    pub fn bytes(&self) -> usize {
+        self.payload.capacity() + self.spans.capacity() * size_of::<(u32, u32)>()
+    }
+
     /// Whether there are no cuts.
     pub fn is_empty(&self) -> bool {
         self.count == 0

@@ -262,6 +262,23 @@ impl ObjectDesc {
         if let Some(m) = &self.material {
             m.validate().map_err(|e| t.bad("material", m.model, e.to_string()))?;
         }
+        if self.instances.len() > crate::desc::MAX_INSTANCES {
+            return Err(t.bad(
+                "instances",
+                self.instances.len(),
+                format!("places more than {} copies", crate::desc::MAX_INSTANCES),
+            ));
+        }
+        for (k, offset) in self.instances.iter().enumerate() {
+            t.finite3(&format!("instances[{k}]"), *offset)?;
+        }
+        if let (Some(b), n) = (builtin, self.instances.len())
+            && n > 1
+        {
+            let (vertices, triangles) = b.counts(self.resolution.unwrap_or(b.default_resolution()));
+            let copies = budget::mesh_bytes(vertices, triangles).saturating_mul(n as u64 - 1);
+            t.spend("instances", n, "the copies", copies, spent, budget)?;
+        }
         Ok(())
     }
 }

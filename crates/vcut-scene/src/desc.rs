@@ -150,7 +150,15 @@ pub struct ObjectDesc {
     pub split: Option<Split>,
     /// Weld vertices closer than this distance.
     pub weld: Option<f32>,
+    /// Places of further copies: the entry becomes one object per offset (added to the
+    /// translation, after rotation and scale), named `NAME/0`, `NAME/1`, ... (empty: one
+    /// object, no suffix). At most [`MAX_INSTANCES`].
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub instances: Vec<[f32; 3]>,
 }
+
+/// Most copies one `[[object]]` entry may place (`instances`).
+pub const MAX_INSTANCES: usize = 4096;
 
 impl Default for ObjectDesc {
     fn default() -> Self {
@@ -167,6 +175,7 @@ impl Default for ObjectDesc {
             material: None,
             split: None,
             weld: None,
+            instances: Vec::new(),
         }
     }
 }
@@ -363,22 +372,31 @@ impl ObjectDesc {
         }
         let single = parts.len() == 1;
         let own = self.name.clone();
-        Ok(parts
-            .into_iter()
-            .map(|(child, mut mesh, mat)| {
-                mesh.transform(xf);
-                let name = match (&own, single) {
-                    (Some(n), true) => n.clone(),
-                    (Some(n), false) => format!("{n}/{child}"),
-                    (None, _) => child,
-                };
-                SceneObject {
-                    name,
-                    mesh,
-                    material: self.material.or(mat).unwrap_or_default(),
-                    motion: if self.moves { Motion::Movable } else { Motion::Static },
-                }
-            })
-            .collect())
+        let objects = parts.into_iter().map(|(child, mut mesh, mat)| {
+            mesh.transform(xf);
+            let name = match (&own, single) {
+                (Some(n), true) => n.clone(),
+                (Some(n), false) => format!("{n}/{child}"),
+                (None, _) => child,
+            };
+            SceneObject {
+                name,
+                mesh,
+                material: self.material.or(mat).unwrap_or_default(),
+                motion: if self.moves { Motion::Movable } else { Motion::Static },
+            }
+        });
+        if self.instances.is_empty() {
+            return Ok(objects.collect());
+        }
+        let mut out = Vec::with_capacity(self.instances.len());
+        for o in objects {
+            for (k, offset) in self.instances.iter().enumerate() {
+                let mut mesh = o.mesh.clone();
+                mesh.transform(Mat4::from_translation(Vec3::from(*offset)));
+                out.push(SceneObject { name: format!("{}/{k}", o.name), mesh, material: o.material, motion: o.motion });
+            }
+        }
+        Ok(out)
     }
 }

@@ -209,7 +209,7 @@ impl Scene {
         if let Some(name) = spec.strip_prefix("builtin:") {
             let desc = scenes::builtin(name).ok_or_else(|| SceneError::UnknownBuiltin {
                 name: spec.into(),
-                known: "builtin:teapot, builtin:bunny, builtin:spheres",
+                known: "builtin:teapot, builtin:bunny, builtin:spheres, builtin:showroom[:N] (N objects, 1 to 1024)",
             })?;
             return desc.instantiate(Path::new("."), Path::new(spec));
         }
@@ -295,6 +295,61 @@ mod tests {
         assert!(msg.contains("broken.toml") && msg.contains("line 2"), "{msg}");
         let e = SceneDesc::parse("[[object]]\nsorce = \"x\"\n", Path::new("typo.toml")).unwrap_err();
         assert!(e.to_string().contains("sorce"), "{e}");
+    }
+
+    #[test]
+    fn showroom_places_movable_objects_apart_over_a_ground() {
+        for count in [1, 5, 16] {
+            let s = Scene::open(&format!("builtin:showroom:{count}")).unwrap();
+            assert_eq!(s.objects.len(), count + 1);
+            let movers: Vec<_> = s.objects.iter().filter(|o| o.motion == Motion::Movable).collect();
+            assert_eq!(movers.len(), count);
+            let ground = s.object("ground").unwrap().mesh.bounds();
+            for (i, a) in movers.iter().enumerate() {
+                let b = a.mesh.bounds();
+                assert!(b.min.y >= -1e-4 && b.max.y < 2.0, "{} stands on the ground: {b:?}", a.name);
+                assert!(b.min.x > ground.min.x && b.max.z < ground.max.z, "{} over the ground", a.name);
+                for c in &movers[..i] {
+                    let d = c.mesh.bounds();
+                    let apart = b.min.x > d.max.x || d.min.x > b.max.x || b.min.z > d.max.z || d.min.z > b.max.z;
+                    assert!(apart, "{} and {} overlap", a.name, c.name);
+                }
+            }
+        }
+        let kinds: std::collections::HashSet<_> = Scene::open("builtin:showroom")
+            .unwrap()
+            .objects
+            .iter()
+            .map(|o| o.name.split('-').next().unwrap().to_string())
+            .collect();
+        assert_eq!(kinds.len(), 5, "{kinds:?}");
+        for bad in ["builtin:showroom:0", "builtin:showroom:1025", "builtin:showroom:x", "builtin:showroomy"] {
+            let e = Scene::open(bad).unwrap_err();
+            assert!(e.to_string().contains("showroom[:N]"), "{bad}: {e}");
+        }
+    }
+
+    #[test]
+    fn instances_place_named_copies() {
+        let text = "[[object]]\nname = \"ball\"\nsource = \"builtin:sphere\"\nresolution = 4\nmoves = true\ntranslation = [0.0, 1.0, 0.0]\ninstances = [[0.0, 0.0, 0.0], [3.0, 0.0, 0.0], [0.0, 0.0, -3.0]]\n";
+        let desc = SceneDesc::parse(text, Path::new("many.toml")).unwrap();
+        let s = desc.instantiate(Path::new("."), Path::new("many.toml")).unwrap();
+        let names: Vec<_> = s.objects.iter().map(|o| o.name.as_str()).collect();
+        assert_eq!(names, ["ball/0", "ball/1", "ball/2"]);
+        let centre = |i: usize| {
+            let b = s.objects[i].mesh.bounds();
+            0.5 * (b.min + b.max)
+        };
+        assert!((centre(1) - centre(0) - Vec3::new(3.0, 0.0, 0.0)).length() < 1e-5);
+        assert!((centre(2) - Vec3::new(0.0, 1.0, -3.0)).length() < 1e-5);
+        assert!(s.objects.iter().all(|o| o.motion == Motion::Movable));
+        let back = SceneDesc::parse(&desc.to_toml(), Path::new("x.toml")).unwrap();
+        assert_eq!(back, desc);
+        let bad = text.replace("[3.0, 0.0, 0.0]", "[3.0, nan, 0.0]");
+        let e =
+            SceneDesc::parse(&bad, Path::new("many.toml")).unwrap().instantiate(Path::new("."), Path::new("many.toml"));
+        let msg = e.unwrap_err().to_string();
+        assert!(msg.contains("instances[1]") && msg.contains("many.toml"), "{msg}");
     }
 
     #[test]

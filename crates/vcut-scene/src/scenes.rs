@@ -6,15 +6,34 @@
 //!   plane (4,225 vertices) — 2 objects, 39,059 vertices: the OBJ's 1,113 vertices that no face
 //!   uses are dropped, which the paper's count (40,172 = 35,947 + 4,225) still included.
 //! - `spheres`: two spheres over a plane — small, for tests.
+//! - `showroom` (or `showroom:N`, N objects, default [`SHOWROOM_DEFAULT`], at most
+//!   [`SHOWROOM_MAX`]): teapots, spheres, tori and boxes of mixed sizes, 3 units apart on a
+//!   square grid over a ground plane, every one movable — the many-object scene of the scaling
+//!   bench (about 530 vertices an object: N = 64 is 36,641 vertices with the ground).
 
 use crate::desc::{CameraDesc, EnvironmentDesc, ObjectDesc, SceneDesc};
 use crate::material::Material;
 
-/// Names accepted by [`builtin`].
-pub const BUILTIN_SCENES: [&str; 3] = ["teapot", "bunny", "spheres"];
+/// Names accepted by [`builtin`] (`showroom` also as `showroom:N`).
+pub const BUILTIN_SCENES: [&str; 4] = ["teapot", "bunny", "spheres", "showroom"];
+
+/// Objects of `builtin:showroom` without a count.
+pub const SHOWROOM_DEFAULT: usize = 16;
+/// Most objects of `builtin:showroom:N`.
+pub const SHOWROOM_MAX: usize = 1024;
+/// Distance between neighbouring objects of the showroom.
+pub const SHOWROOM_SPACING: f32 = 3.0;
 
 /// The description of built-in scene `name`, if there is one.
 pub fn builtin(name: &str) -> Option<SceneDesc> {
+    if let Some(count) = name.strip_prefix("showroom") {
+        let count = match count.strip_prefix(':') {
+            None if count.is_empty() => SHOWROOM_DEFAULT,
+            Some(n) => n.parse().ok().filter(|n| (1..=SHOWROOM_MAX).contains(n))?,
+            None => return None,
+        };
+        return Some(showroom(count));
+    }
     let ground = |size: f32, res: u32| ObjectDesc {
         name: Some("ground".into()),
         source: "builtin:plane".into(),
@@ -99,6 +118,83 @@ pub fn builtin(name: &str) -> Option<SceneDesc> {
             precompute: None,
         }),
         _ => None,
+    }
+}
+
+/// `builtin:showroom:COUNT`: `count` movable objects (teapots, spheres, tori and boxes in
+/// turn, their sizes cycling through five factors so shapes and sizes mix) on a square grid
+/// [`SHOWROOM_SPACING`] apart, over a ground plane 2 units wider than the grid on every side.
+pub fn showroom(count: usize) -> SceneDesc {
+    let cols = (count as f64).sqrt().ceil().max(1.0) as usize;
+    let rows = count.div_ceil(cols);
+    let at = |i: usize, n: usize| (i as f32 - (n as f32 - 1.0) / 2.0) * SHOWROOM_SPACING;
+    let mut objects: Vec<ObjectDesc> = (0..count)
+        .map(|i| {
+            let (x, z) = (at(i % cols, cols), at(i / cols, rows));
+            let f = [1.0, 0.8, 1.2, 0.9, 1.1][i % 5];
+            let shade = [0.35 + 0.1 * (i % 4) as f32, 0.5 - 0.05 * (i % 3) as f32, 0.3 + 0.08 * (i % 5) as f32];
+            let o = ObjectDesc { moves: true, ..ObjectDesc::default() };
+            match i % 4 {
+                0 => ObjectDesc {
+                    name: Some(format!("teapot-{i}")),
+                    source: "builtin:teapot".into(),
+                    resolution: Some(5),
+                    stand_height: Some(0.9 * f),
+                    translation: [x, 0.0, z],
+                    rotation_deg: [0.0, 40.0 * i as f32, 0.0],
+                    material: Some(Material::blinn_phong(shade, [0.3; 3], 20.0)),
+                    ..o
+                },
+                1 => ObjectDesc {
+                    name: Some(format!("sphere-{i}")),
+                    source: "builtin:sphere".into(),
+                    size: Some(0.6 * f),
+                    resolution: Some(16),
+                    translation: [x, 0.6 * f, z],
+                    material: Some(Material::blinn_phong(shade, [0.4; 3], 40.0)),
+                    ..o
+                },
+                2 => ObjectDesc {
+                    name: Some(format!("torus-{i}")),
+                    source: "builtin:torus".into(),
+                    size: Some(0.6 * f),
+                    resolution: Some(12),
+                    translation: [x, 0.18 * f, z],
+                    material: Some(Material::lambert(shade)),
+                    ..o
+                },
+                _ => ObjectDesc {
+                    name: Some(format!("box-{i}")),
+                    source: "builtin:box".into(),
+                    size: Some(0.9 * f),
+                    resolution: Some(7),
+                    translation: [x, 0.45 * f, z],
+                    rotation_deg: [0.0, 25.0 * i as f32, 0.0],
+                    material: Some(Material::blinn_phong(shade, [0.2; 3], 10.0)),
+                    ..o
+                },
+            }
+        })
+        .collect();
+    let side = cols.max(rows) as f32 * SHOWROOM_SPACING + 4.0;
+    objects.push(ObjectDesc {
+        name: Some("ground".into()),
+        source: "builtin:plane".into(),
+        size: Some(side),
+        resolution: Some(((side * 2.5).round() as u32).max(16)),
+        material: Some(Material::lambert([0.5, 0.5, 0.5])),
+        ..ObjectDesc::default()
+    });
+    let reach = 0.5 * side;
+    SceneDesc {
+        environment: EnvironmentDesc { sun_elevation_deg: 40.0, sun_azimuth_deg: 30.0, ..EnvironmentDesc::default() },
+        objects,
+        cameras: vec![CameraDesc {
+            position: [0.0, 0.9 * reach + 2.0, 1.6 * reach + 2.0],
+            target: [0.0, 0.4, 0.0],
+            ..CameraDesc::default()
+        }],
+        precompute: None,
     }
 }
 

@@ -367,6 +367,7 @@ pub fn run(args: &RenderArgs) -> Result<RenderOutcome> {
     let shade_ms = t.elapsed().as_secs_f64() * 1e3;
     out.shade_ms = Some(shade_ms);
     out.emit("shade_ms", format!("{shade_ms:.2}"));
+    emit_memory(&frame, &mut out);
     let t = Instant::now();
     let image = rasterize(&frame, &radiance, &camera, args.width, args.height, Some(&env));
     let raster_ms = t.elapsed().as_secs_f64() * 1e3;
@@ -482,4 +483,27 @@ fn screen_space(
         });
     }
     Ok(out)
+}
+
+/// The frame's memory by part (`frame_memory_*_mb`), per vertex, and the process's peak.
+fn emit_memory(frame: &Frame, out: &mut RenderOutcome) {
+    let m = frame.memory();
+    let vertices: usize = (0..frame.object_count()).map(|o| frame.object(o).mesh.vertex_count()).sum();
+    let mb = |b: usize| format!("{:.1}", b as f64 / 1e6);
+    out.emit("frame_memory_mb", mb(m.total()));
+    out.emit("frame_bytes_per_vertex", format!("{}", m.total() / vertices.max(1)));
+    for (part, bytes) in [
+        ("stored", m.stored),
+        ("meshes", m.meshes),
+        ("merged", m.merged),
+        ("lists", m.lists),
+        ("svc_cache", m.svc_cache),
+        ("keys", m.keys),
+        ("field_cache", m.field_cache),
+    ] {
+        out.emit(format!("frame_memory_{part}_mb"), mb(bytes));
+    }
+    if let Some(peak) = vcut_scene::budget::peak_memory() {
+        out.emit("peak_rss_mb", mb(peak as usize));
+    }
 }

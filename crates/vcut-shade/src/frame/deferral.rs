@@ -3,6 +3,7 @@
 //! keeps the waiting vertices facing it, [`Frame::shade`] merges those it needs on the spot
 //! without keeping them, [`Frame::merge_pending`] merges all.
 
+use super::keys::Changed;
 use super::{Frame, FrameError};
 use glam::Vec3;
 use rayon::prelude::*;
@@ -18,7 +19,7 @@ impl Frame {
     /// how many.
     pub fn set_deferred_merges(&mut self, defer: bool) -> Result<usize, FrameError> {
         self.defer = defer;
-        if defer || self.pending_merges() == 0 { Ok(0) } else { self.rekey(false) }
+        if defer || self.pending_merges() == 0 { Ok(0) } else { self.rekey(Changed::Nothing, false) }
     }
 
     /// Whether moves leave the vertices facing away for later ([`Frame::set_deferred_merges`]).
@@ -38,7 +39,7 @@ impl Frame {
             return Ok(0);
         }
         let defer = std::mem::replace(&mut self.defer, false);
-        let merged = self.rekey(false);
+        let merged = self.rekey(Changed::Nothing, false);
         self.defer = defer;
         merged
     }
@@ -51,7 +52,7 @@ impl Frame {
     pub fn set_eye(&mut self, eye: Vec3) -> Result<usize, FrameError> {
         self.eye = Some(eye);
         let waiting = self.objects.iter().any(|s| s.pending.iter().enumerate().any(|(v, &p)| p && s.faces(v, eye)));
-        let merged = if waiting { self.rekey(false)? } else { 0 };
+        let merged = if waiting { self.rekey(Changed::Nothing, false)? } else { 0 };
         let nodes = &self.nodes;
         for s in &mut self.objects {
             let mut lists = std::mem::take(&mut s.lists);

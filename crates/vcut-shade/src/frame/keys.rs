@@ -64,20 +64,71 @@ impl Frame {
             .collect()
     }
 
-    /// The field inputs of vertex `v` of object `o` at the current translations.
+    /// The field inputs of vertex `v` of object `o` at the current translations, in object
+    /// order.
     pub(super) fn keys(&self, o: usize, v: usize) -> Vec<FieldKey> {
-        let me = &self.objects[o];
-        let p = me.mesh.positions()[v] + me.translation;
-        let mut keys = Vec::new();
-        for (j, other) in self.objects.iter().enumerate() {
-            let Some(layout) = other.layout else { continue };
-            if j == o || (me.motion == Motion::Static && other.motion == Motion::Static) {
-                continue;
-            }
-            let Some(mut samples) = layout.lookup(p - other.translation) else { continue };
-            let kept = self.inside.apply(&mut samples, |x| other.field[x.sphere as usize].inside(x.point as usize));
-            keys.push(FieldKey { object: j as u32, samples: (kept > 0).then_some(samples) });
+        (0..self.objects.len()).filter_map(|j| self.key_of(o, v, j)).collect()
+    }
+
+    /// Object `j`'s field input to vertex `v` of object `o` at the current translations
+    /// (`None`: j has no field, casts no shadow there, or its shadow is baked into the SVC).
+    pub(super) fn key_of(&self, o: usize, v: usize, j: usize) -> Option<FieldKey> {
+        let (me, other) = (&self.objects[o], &self.objects[j]);
+        let layout = other.layout?;
+        if j == o || (me.motion == Motion::Static && other.motion == Motion::Static) {
+            return None;
         }
-        keys
+        let p = me.mesh.positions()[v] + me.translation;
+        let mut samples = layout.lookup(p - other.translation)?;
+        let kept = self.inside.apply(&mut samples, |x| other.field[x.sphere as usize].inside(x.point as usize));
+        Some(FieldKey { object: j as u32, samples: (kept > 0).then_some(samples) })
+    }
+
+    /// Vertex `v` of object `o`'s field inputs if they differ from those it keeps (`None`: the
+    /// same). A vertex whose kept inputs are current (not waiting, not failed) looks up only
+    /// what `changed` says may differ: after a move of another object, that object's input (one
+    /// lookup instead of one per object); nothing when nothing moved.
+    pub(super) fn changed_keys(&self, o: usize, v: usize, changed: Changed) -> Option<Vec<FieldKey>> {
+        let kept = &self.objects[o].keys[v];
+        let current = !self.objects[o].pending[v] && kept.iter().all(|k| k.object != FAILED);
+        let j = match changed {
+            Changed::Nothing if current => return None,
+            Changed::Object(j) if j != o && current => j,
+            _ => {
+                let keys = self.keys(o, v);
+                return (keys != *kept).then_some(keys);
+            }
+        };
+        let entry = self.key_of(o, v, j);
+        let at = kept.iter().position(|k| k.object == j as u32);
+        let mut keys = match (at, entry) {
+            (None, None) => return None,
+            (Some(i), Some(e)) if kept[i] == e => return None,
+            _ => kept.clone(),
+        };
+        match (at, entry) {
+            (Some(i), Some(e)) => keys[i] = e,
+            (Some(i), None) => {
+                keys.remove(i);
+            }
+            (None, Some(e)) => keys.insert(keys.partition_point(|k| k.object < j as u32), e),
+            (None, None) => {}
+        }
+        Some(keys)
     }
 }
+
+/// What changed since the kept field inputs were looked up.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(super) enum Changed {
+    /// Anything (how lookups treat inside samples): every input is looked up again.
+    All,
+    /// Object `j` moved.
+    Object(usize),
+    /// Nothing: only the waiting vertices' inputs are looked up (to merge them).
+    Nothing,
+}
+
+/// The object of the key a vertex gets when its merge failed: no lookup gives it, so any later
+/// move merges the vertex again.
+pub(super) const FAILED: u32 = u32::MAX;

@@ -4,7 +4,7 @@
 //! move's batch and a merge on the spot, whichever [`super::MergeAlgorithm`] prepared its
 //! inputs (the seam is `vcut_merge::prepared`).
 
-use super::keys::{CellKey, FieldKey, take_held};
+use super::keys::{CellKey, Changed, FAILED, FieldKey, take_held};
 use super::lists::ShadeList;
 use super::object::placed;
 use super::{CutFailure, Frame, FrameError, MoveTiming};
@@ -39,14 +39,14 @@ impl Frame {
     /// many vertices were merged.
     pub fn translate(&mut self, o: usize, translation: Vec3) -> Result<usize, FrameError> {
         self.objects[o].translation = translation;
-        self.rekey(true)
+        self.rekey(Changed::Object(o), true)
     }
 
     /// How field lookups treat samples inside the object (default [`InsideSamples::Occluded`]);
     /// re-merges the vertices whose field inputs change. Returns how many.
     pub fn set_inside_samples(&mut self, inside: InsideSamples) -> Result<usize, FrameError> {
         self.inside = inside;
-        self.rekey(true)
+        self.rekey(Changed::All, true)
     }
 
     /// Decodes the field cuts of `wanted` (sorted samples), taking those `old` holds (sorted
@@ -215,54 +215,56 @@ impl Frame {
         Ok(())
     }
 
-    /// Looks up every vertex's field inputs again and re-merges those that changed (with
-    /// deferred merges, those facing the eye; the others wait). `record`: keep the timing as
-    /// the last move's.
-    pub(super) fn rekey(&mut self, record: bool) -> Result<usize, FrameError> {
+    /// Looks up the vertices' field inputs again and re-merges those that changed (with
+    /// deferred merges, those facing the eye; the others wait). `changed`: what may differ
+    /// ([`Frame::changed_keys`] looks up only that). `record`: keep the timing as the last
+    /// move's.
+    pub(super) fn rekey(&mut self, changed: Changed, record: bool) -> Result<usize, FrameError> {
         let mut total = 0;
         let mut timing = MoveTiming::default();
         let eye = self.eye().filter(|_| self.defer);
         for k in 0..self.objects.len() {
             let n = self.objects[k].mesh.vertex_count();
             let start = Instant::now();
-            let mut new_keys: Vec<Vec<FieldKey>> = (0..n).into_par_iter().map(|v| self.keys(k, v)).collect();
+            let fresh: Vec<Option<Vec<FieldKey>>> =
+                (0..n).into_par_iter().map(|v| self.changed_keys(k, v, changed)).collect();
             let state = &self.objects[k];
-            let differs: Vec<bool> = (0..n).map(|v| new_keys[v] != state.keys[v]).collect();
-            let changed: Vec<bool> = (0..n).map(|v| differs[v] && eye.is_none_or(|e| state.faces(v, e))).collect();
+            let merge: Vec<bool> =
+                (0..n).map(|v| fresh[v].is_some() && eye.is_none_or(|e| state.faces(v, e))).collect();
             timing.keys_s += start.elapsed().as_secs_f64();
-            let mut merged = std::mem::take(&mut self.objects[k].merged);
-            let mut lists = std::mem::take(&mut self.objects[k].lists);
-            let mut cache = std::mem::take(&mut self.objects[k].decoded);
-            let result = self.merge_all(k, &new_keys, &changed, &mut merged, &mut lists, &mut cache, &mut timing);
+            // A waiting vertex keeps the keys of its merged cut (the next move compares with
+            // them) and no list; one whose inputs are back to its cut's waits no more.
+            let state = &mut self.objects[k];
+            let mut keys = std::mem::take(&mut state.keys);
+            for (v, new) in fresh.into_iter().enumerate() {
+                state.pending[v] = new.is_some() && !merge[v];
+                if state.pending[v] {
+                    state.lists[v].mark_stale();
+                    timing.deferred += 1;
+                } else if let Some(new) = new {
+                    keys[v] = new;
+                }
+            }
+            let mut merged = std::mem::take(&mut state.merged);
+            let mut lists = std::mem::take(&mut state.lists);
+            let mut cache = std::mem::take(&mut state.decoded);
+            let result = self.merge_all(k, &keys, &merge, &mut merged, &mut lists, &mut cache, &mut timing);
             let state = &mut self.objects[k];
             state.merged = merged;
             state.lists = lists;
             state.decoded = cache;
-            // A waiting vertex keeps the keys of its merged cut (the next move compares with
-            // them) and no list; one whose inputs are back to its cut's waits no more.
-            for v in 0..n {
-                state.pending[v] = differs[v] && !changed[v];
-                if state.pending[v] {
-                    new_keys[v] = state.keys[v].clone();
-                    state.lists[v].mark_stale();
-                    timing.deferred += 1;
-                }
-            }
-            match result {
-                Ok(count) => total += count,
-                Err(e) => {
-                    // Some changed vertices may hold new cuts: key them as unknown so that any
-                    // later move merges them again.
-                    let unknown = vec![FieldKey { object: u32::MAX, samples: None }];
-                    for (v, c) in changed.iter().enumerate() {
-                        if *c {
-                            state.keys[v] = unknown.clone();
-                        }
+            if result.is_err() {
+                // Some changed vertices may hold new cuts: key them as failed so that any
+                // later move merges them again.
+                let failed = vec![FieldKey { object: FAILED, samples: None }];
+                for (v, m) in merge.iter().enumerate() {
+                    if *m {
+                        keys[v] = failed.clone();
                     }
-                    return Err(e);
                 }
             }
-            state.keys = new_keys;
+            state.keys = keys;
+            total += result?;
         }
         if let Some(sun) = self.sun.as_mut() {
             let start = Instant::now();

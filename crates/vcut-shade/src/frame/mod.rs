@@ -89,6 +89,7 @@ use lists::{ShadeList, ShadeNode, SpecularNode};
 use merge::FieldCache;
 use object::ObjectState;
 use rayon::prelude::*;
+pub use stats::FrameMemory;
 use vcut_cut::Cut;
 use vcut_data::{FileError, InsideSamples, Precomputed};
 use vcut_dirtree::DirectionTree;

@@ -1,9 +1,37 @@
 //! What the frame reports about itself: merge counts, the last move's timing, and the bytes
 //! of its shading lists, merged cuts and kept SVCs.
 
+use super::keys::FieldKey;
+use super::lists::ShadeList;
 use super::{Frame, MoveTiming};
 use glam::Vec3;
-use vcut_merge::Prepared;
+use vcut_merge::{MergedCut, Prepared};
+
+/// What a frame holds in memory, by part (bytes, counted from the buffers' capacities).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct FrameMemory {
+    /// The stored cuts read from the file (SVCs and fields, still coded).
+    pub stored: usize,
+    /// Meshes (positions, normals, triangles).
+    pub meshes: usize,
+    /// Every vertex's merged cut.
+    pub merged: usize,
+    /// Every vertex's shading list.
+    pub lists: usize,
+    /// The decoded SVCs kept for merging ([`Frame::set_svc_cache`]).
+    pub svc_cache: usize,
+    /// Every vertex's field inputs (the keys a move compares).
+    pub keys: usize,
+    /// The field cuts and cells the last merges decoded, kept for the next move.
+    pub field_cache: usize,
+}
+
+impl FrameMemory {
+    /// Every part together.
+    pub fn total(&self) -> usize {
+        self.stored + self.meshes + self.merged + self.lists + self.svc_cache + self.keys + self.field_cache
+    }
+}
 
 impl Frame {
     /// Vertices re-merged by moves so far, and by camera turns or [`Frame::merge_pending`]
@@ -43,6 +71,37 @@ impl Frame {
             .flat_map(|s| &s.merged)
             .map(|m| m.heights.len() * (size_of::<u8>() + size_of::<f32>() + size_of::<u32>()))
             .sum()
+    }
+
+    /// What the frame holds in memory, by part.
+    pub fn memory(&self) -> FrameMemory {
+        let mut m = FrameMemory::default();
+        let vec = size_of::<Vec<u8>>();
+        for s in &self.objects {
+            m.stored += s.svc.iter().chain(&s.field).map(|a| a.bytes()).sum::<usize>();
+            m.meshes += s.mesh.vertex_count() * 2 * size_of::<Vec3>() + s.mesh.triangle_count() * 3 * size_of::<u32>();
+            m.merged += s
+                .merged
+                .iter()
+                .map(|c| {
+                    size_of::<MergedCut>() + c.heights.capacity() + 4 * c.values.capacity() + 4 * c.indices.capacity()
+                })
+                .sum::<usize>();
+            m.lists += s
+                .lists
+                .iter()
+                .map(|l| size_of::<ShadeList>() + 4 * l.nodes.capacity() + 4 * l.weights.capacity())
+                .sum::<usize>();
+            m.svc_cache += s.svc_refined.iter().map(Prepared::bytes).sum::<usize>()
+                + s.svc_refined.capacity() * size_of::<Prepared>();
+            m.keys += s.keys.iter().map(|k| vec + k.capacity() * size_of::<FieldKey>()).sum::<usize>();
+            let c = &s.decoded;
+            m.field_cache += c.keys.capacity() * 12
+                + c.cuts.iter().map(|x| x.len() * 5).sum::<usize>()
+                + c.cells.capacity() * size_of::<super::keys::CellKey>()
+                + c.refined.iter().map(Prepared::bytes).sum::<usize>();
+        }
+        m
     }
 
     /// Bytes of the decoded SVCs kept for merging (0 with the cache off).
