@@ -61,6 +61,12 @@ pub struct BenchArgs {
     /// Measure only the plant-leaf section, replacing it in OUT/report.json.
     #[arg(long, conflicts_with_all = ["no_leaves", "plot_only", "only_ssdo"])]
     pub only_leaves: bool,
+    /// Skip the scaling section (many objects, one object's vertices: how every cost grows).
+    #[arg(long)]
+    pub no_scaling: bool,
+    /// Measure only the scaling section, replacing it in OUT/report.json.
+    #[arg(long, conflicts_with_all = ["no_scaling", "plot_only", "only_ssdo", "only_leaves"])]
+    pub only_scaling: bool,
     /// Reuse a scene's data file from an earlier run (and the precompute figures kept beside
     /// it) instead of precomputing again: to re-time frames after a change to shading.
     #[arg(long)]
@@ -330,6 +336,13 @@ pub fn run(args: &BenchArgs) -> Result<()> {
         let points = crate::tradeoff::parse_csv(&text).with_context(|| format!("{}", path.display()))?;
         return plots(&points, &args.out);
     }
+    if args.only_scaling {
+        let path = args.out.join("report.json");
+        let section = crate::bench_scaling::run(args.quick, &args.out.join("data"), &args.out)?;
+        replace_section(&path, "scaling", &section)?;
+        println!("report={}", path.display());
+        return Ok(());
+    }
     if args.only_ssdo || args.only_leaves {
         let path = args.out.join("report.json");
         std::fs::create_dir_all(&args.out).with_context(|| format!("creating {}", args.out.display()))?;
@@ -423,6 +436,7 @@ pub fn run(args: &BenchArgs) -> Result<()> {
         tradeoff: None,
         ssdo: None,
         leaves: None,
+        scaling: None,
         bench_s: 0.0,
     };
     if !args.no_tradeoff {
@@ -437,6 +451,9 @@ pub fn run(args: &BenchArgs) -> Result<()> {
     }
     if !args.no_leaves {
         report.leaves = Some(crate::bench_leaves::run(args.quick, &args.out.join("leaves"))?);
+    }
+    if !args.no_scaling {
+        report.scaling = Some(crate::bench_scaling::run(args.quick, &data_dir, &args.out)?);
     }
     report.bench_s = started.elapsed().as_secs_f64();
     let (md, csv) = vcuts::table1::table1(&report.scenes);

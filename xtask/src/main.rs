@@ -5,8 +5,10 @@
 
 mod bench;
 mod bench_leaves;
+mod bench_scaling;
 mod bench_ssdo;
 mod demo;
+mod plot;
 mod publish;
 mod tradeoff;
 

@@ -197,30 +197,10 @@ pub fn parse_csv(text: &str) -> Result<Vec<Point>> {
         .collect()
 }
 
-/// Registers a system sans-serif font for the plots' text; false if none is found (the plots
-/// are then drawn without text).
-fn font() -> bool {
-    let candidates = [
-        "/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf",
-        "/usr/share/fonts/TTF/DejaVuSans.ttf",
-        "/usr/share/fonts/dejavu/DejaVuSans.ttf",
-        "/usr/share/fonts/truetype/liberation/LiberationSans-Regular.ttf",
-    ];
-    for c in candidates {
-        if let Ok(bytes) = std::fs::read(c) {
-            let bytes: &'static [u8] = Box::leak(bytes.into_boxed_slice());
-            if plotters::style::register_font("sans-serif", FontStyle::Normal, bytes).is_ok() {
-                return true;
-            }
-        }
-    }
-    false
-}
-
 /// Error against data size or move time (`x_key`), one colour per sweep and each point labelled
 /// with its value, the Pareto front joined: `path` (PNG).
 pub fn plot(points: &[Point], x_key: &'static str, x_label: &str, path: &Path) -> Result<()> {
-    let text = font();
+    let text = crate::plot::font();
     let scale = if x_key == "data_bytes" { 1e-6 } else { 1.0 };
     let xy: Vec<(f64, f64)> = points.iter().map(|p| (p.figures[x_key] * scale, p.figures["rel_l2_exact"])).collect();
     let finite: Vec<&(f64, f64)> =

@@ -2,7 +2,7 @@
 //! sweeps and the `move_path` example — so they time the same work: a move along a fixed path,
 //! a BRDF edit, a camera turn after a move. Medians, not means: the machines are shared.
 
-use crate::{Frame, FrameError, MergeAlgorithm};
+use crate::{Frame, FrameError, MergeAlgorithm, MoveTiming};
 use glam::Vec3;
 use std::time::Instant;
 use vcut_scene::{Material, Motion};
@@ -52,6 +52,22 @@ pub struct PathTiming {
     pub merged: usize,
     /// Vertices per step whose merge waits (facing away from the eye), on average.
     pub deferred: usize,
+    /// Where every step's move time went.
+    pub steps: Vec<MoveTiming>,
+}
+
+impl PathTiming {
+    /// Median over the steps of the move's time per vertex it merged (µs: lookups, decoding,
+    /// refining and merging, without the sun's rays and the shading); NaN if no step merged.
+    pub fn us_per_merged_vertex(&self) -> f64 {
+        median(
+            self.steps
+                .iter()
+                .filter(|t| t.vertices > 0)
+                .map(|t| (t.keys_s + t.decode_s + t.refine_s + t.merge_s) * 1e6 / t.vertices as f64)
+                .collect(),
+        )
+    }
 }
 
 /// Moves object `o` from rest along `steps` steps of [`path_step`] with `algorithm`, shading
@@ -66,7 +82,7 @@ pub fn move_path(
     let step = path_step(frame, o);
     frame.set_merge_algorithm(algorithm)?;
     frame.translate(o, Vec3::ZERO)?;
-    let (mut times, mut merge_ms, mut merged, mut deferred) = (Vec::new(), Vec::new(), 0, 0);
+    let (mut times, mut merge_ms, mut merged, mut deferred, mut timings) = (Vec::new(), Vec::new(), 0, 0, Vec::new());
     for i in 1..=steps {
         let t = Instant::now();
         merged += frame.translate(o, step * i as f32)?;
@@ -74,11 +90,12 @@ pub fn move_path(
         times.push(t.elapsed().as_secs_f64() * 1e3);
         merge_ms.push(frame.last_move().merge_s * 1e3);
         deferred += frame.last_move().deferred;
+        timings.push(frame.last_move());
     }
     frame.translate(o, Vec3::ZERO)?;
     frame.set_merge_algorithm(MergeAlgorithm::Counter)?;
     let n = steps.max(1);
-    Ok(PathTiming { move_ms: median(times), merge_ms, merged: merged / n, deferred: deferred / n })
+    Ok(PathTiming { move_ms: median(times), merge_ms, merged: merged / n, deferred: deferred / n, steps: timings })
 }
 
 /// A camera turn right after a move: object `o` moved one step of [`move_path`] while shading

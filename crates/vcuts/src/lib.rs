@@ -17,6 +17,7 @@ pub mod progress;
 pub mod render;
 pub mod report;
 pub mod resources;
+pub mod scaling;
 pub mod ssdo;
 pub mod table1;
 #[cfg(feature = "viewer")]

@@ -31,6 +31,8 @@ pub struct Report {
     pub ssdo: Option<SsdoSection>,
     #[serde(skip_serializing_if = "Option::is_none")]
     pub leaves: Option<LeavesSection>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub scaling: Option<crate::scaling::ScalingSection>,
     pub bench_s: f64,
 }
 
