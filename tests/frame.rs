@@ -248,6 +248,40 @@ fn a_move_looks_up_and_merges_only_what_it_changes() {
 }
 
 #[test]
+fn a_field_wholly_below_a_vertex_horizon_is_left_out() {
+    let dir = scratch("horizon");
+    let mut d = data(BALLS_IN_A_ROW, &[], &dir.join("r.vcuts"));
+    let offset = d.svc_origin_offset();
+    let mut frame = Frame::new(&mut d, &EnvMap::constant([1.0; 3])).unwrap();
+    // Every merge done at once, so every vertex's kept inputs are current.
+    frame.set_deferred_merges(false).unwrap();
+    let (b0, b1) = (frame.object_index("ball/0").unwrap(), frame.object_index("ball/1").unwrap());
+    let eye = Vec3::new(2.0, 3.0, 9.0);
+    let culled = frame.shade(eye);
+    let reference = exact_direction(&frame, eye, offset);
+    let (normals, positions) = (frame.object(b1).mesh.normals().to_vec(), frame.positions(b1));
+    let layout = (0..positions.len())
+        .flat_map(|v| frame.field_sources(b1, v))
+        .find(|s| s.0 == b0)
+        .map(|s| s.1)
+        .expect("ball 0 shadows ball 1's side facing it");
+    let sources = |frame: &Frame, v: usize| frame.field_sources(b1, v).iter().any(|s| s.0 == b0);
+    let below: Vec<usize> =
+        (0..positions.len()).filter(|&v| normals[v].dot(layout.center - positions[v]) <= -layout.radius).collect();
+    assert!(below.len() > positions.len() / 4, "{} of {}", below.len(), positions.len());
+    assert!(below.iter().all(|&v| !sources(&frame, v)));
+    // The paper's product: every field within reach, ball 0's included.
+    assert!(frame.set_horizon_culling(false).unwrap() >= below.len());
+    assert!(below.iter().all(|&v| sources(&frame, v)));
+    let all = frame.shade(eye);
+    let (with, without) = (errors(&culled, &reference).0, errors(&all, &reference).0);
+    assert!(with <= without + 1e-4, "culled {with} against all fields {without}");
+    assert!(frame.set_horizon_culling(true).unwrap() >= below.len());
+    assert_eq!(frame.set_horizon_culling(true).unwrap(), 0);
+    assert!(frame.shade(eye) == culled);
+}
+
+#[test]
 fn back_facing_merges_and_lists_wait_for_a_camera_that_sees_them() {
     let dir = scratch("lazy");
     let path = dir.join("b.vcuts");

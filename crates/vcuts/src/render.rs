@@ -130,6 +130,11 @@ pub struct RenderArgs {
     /// shadows, the sky from the cuts (`vcut_shade::sun`).
     #[arg(long)]
     pub no_sun_rays: bool,
+    /// Multiply every field within reach into a vertex's cut, as the paper does. By default a
+    /// field whose object lies wholly below the vertex's horizon is left out
+    /// (`Frame::set_horizon_culling`).
+    #[arg(long)]
+    pub no_horizon_culling: bool,
     /// Merge every vertex a move changes at once. By default a move merges the vertices facing
     /// the camera and leaves the others until a camera sees them (`Frame::set_deferred_merges`):
     /// the image is the same bit for bit.
@@ -156,6 +161,7 @@ impl RenderArgs {
             mode: RenderMode::Cuts,
             inside_samples: Inside::Occluded,
             no_sun_rays: false,
+            no_horizon_culling: false,
             eager_merges: false,
         }
     }
@@ -323,6 +329,9 @@ pub fn run(args: &RenderArgs) -> Result<RenderOutcome> {
         frame.set_inside_samples(inside)?;
     }
     out.emit("inside_samples", inside.name().into());
+    if args.no_horizon_culling {
+        frame.set_horizon_culling(false)?;
+    }
     if args.no_sun_rays {
         frame.set_sun_rays(None);
     }
@@ -349,6 +358,7 @@ pub fn run(args: &RenderArgs) -> Result<RenderOutcome> {
         out.emit("move_merge_only_ms", format!("{:.2}", t.merge_s * 1e3));
         out.emit("move_sun_ms", format!("{:.2}", t.sun_s * 1e3));
         out.emit("move_deferred_vertices", format!("{}", t.deferred));
+        out.emit("move_fields_per_vertex", format!("{:.2}", t.fields as f64 / t.vertices.max(1) as f64));
     }
     let camera = camera(scene.as_ref(), args.camera.as_deref(), &frame)?;
     // A framing camera may have shifted with the moves: the vertices now facing it that a

@@ -79,6 +79,11 @@ impl Frame {
             return None;
         }
         let p = me.mesh.positions()[v] + me.translation;
+        if self.horizon_culling
+            && wholly_below(p, me.mesh.normals()[v], layout.center + other.translation, layout.radius)
+        {
+            return None;
+        }
         let mut samples = layout.lookup(p - other.translation)?;
         let kept = self.inside.apply(&mut samples, |x| other.field[x.sphere as usize].inside(x.point as usize));
         Some(FieldKey { object: j as u32, samples: (kept > 0).then_some(samples) })
@@ -116,6 +121,18 @@ impl Frame {
         }
         Some(keys)
     }
+}
+
+/// Whether a sphere (centre `c`, radius `r`) lies wholly below the horizon of a vertex at `p`
+/// with normal `n`: every direction toward it makes n·ω ≤ 0, so an occluder inside it hides
+/// none of the light the vertex's cut weighs by max(0, n·ω). A vertex inside the sphere sees
+/// it all around.
+pub(super) fn wholly_below(p: glam::Vec3, n: glam::Vec3, c: glam::Vec3, r: f32) -> bool {
+    let d = c - p;
+    let dist = d.length();
+    // The cone toward the sphere has sin(half-angle) = r / dist; its nearest direction to n
+    // is at (angle to the axis − half-angle): below when cos(angle(n, axis)) ≤ −r / dist.
+    dist > r && n.dot(d) <= -r
 }
 
 /// What changed since the kept field inputs were looked up.

@@ -49,6 +49,17 @@ impl Frame {
         self.rekey(Changed::All, true)
     }
 
+    /// Whether a field whose object's bounding sphere lies wholly below a vertex's horizon is
+    /// left out of the vertex's product (the default): the object can hide none of the light
+    /// the vertex's cut weighs by max(0, n·ω), and the field's sum over a cut node that
+    /// straddles the horizon would darken the node's upper part for directions below it. Off:
+    /// the paper's product of every field within reach. Re-merges the vertices whose inputs
+    /// change; returns how many.
+    pub fn set_horizon_culling(&mut self, on: bool) -> Result<usize, FrameError> {
+        self.horizon_culling = on;
+        self.rekey(Changed::All, true)
+    }
+
     /// Decodes the field cuts of `wanted` (sorted samples), taking those `old` holds (sorted
     /// too) from it.
     fn decode_samples(
@@ -86,6 +97,7 @@ impl Frame {
         timing: &mut MoveTiming,
     ) -> Result<usize, FrameError> {
         let vertices: Vec<usize> = (0..changed.len()).filter(|&v| changed[v]).collect();
+        timing.fields += vertices.iter().map(|&v| keys[v].len()).sum::<usize>();
         let first = vertices.first().copied().unwrap_or(0);
         let me = &self.objects[o];
         let normals = me.mesh.normals();

@@ -5,7 +5,15 @@
 //! and so do camera edits with nothing waiting.
 //!
 //! **Which fields a vertex uses.** Object j's field shadows a vertex of object o (o ≠ j) when
-//! j has a field and o or j is movable (static–static shadows are baked into the SVCs). Within
+//! j has a field and o or j is movable (static–static shadows are baked into the SVCs), unless
+//! j's bounding sphere lies wholly below the vertex's horizon ([`Frame::set_horizon_culling`],
+//! on by default): then j hides none of the light the cut weighs by max(0, n·ω), and its field's
+//! sum over a node straddling the horizon would only darken the node's upper part. On the
+//! teapot scene at `balanced` this leaves 1.59 instead of 1.98 fields per re-merged vertex, a
+//! move 0.76× the time, and the error against the exact reference unchanged (0.337 %); on
+//! `builtin:showroom:32` at `fast` 7.7 instead of 11.6 fields and 0.68× the move
+//! (`vcuts render FILE --move NAME=DX,DY,DZ --eager-merges --compare exact`, with and without
+//! `--no-horizon-culling`). Within
 //! 0.2r of j's centre (0.05r–0.2r for a flat j: its layout's `inner`) the lookup clamps to the
 //! innermost sphere; beyond 10r j casts no shadow
 //! (its bounding cone there covers under 0.25 % of the sphere); samples inside j blend in as
@@ -159,6 +167,9 @@ pub struct MoveTiming {
     pub sun_rays: u64,
     /// Vertices re-merged.
     pub vertices: usize,
+    /// Field factors of the re-merged vertices' products, summed (over `vertices`: the fields
+    /// that reach a merged vertex, on average).
+    pub fields: usize,
     /// Vertices whose field inputs changed but whose merge waits: they face away from the eye
     /// ([`Frame::set_deferred_merges`]).
     pub deferred: usize,
@@ -207,6 +218,9 @@ pub struct Frame {
     defer: bool,
     /// Merges [`Frame::shade`] did on the spot.
     spot_merges: u64,
+    /// Whether a field whose object lies wholly below a vertex's horizon is left out of its
+    /// product ([`Frame::set_horizon_culling`]).
+    horizon_culling: bool,
 }
 
 impl Frame {
@@ -260,6 +274,7 @@ impl Frame {
             eye: None,
             defer: true,
             spot_merges: 0,
+            horizon_culling: true,
         };
         frame.set_svc_cache(true)?;
         // The sun and the shading table before the merges build the lists.
