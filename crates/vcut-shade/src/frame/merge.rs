@@ -257,6 +257,11 @@ impl Frame {
                     keys[v] = new;
                 }
             }
+            if !merge.contains(&true) {
+                // Nothing to merge: the object keeps its cells for a later move.
+                state.keys = keys;
+                continue;
+            }
             let mut merged = std::mem::take(&mut state.merged);
             let mut lists = std::mem::take(&mut state.lists);
             let mut cache = std::mem::take(&mut state.decoded);
