@@ -14,6 +14,8 @@ use vcuts::scaling::{ScalingPoint, ScalingSection, exponents, goals, measure};
 /// Teapot tessellations of the vertex sweep (quads per patch edge) and the vertices each
 /// gives with the ground: ~10k, 40k, 160k, 1M.
 const TESSELLATIONS: [u32; 4] = [18, 36, 74, 186];
+/// The same for `--quick`: ~3k and ~10k vertices.
+const QUICK_TESSELLATIONS: [u32; 2] = [9, 18];
 
 /// The vertex sweep's scene: the teapot scene's teapot at tessellation `r`.
 fn teapot_scene(r: u32) -> String {
@@ -44,12 +46,12 @@ target = [0.0, 1.2, 0.0]
     )
 }
 
-/// Runs the sweeps (`quick`: 1–8 objects at `fast`, and 10k and 40k vertices).
+/// Runs the sweeps (`quick`: 1–8 objects at `fast`, and ~3k and ~10k vertices).
 pub fn run(quick: bool, data_dir: &Path, out: &Path) -> Result<ScalingSection> {
     std::fs::create_dir_all(data_dir).with_context(|| format!("creating {}", data_dir.display()))?;
     let counts: &[usize] = if quick { &[1, 2, 4, 8] } else { &[1, 2, 4, 8, 16, 32, 64] };
     let presets: &[&str] = if quick { &["fast"] } else { &["fast", "balanced"] };
-    let tessellations = if quick { &TESSELLATIONS[..2] } else { &TESSELLATIONS[..] };
+    let tessellations = if quick { &QUICK_TESSELLATIONS[..] } else { &TESSELLATIONS[..] };
     let mut section = ScalingSection::default();
     let mut jobs: Vec<(&str, String, &str)> = Vec::new();
     for &preset in presets {
