@@ -317,8 +317,8 @@ fn bench_scene(name: &str, preset: &str, data_dir: &Path, no_mc: bool, reuse: bo
 
 /// The two trade-off plots.
 fn plots(points: &[vcuts::report::Point], out: &Path) -> Result<()> {
-    crate::tradeoff::plot(points, "data_bytes", "data size (MB)", &out.join("tradeoff_size.png"))?;
-    crate::tradeoff::plot(points, "move_ms", "object move (ms)", &out.join("tradeoff_move.png"))?;
+    vcuts::plots::tradeoff(points, "data_bytes", "data size (MB)", &out.join("tradeoff_size.png"))?;
+    vcuts::plots::tradeoff(points, "move_ms", "object move (ms)", &out.join("tradeoff_move.png"))?;
     println!("plots={}", out.join("tradeoff_size.png").display());
     Ok(())
 }
@@ -333,7 +333,7 @@ pub fn run(args: &BenchArgs) -> Result<()> {
     if args.plot_only {
         let path = args.out.join("tradeoff.csv");
         let text = std::fs::read_to_string(&path).with_context(|| format!("reading {}", path.display()))?;
-        let points = crate::tradeoff::parse_csv(&text).with_context(|| format!("{}", path.display()))?;
+        let points = vcuts::csv::parse_tradeoff(&text).with_context(|| format!("{}", path.display()))?;
         return plots(&points, &args.out);
     }
     if args.only_scaling {
@@ -442,7 +442,7 @@ pub fn run(args: &BenchArgs) -> Result<()> {
     if !args.no_tradeoff {
         let base = if args.quick { "fast" } else { "balanced" };
         let points = crate::tradeoff::run("teapot", base, args.quick, &data_dir, args.no_mc)?;
-        write_atomic(&args.out.join("tradeoff.csv"), crate::tradeoff::csv(&points).as_bytes())?;
+        write_atomic(&args.out.join("tradeoff.csv"), vcuts::csv::tradeoff(&points).as_bytes())?;
         plots(&points, &args.out)?;
         report.tradeoff = Some(Tradeoff { scene: "teapot".into(), base_preset: base.into(), points });
     }

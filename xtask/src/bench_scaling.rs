@@ -5,7 +5,6 @@
 //! memory available (extrapolated from the sweep's last point) is skipped and named.
 
 use anyhow::{Context, Result};
-use plotters::prelude::*;
 use std::path::Path;
 use vcut_scene::budget::{available_memory, human};
 use vcuts::report::write_atomic;
@@ -89,9 +88,9 @@ pub fn run(quick: bool, data_dir: &Path, out: &Path) -> Result<ScalingSection> {
     }
     section.exponents = exponents(&section.points);
     section.goals = goals(&section.points);
-    write_atomic(&out.join("scaling.csv"), csv(&section.points).as_bytes())?;
-    plot(&section, "objects", "objects", &out.join("scaling_objects.png"))?;
-    plot(&section, "tessellation", "vertices", &out.join("scaling_vertices.png"))?;
+    write_atomic(&out.join("scaling.csv"), vcuts::csv::scaling(&section.points).as_bytes())?;
+    vcuts::plots::scaling(&section, "objects", "objects", &out.join("scaling_objects.png"))?;
+    vcuts::plots::scaling(&section, "tessellation", "vertices", &out.join("scaling_vertices.png"))?;
     println!("scaling exponents: {}", serde_json::to_string(&section.exponents)?);
     Ok(section)
 }
@@ -108,102 +107,4 @@ fn too_big(points: &[ScalingPoint], sweep: &str, preset: &str, scene: &str) -> R
     Ok(available_memory()
         .filter(|&free| need > free)
         .map(|free| format!("its frame needs about {} ({vertices} vertices), {} is free", human(need), human(free))))
-}
-
-/// Every point as a CSV row.
-fn csv(points: &[ScalingPoint]) -> String {
-    let mut text = String::from("sweep,preset,objects,movable,vertices");
-    for key in vcuts::scaling::FITTED {
-        text.push(',');
-        text.push_str(key);
-    }
-    text.push_str(",merged_vertices_eager,rel_l2_exact\n");
-    for p in points {
-        text.push_str(&format!("{},{},{},{},{}", p.sweep, p.preset, p.objects, p.movable, p.vertices));
-        for key in vcuts::scaling::FITTED {
-            text.push_str(&format!(",{}", p.figure(key)));
-        }
-        text.push_str(&format!(",{},{}\n", p.merged_vertices_eager, p.rel_l2_exact));
-    }
-    text
-}
-
-/// The figures drawn, their labels and the unit each is scaled to.
-const DRAWN: [(&str, &str, f64); 5] = [
-    ("move_ms_eager", "move, eager (ms)", 1.0),
-    ("us_per_merged_vertex", "µs per merged vertex", 1.0),
-    ("frame_peak_rss_bytes", "frame peak (MB)", 1e-6),
-    ("precompute_s", "precompute (s)", 1.0),
-    ("edit_ms", "BRDF edit (ms)", 1.0),
-];
-
-/// A log–log plot of sweep `sweep`: every drawn figure at every preset, its fitted exponent in
-/// the legend.
-fn plot(section: &ScalingSection, sweep: &str, x_label: &str, path: &Path) -> Result<()> {
-    let points: Vec<&ScalingPoint> = section.points.iter().filter(|p| p.sweep == sweep).collect();
-    let series: Vec<(String, Vec<(f64, f64)>)> = DRAWN
-        .iter()
-        .flat_map(|&(key, label, scale)| {
-            let mut presets: Vec<&str> = points.iter().map(|p| p.preset.as_str()).collect();
-            presets.dedup();
-            let points = &points;
-            presets.into_iter().map(move |preset| {
-                let xy: Vec<(f64, f64)> = points
-                    .iter()
-                    .filter(|p| p.preset == preset)
-                    .map(|p| (p.x(), p.figure(key) * scale))
-                    .filter(|(x, y)| x.is_finite() && y.is_finite() && *x > 0.0 && *y > 0.0)
-                    .collect();
-                let e = section.exponents.get(&format!("{sweep}/{preset}/{key}"));
-                (format!("{label}, {preset}: ∝ x^{}", e.map_or("?".into(), |e| format!("{e:.2}"))), xy)
-            })
-        })
-        .filter(|(_, xy)| !xy.is_empty())
-        .collect();
-    let all: Vec<(f64, f64)> = series.iter().flat_map(|s| s.1.iter().copied()).collect();
-    if all.is_empty() {
-        return Ok(());
-    }
-    let (x0, x1) = all.iter().fold((f64::MAX, f64::MIN), |a, p| (a.0.min(p.0), a.1.max(p.0)));
-    let (y0, y1) = all.iter().fold((f64::MAX, f64::MIN), |a, p| (a.0.min(p.1), a.1.max(p.1)));
-    let text = crate::plot::font();
-    let tmp = path.with_extension("partial.png");
-    {
-        let root = BitMapBackend::new(&tmp, (1000, 650)).into_drawing_area();
-        root.fill(&WHITE).map_err(|e| anyhow::anyhow!("{e}"))?;
-        let mut builder = ChartBuilder::on(&root);
-        builder.margin(20);
-        if text {
-            builder.caption(format!("how the costs grow with {x_label} (log–log)"), ("sans-serif", 22));
-            builder.x_label_area_size(45).y_label_area_size(70);
-        }
-        let mut chart = builder
-            .build_cartesian_2d((x0 / 1.3..x1 * 1.3).log_scale(), (y0 / 2.0..y1 * 4.0).log_scale())
-            .map_err(|e| anyhow::anyhow!("{e}"))?;
-        if text {
-            chart.configure_mesh().x_desc(x_label).draw().map_err(|e| anyhow::anyhow!("{e}"))?;
-        }
-        for (k, (label, xy)) in series.into_iter().enumerate() {
-            let colour = Palette99::pick(k).to_rgba();
-            chart
-                .draw_series(xy.iter().map(|&p| Circle::new(p, 4, colour.filled())))
-                .map_err(|e| anyhow::anyhow!("{e}"))?;
-            let line =
-                chart.draw_series(LineSeries::new(xy, colour.stroke_width(2))).map_err(|e| anyhow::anyhow!("{e}"))?;
-            if text {
-                line.label(label).legend(move |(x, y)| PathElement::new([(x, y), (x + 18, y)], colour.stroke_width(2)));
-            }
-        }
-        if text {
-            chart
-                .configure_series_labels()
-                .position(SeriesLabelPosition::UpperLeft)
-                .background_style(WHITE.mix(0.85))
-                .border_style(BLACK)
-                .draw()
-                .map_err(|e| anyhow::anyhow!("{e}"))?;
-        }
-        root.present().map_err(|e| anyhow::anyhow!("{e}"))?;
-    }
-    std::fs::rename(&tmp, path).with_context(|| format!("writing {}", path.display()))
 }

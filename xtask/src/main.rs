@@ -8,7 +8,6 @@ mod bench_leaves;
 mod bench_scaling;
 mod bench_ssdo;
 mod demo;
-mod plot;
 mod publish;
 mod tradeoff;
 

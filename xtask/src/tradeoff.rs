@@ -7,7 +7,6 @@
 
 use anyhow::{Context, Result};
 use glam::Vec3;
-use plotters::prelude::*;
 use std::collections::BTreeMap;
 use std::path::Path;
 use std::time::Instant;
@@ -144,138 +143,6 @@ pub fn run(scene_name: &str, base: &str, quick: bool, data_dir: &Path, no_mc: bo
     Ok(points)
 }
 
-/// The figures of a point, in CSV column order.
-const KEYS: [&str; 8] =
-    ["directions", "precompute_s", "data_bytes", "merge_ms", "shade_ms", "move_ms", "rel_l2_exact", "rel_l2_mc"];
-
-/// The points as CSV.
-pub fn csv(points: &[Point]) -> String {
-    let keys = KEYS;
-    let mut out = format!("sweep,value,preset,{},pareto_size,pareto_move\n", keys.join(","));
-    for p in points {
-        let figs: Vec<String> = keys.iter().map(|k| format!("{}", p.figures[k])).collect();
-        out.push_str(&format!(
-            "{},{},{},{},{},{}\n",
-            p.sweep,
-            p.value,
-            p.preset,
-            figs.join(","),
-            u8::from(p.pareto_size),
-            u8::from(p.pareto_move)
-        ));
-    }
-    out
-}
-
-/// Reads what [`csv`] wrote (to re-plot without re-running the sweeps).
-pub fn parse_csv(text: &str) -> Result<Vec<Point>> {
-    let mut lines = text.lines();
-    let header: Vec<&str> = lines.next().context("empty trade-off CSV")?.split(',').collect();
-    let col = |name: &str| header.iter().position(|h| *h == name).with_context(|| format!("no column {name}"));
-    let (sweep, value, preset) = (col("sweep")?, col("value")?, col("preset")?);
-    let (ps, pm) = (col("pareto_size")?, col("pareto_move")?);
-    let figure_cols: Vec<(&'static str, usize)> =
-        KEYS.iter().map(|&k| col(k).map(|c| (k, c))).collect::<Result<_>>()?;
-    lines
-        .enumerate()
-        .map(|(i, line)| {
-            let f: Vec<&str> = line.split(',').collect();
-            anyhow::ensure!(f.len() == header.len(), "line {}: {} fields, expected {}", i + 2, f.len(), header.len());
-            let figures = figure_cols
-                .iter()
-                .map(|&(k, c)| Ok((k, f[c].parse::<f64>().with_context(|| format!("line {}: {k} = {}", i + 2, f[c]))?)))
-                .collect::<Result<_>>()?;
-            Ok(Point {
-                sweep: f[sweep].into(),
-                value: f[value].into(),
-                preset: f[preset].into(),
-                figures,
-                pareto_size: f[ps] == "1",
-                pareto_move: f[pm] == "1",
-            })
-        })
-        .collect()
-}
-
-/// Error against data size or move time (`x_key`), one colour per sweep and each point labelled
-/// with its value, the Pareto front joined: `path` (PNG).
-pub fn plot(points: &[Point], x_key: &'static str, x_label: &str, path: &Path) -> Result<()> {
-    let text = crate::plot::font();
-    let scale = if x_key == "data_bytes" { 1e-6 } else { 1.0 };
-    let xy: Vec<(f64, f64)> = points.iter().map(|p| (p.figures[x_key] * scale, p.figures["rel_l2_exact"])).collect();
-    let finite: Vec<&(f64, f64)> =
-        xy.iter().filter(|(x, y)| x.is_finite() && y.is_finite() && *x > 0.0 && *y > 0.0).collect();
-    if finite.is_empty() {
-        return Ok(());
-    }
-    let x1 = finite.iter().fold(f64::MIN, |a, p| a.max(p.0));
-    let y1 = finite.iter().fold(f64::MIN, |a, p| a.max(p.1));
-    let tmp = path.with_extension("partial.png");
-    {
-        let root = BitMapBackend::new(&tmp, (900, 600)).into_drawing_area();
-        root.fill(&WHITE).map_err(|e| anyhow::anyhow!("{e}"))?;
-        let mut builder = ChartBuilder::on(&root);
-        builder.margin(20);
-        if text {
-            builder.caption(format!("relative L2 vs exact reference against {x_label}"), ("sans-serif", 22));
-            builder.x_label_area_size(45).y_label_area_size(70);
-        }
-        let mut chart =
-            builder.build_cartesian_2d(0.0..x1 * 1.3, 0.0..y1 * 1.15).map_err(|e| anyhow::anyhow!("{e}"))?;
-        if text {
-            chart
-                .configure_mesh()
-                .x_desc(x_label)
-                .y_desc("relative L2 (exact reference)")
-                .x_labels(12)
-                .y_labels(12)
-                .y_label_formatter(&|y| format!("{y:.3}"))
-                .draw()
-                .map_err(|e| anyhow::anyhow!("{e}"))?;
-        }
-        let sweeps: Vec<String> = points.iter().map(|p| p.sweep.clone()).fold(Vec::new(), |mut v, s| {
-            if !v.contains(&s) {
-                v.push(s);
-            }
-            v
-        });
-        for (k, sweep) in sweeps.iter().enumerate() {
-            let colour = Palette99::pick(k).to_rgba();
-            let series: Vec<(f64, f64, String)> = points
-                .iter()
-                .zip(&xy)
-                .filter(|(p, _)| &p.sweep == sweep)
-                .map(|(p, &(x, y))| (x, y, if text { p.value.clone() } else { String::new() }))
-                .collect();
-            let drawn = chart
-                .draw_series(series.into_iter().map(|(x, y, label)| {
-                    EmptyElement::at((x, y))
-                        + Circle::new((0, 0), 6, colour.filled())
-                        + Text::new(label, (8, -14), ("sans-serif", 13))
-                }))
-                .map_err(|e| anyhow::anyhow!("{e}"))?;
-            if text {
-                drawn.label(sweep.as_str()).legend(move |(x, y)| Circle::new((x, y), 5, colour.filled()));
-            }
-        }
-        let on_front = |p: &Point| if x_key == "data_bytes" { p.pareto_size } else { p.pareto_move };
-        let mut front: Vec<(f64, f64)> = points.iter().zip(&xy).filter(|(p, _)| on_front(p)).map(|(_, &q)| q).collect();
-        front.sort_by(|a, b| a.0.total_cmp(&b.0));
-        chart.draw_series(LineSeries::new(front, BLACK.stroke_width(2))).map_err(|e| anyhow::anyhow!("{e}"))?;
-        if text {
-            chart
-                .configure_series_labels()
-                .position(SeriesLabelPosition::LowerRight)
-                .background_style(WHITE.mix(0.8))
-                .border_style(BLACK)
-                .draw()
-                .map_err(|e| anyhow::anyhow!("{e}"))?;
-        }
-        root.present().map_err(|e| anyhow::anyhow!("{e}"))?;
-    }
-    std::fs::rename(&tmp, path).with_context(|| format!("writing {}", path.display()))
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -285,33 +152,5 @@ mod tests {
         // (size, error): (3, 0.5) is dominated by (2, 0.4); ties on one axis need a win on the other.
         let pts = [(1.0, 0.9), (2.0, 0.4), (3.0, 0.5), (4.0, 0.1), (4.0, 0.2), (f64::NAN, 0.0)];
         assert_eq!(pareto(&pts), vec![true, true, false, true, false, false]);
-    }
-
-    #[test]
-    fn csv_rows_carry_every_figure_and_the_fronts() {
-        let figures = KEYS.into_iter().enumerate().map(|(i, k)| (k, i as f64)).collect();
-        let p = Point {
-            sweep: "directions".into(),
-            value: "4096".into(),
-            preset: "fast".into(),
-            figures,
-            pareto_size: true,
-            pareto_move: false,
-        };
-        let text = csv(std::slice::from_ref(&p));
-        let back = parse_csv(&text).unwrap();
-        assert_eq!((back[0].figures.clone(), back[0].pareto_size), (p.figures.clone(), true));
-        assert!(parse_csv("sweep,value\n").unwrap_err().to_string().contains("no column"));
-        let mut lines = text.lines();
-        let header: Vec<&str> = lines.next().unwrap().split(',').collect();
-        let row: Vec<&str> = lines.next().unwrap().split(',').collect();
-        assert_eq!(header.len(), row.len());
-        assert_eq!(row[header.iter().position(|h| *h == "rel_l2_exact").unwrap()], "6");
-        assert_eq!(&row[row.len() - 2..], ["1", "0"]);
-        let json = serde_json::to_value(&p).unwrap();
-        assert_eq!(
-            (&json["move_ms"], &json["sweep"], &json["pareto_size"]),
-            (&5.0.into(), &p.sweep.clone().into(), &true.into())
-        );
     }
 }

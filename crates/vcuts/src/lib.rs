@@ -8,10 +8,13 @@
 //! The viewer (`view`) is the default feature `viewer`; `--no-default-features` builds the
 //! headless rest without the GPU and window stack.
 
+pub mod csv;
 pub mod directions;
 pub mod inspect;
 pub mod leaves;
 pub mod machine;
+#[cfg(feature = "plots")]
+pub mod plots;
 pub mod precompute;
 pub mod progress;
 pub mod render;

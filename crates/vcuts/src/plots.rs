@@ -1,0 +1,237 @@
+//! The bench's plots (feature `plots`): the trade-off sweeps' error against data size or move
+//! time with the Pareto fronts, and the scaling section's log–log growth curves. PNG, written
+//! atomically; drawn without text where the machine has no sans-serif font.
+
+use crate::report::Point;
+use crate::scaling::{ScalingPoint, ScalingSection};
+use anyhow::{Context, Result};
+use plotters::prelude::*;
+use plotters::style::FontStyle;
+use std::path::Path;
+
+/// Registers a system sans-serif font for the plots' text; false if none is found (the plots
+/// are then drawn without text).
+pub fn font() -> bool {
+    let candidates = [
+        "/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf",
+        "/usr/share/fonts/TTF/DejaVuSans.ttf",
+        "/usr/share/fonts/dejavu/DejaVuSans.ttf",
+        "/usr/share/fonts/truetype/liberation/LiberationSans-Regular.ttf",
+    ];
+    for c in candidates {
+        if let Ok(bytes) = std::fs::read(c) {
+            let bytes: &'static [u8] = Box::leak(bytes.into_boxed_slice());
+            if plotters::style::register_font("sans-serif", FontStyle::Normal, bytes).is_ok() {
+                return true;
+            }
+        }
+    }
+    false
+}
+
+/// Error against data size or move time (`x_key`), one colour per sweep and each point labelled
+/// with its value, the Pareto front joined: `path` (PNG).
+pub fn tradeoff(points: &[Point], x_key: &'static str, x_label: &str, path: &Path) -> Result<()> {
+    let text = font();
+    let scale = if x_key == "data_bytes" { 1e-6 } else { 1.0 };
+    let xy: Vec<(f64, f64)> = points.iter().map(|p| (p.figures[x_key] * scale, p.figures["rel_l2_exact"])).collect();
+    let finite: Vec<&(f64, f64)> =
+        xy.iter().filter(|(x, y)| x.is_finite() && y.is_finite() && *x > 0.0 && *y > 0.0).collect();
+    if finite.is_empty() {
+        return Ok(());
+    }
+    let x1 = finite.iter().fold(f64::MIN, |a, p| a.max(p.0));
+    let y1 = finite.iter().fold(f64::MIN, |a, p| a.max(p.1));
+    let tmp = path.with_extension("partial.png");
+    {
+        let root = BitMapBackend::new(&tmp, (900, 600)).into_drawing_area();
+        root.fill(&WHITE).map_err(|e| anyhow::anyhow!("{e}"))?;
+        let mut builder = ChartBuilder::on(&root);
+        builder.margin(20);
+        if text {
+            builder.caption(format!("relative L2 vs exact reference against {x_label}"), ("sans-serif", 22));
+            builder.x_label_area_size(45).y_label_area_size(70);
+        }
+        let mut chart =
+            builder.build_cartesian_2d(0.0..x1 * 1.3, 0.0..y1 * 1.15).map_err(|e| anyhow::anyhow!("{e}"))?;
+        if text {
+            chart
+                .configure_mesh()
+                .x_desc(x_label)
+                .y_desc("relative L2 (exact reference)")
+                .x_labels(12)
+                .y_labels(12)
+                .y_label_formatter(&|y| format!("{y:.3}"))
+                .draw()
+                .map_err(|e| anyhow::anyhow!("{e}"))?;
+        }
+        let sweeps: Vec<String> = points.iter().map(|p| p.sweep.clone()).fold(Vec::new(), |mut v, s| {
+            if !v.contains(&s) {
+                v.push(s);
+            }
+            v
+        });
+        for (k, sweep) in sweeps.iter().enumerate() {
+            let colour = Palette99::pick(k).to_rgba();
+            let series: Vec<(f64, f64, String)> = points
+                .iter()
+                .zip(&xy)
+                .filter(|(p, _)| &p.sweep == sweep)
+                .map(|(p, &(x, y))| (x, y, if text { p.value.clone() } else { String::new() }))
+                .collect();
+            let drawn = chart
+                .draw_series(series.into_iter().map(|(x, y, label)| {
+                    EmptyElement::at((x, y))
+                        + Circle::new((0, 0), 6, colour.filled())
+                        + Text::new(label, (8, -14), ("sans-serif", 13))
+                }))
+                .map_err(|e| anyhow::anyhow!("{e}"))?;
+            if text {
+                drawn.label(sweep.as_str()).legend(move |(x, y)| Circle::new((x, y), 5, colour.filled()));
+            }
+        }
+        let on_front = |p: &Point| if x_key == "data_bytes" { p.pareto_size } else { p.pareto_move };
+        let mut front: Vec<(f64, f64)> = points.iter().zip(&xy).filter(|(p, _)| on_front(p)).map(|(_, &q)| q).collect();
+        front.sort_by(|a, b| a.0.total_cmp(&b.0));
+        chart.draw_series(LineSeries::new(front, BLACK.stroke_width(2))).map_err(|e| anyhow::anyhow!("{e}"))?;
+        if text {
+            chart
+                .configure_series_labels()
+                .position(SeriesLabelPosition::LowerRight)
+                .background_style(WHITE.mix(0.8))
+                .border_style(BLACK)
+                .draw()
+                .map_err(|e| anyhow::anyhow!("{e}"))?;
+        }
+        root.present().map_err(|e| anyhow::anyhow!("{e}"))?;
+    }
+    std::fs::rename(&tmp, path).with_context(|| format!("writing {}", path.display()))
+}
+
+/// The figures drawn, their labels and the unit each is scaled to.
+const DRAWN: [(&str, &str, f64); 5] = [
+    ("move_ms_eager", "move, eager (ms)", 1.0),
+    ("us_per_merged_vertex", "µs per merged vertex", 1.0),
+    ("frame_peak_rss_bytes", "frame peak (MB)", 1e-6),
+    ("precompute_s", "precompute (s)", 1.0),
+    ("edit_ms", "BRDF edit (ms)", 1.0),
+];
+
+/// A log–log plot of sweep `sweep`: every drawn figure at every preset, its fitted exponent in
+/// the legend.
+pub fn scaling(section: &ScalingSection, sweep: &str, x_label: &str, path: &Path) -> Result<()> {
+    let points: Vec<&ScalingPoint> = section.points.iter().filter(|p| p.sweep == sweep).collect();
+    let series: Vec<(String, Vec<(f64, f64)>)> = DRAWN
+        .iter()
+        .flat_map(|&(key, label, scale)| {
+            let mut presets: Vec<&str> = points.iter().map(|p| p.preset.as_str()).collect();
+            presets.dedup();
+            let points = &points;
+            presets.into_iter().map(move |preset| {
+                let xy: Vec<(f64, f64)> = points
+                    .iter()
+                    .filter(|p| p.preset == preset)
+                    .map(|p| (p.x(), p.figure(key) * scale))
+                    .filter(|(x, y)| x.is_finite() && y.is_finite() && *x > 0.0 && *y > 0.0)
+                    .collect();
+                let e = section.exponents.get(&format!("{sweep}/{preset}/{key}"));
+                (format!("{label}, {preset}: ∝ x^{}", e.map_or("?".into(), |e| format!("{e:.2}"))), xy)
+            })
+        })
+        .filter(|(_, xy)| !xy.is_empty())
+        .collect();
+    let all: Vec<(f64, f64)> = series.iter().flat_map(|s| s.1.iter().copied()).collect();
+    if all.is_empty() {
+        return Ok(());
+    }
+    let (x0, x1) = all.iter().fold((f64::MAX, f64::MIN), |a, p| (a.0.min(p.0), a.1.max(p.0)));
+    let (y0, y1) = all.iter().fold((f64::MAX, f64::MIN), |a, p| (a.0.min(p.1), a.1.max(p.1)));
+    let text = font();
+    let tmp = path.with_extension("partial.png");
+    {
+        let root = BitMapBackend::new(&tmp, (1000, 650)).into_drawing_area();
+        root.fill(&WHITE).map_err(|e| anyhow::anyhow!("{e}"))?;
+        let mut builder = ChartBuilder::on(&root);
+        builder.margin(20);
+        if text {
+            builder.caption(format!("how the costs grow with {x_label} (log–log)"), ("sans-serif", 22));
+            builder.x_label_area_size(45).y_label_area_size(70);
+        }
+        let mut chart = builder
+            .build_cartesian_2d((x0 / 1.3..x1 * 1.3).log_scale(), (y0 / 2.0..y1 * 4.0).log_scale())
+            .map_err(|e| anyhow::anyhow!("{e}"))?;
+        if text {
+            chart.configure_mesh().x_desc(x_label).draw().map_err(|e| anyhow::anyhow!("{e}"))?;
+        }
+        for (k, (label, xy)) in series.into_iter().enumerate() {
+            let colour = Palette99::pick(k).to_rgba();
+            chart
+                .draw_series(xy.iter().map(|&p| Circle::new(p, 4, colour.filled())))
+                .map_err(|e| anyhow::anyhow!("{e}"))?;
+            let line =
+                chart.draw_series(LineSeries::new(xy, colour.stroke_width(2))).map_err(|e| anyhow::anyhow!("{e}"))?;
+            if text {
+                line.label(label).legend(move |(x, y)| PathElement::new([(x, y), (x + 18, y)], colour.stroke_width(2)));
+            }
+        }
+        if text {
+            chart
+                .configure_series_labels()
+                .position(SeriesLabelPosition::UpperLeft)
+                .background_style(WHITE.mix(0.85))
+                .border_style(BLACK)
+                .draw()
+                .map_err(|e| anyhow::anyhow!("{e}"))?;
+        }
+        root.present().map_err(|e| anyhow::anyhow!("{e}"))?;
+    }
+    std::fs::rename(&tmp, path).with_context(|| format!("writing {}", path.display()))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A plot is a whole PNG at its path, and nothing partial is left beside it.
+    fn is_png(path: &Path) -> bool {
+        let bytes = std::fs::read(path).unwrap();
+        !path.with_extension("partial.png").exists() && bytes.len() > 1000 && bytes.starts_with(b"\x89PNG")
+    }
+
+    #[test]
+    fn both_plots_write_whole_pngs() {
+        let dir = std::env::temp_dir().join(format!("vcuts-plots-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let point = |sweep: &str, value: f64, front: bool| Point {
+            sweep: sweep.into(),
+            value: format!("{value}"),
+            preset: "fast".into(),
+            figures: [("data_bytes", value * 1e6), ("move_ms", value), ("rel_l2_exact", 0.1 / value)].into(),
+            pareto_size: front,
+            pareto_move: front,
+        };
+        let points = [point("directions", 1.0, true), point("directions", 2.0, true), point("levels", 3.0, false)];
+        tradeoff(&points, "data_bytes", "data size (MB)", &dir.join("size.png")).unwrap();
+        assert!(is_png(&dir.join("size.png")));
+        let at = |objects: usize, preset: &str| ScalingPoint {
+            sweep: "objects".into(),
+            preset: preset.into(),
+            objects: objects + 1,
+            movable: objects,
+            vertices: 500 * objects,
+            move_ms_eager: 3.0 * objects as f64,
+            precompute_s: objects as f64,
+            ..ScalingPoint::default()
+        };
+        let section = ScalingSection {
+            points: vec![at(1, "fast"), at(2, "fast"), at(4, "fast"), at(1, "balanced"), at(2, "balanced")],
+            ..ScalingSection::default()
+        };
+        scaling(&section, "objects", "objects", &dir.join("objects.png")).unwrap();
+        assert!(is_png(&dir.join("objects.png")));
+        // A sweep with no points draws nothing and is no error.
+        scaling(&section, "tessellation", "vertices", &dir.join("none.png")).unwrap();
+        assert!(!dir.join("none.png").exists());
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+}
