@@ -46,7 +46,11 @@ fn benches(c: &mut Criterion) {
     let eye = scene.cameras[0].position;
     let teapot = frame.object_index("teapot").expect("teapot");
     let nodes: usize = (0..frame.object_count())
-        .map(|o| (0..frame.object(o).mesh.vertex_count()).map(|v| frame.merged(o, v).values.len()).sum::<usize>())
+        .map(|o| {
+            (0..frame.object(o).mesh.vertex_count())
+                .map(|v| frame.merged(o, v).expect("merged").values.len())
+                .sum::<usize>()
+        })
         .sum();
     println!("{} directions, {nodes} merged nodes", data.directions.len());
     let mut g = c.benchmark_group("frame_teapot");

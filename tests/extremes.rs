@@ -192,7 +192,7 @@ fn a_frame_with_65536_directions_and_heights_up_to_16() {
     frame.translate(ball, Vec3::new(0.3, 0.0, 0.0)).unwrap();
     let tallest = (0..frame.object_count())
         .flat_map(|o| (0..frame.object(o).mesh.vertex_count()).map(move |v| (o, v)))
-        .map(|(o, v)| frame.merged(o, v).heights.iter().copied().max().unwrap_or(0))
+        .map(|(o, v)| frame.merged(o, v).unwrap().heights.iter().copied().max().unwrap_or(0))
         .max()
         .unwrap();
     assert!(tallest >= 12, "merged cuts keep nodes up to height {tallest}");

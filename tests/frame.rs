@@ -9,7 +9,7 @@ use vcut_precompute::PrecomputeParams;
 use vcut_precompute::run::{Job, NoProgress, precompute};
 use vcut_scene::{Material, Scene, SceneDesc};
 use vcut_shade::reference::{errors, exact_direction};
-use vcut_shade::{Frame, MergeAlgorithm, SunRays};
+use vcut_shade::{Frame, FrameCaches, MergeAlgorithm, SunRays};
 
 const BALL_ABOVE_GROUND: &str = r#"
 [[object]]
@@ -173,12 +173,12 @@ fn moves_re_merge_only_what_changed_and_edits_never_merge() {
     // The index baseline merges the same cuts bit for bit.
     let moved = Vec3::new(0.3, 0.1, -0.2);
     frame.translate(ball, moved).unwrap();
-    let counter: Vec<_> = (0..n_ground).map(|v| frame.merged(ground, v).clone()).collect();
+    let counter: Vec<_> = (0..n_ground).map(|v| frame.merged(ground, v).unwrap().into_owned()).collect();
     let shaded = frame.shade(EYE);
     frame.set_merge_algorithm(MergeAlgorithm::Index).unwrap();
     frame.translate(ball, Vec3::ZERO).unwrap();
     frame.translate(ball, moved).unwrap();
-    assert!((0..n_ground).all(|v| *frame.merged(ground, v) == counter[v]));
+    assert!((0..n_ground).all(|v| *frame.merged(ground, v).unwrap() == counter[v]));
     assert!(frame.shade(EYE) == shaded);
 
     // So does the default merge with every SVC decoded at each merge instead of kept decoded.
@@ -188,7 +188,7 @@ fn moves_re_merge_only_what_changed_and_edits_never_merge() {
     assert_eq!(frame.svc_cache_bytes(), 0);
     frame.translate(ball, Vec3::ZERO).unwrap();
     frame.translate(ball, moved).unwrap();
-    assert!((0..n_ground).all(|v| *frame.merged(ground, v) == counter[v]));
+    assert!((0..n_ground).all(|v| *frame.merged(ground, v).unwrap() == counter[v]));
     assert!(frame.shade(EYE) == shaded);
 }
 
@@ -224,13 +224,13 @@ fn a_move_looks_up_and_merges_only_what_it_changes() {
     let counts: Vec<usize> = (0..frame.object_count()).map(|o| frame.object(o).mesh.vertex_count()).collect();
     let count = |o: usize| counts[o];
     let far: Vec<_> = [b2, b3].iter().flat_map(|&o| (0..count(o)).map(move |v| (o, v))).collect();
-    let before: Vec<_> = far.iter().map(|&(o, v)| frame.merged(o, v).clone()).collect();
+    let before: Vec<_> = far.iter().map(|&(o, v)| frame.merged(o, v).unwrap().into_owned()).collect();
     for step in 1..=3 {
         let merged = frame.translate(b0, Vec3::new(0.1 * step as f32, 0.0, 0.05)).unwrap();
         // Ball 0's own vertices, ball 1's (4 units away) and the ground's near them; never the
         // balls beyond its reach.
         assert!(merged >= count(b0) && merged <= count(b0) + count(b1) + count(ground), "{merged}");
-        assert!(far.iter().zip(&before).all(|(&(o, v), cut)| frame.merged(o, v) == cut));
+        assert!(far.iter().zip(&before).all(|(&(o, v), cut)| *frame.merged(o, v).unwrap() == *cut));
         // Looking every input up again finds nothing more to merge.
         assert_eq!(frame.set_inside_samples(InsideSamples::default()).unwrap(), 0, "step {step}");
     }
@@ -341,7 +341,7 @@ fn back_facing_merges_and_lists_wait_for_a_camera_that_sees_them() {
     assert_eq!(lazy.pending_merges(), 0);
     for o in 0..lazy.object_count() {
         for v in 0..lazy.object(o).mesh.vertex_count() {
-            assert!(lazy.merged(o, v) == eager.merged(o, v), "object {o} vertex {v}");
+            assert!(lazy.merged(o, v).unwrap() == eager.merged(o, v).unwrap(), "object {o} vertex {v}");
         }
     }
     // Moving back before anyone saw them: the waiting vertices' old cuts are current again.
@@ -512,4 +512,65 @@ fn the_sun_by_rays_meets_the_exact_reference_and_follows_moves() {
     let flat = frame.shade(EYE);
     frame.set_sun_rays(None);
     assert!(frame.shade(EYE) == flat);
+}
+
+#[test]
+fn without_the_merged_cache_a_frame_holds_less_and_shades_the_same() {
+    let dir = scratch("lean");
+    let path = dir.join("b.vcuts");
+    let mut d = data(BALL_ABOVE_GROUND, &[], &path);
+    let env = EnvMap::constant([1.0; 3]);
+    let (moved, behind) = (Vec3::new(0.3, 0.1, -0.2), Vec3::new(-3.0, 2.0, -5.0));
+    let mut full = Frame::new(&mut d, &env).unwrap();
+    let lean_caches = FrameCaches { svc: true, merged: false };
+    let mut lean = Frame::with_caches(&mut Precomputed::open(&path).unwrap(), &env, lean_caches).unwrap();
+    assert_eq!((full.caches(), lean.caches()), (FrameCaches::default(), lean_caches));
+    let (m_full, m_lean) = (full.memory(), lean.memory());
+    assert!(m_full.merged > 0 && m_lean.merged == 0, "{m_full:?} {m_lean:?}");
+    assert!(m_lean.total() < m_full.total());
+    assert!(lean.shade(EYE) == full.shade(EYE));
+    // A move and a BRDF edit cost the same merges.
+    let ball = full.object_index("ball").unwrap();
+    assert_eq!(lean.translate(ball, moved).unwrap(), full.translate(ball, moved).unwrap());
+    let gold = Material::blinn_phong([0.5, 0.4, 0.1], [0.4, 0.4, 0.4], 40.0);
+    let before = lean.merges();
+    lean.set_material(ball, gold);
+    full.set_material(ball, gold);
+    assert_eq!(lean.merges(), before, "a BRDF edit merges nothing");
+    assert!(lean.shade(EYE) == full.shade(EYE));
+    // Every cut, waiting ones too, merged on request is the kept one.
+    assert!(lean.pending_merges() > 0);
+    let every = |f: &Frame| -> Vec<(usize, usize)> {
+        (0..f.object_count()).flat_map(|o| (0..f.object(o).mesh.vertex_count()).map(move |v| (o, v))).collect()
+    };
+    assert!(every(&lean).into_iter().all(|(o, v)| lean.merged(o, v).unwrap() == full.merged(o, v).unwrap()));
+    // A lighting change merges the vertices facing the eye again (the others' lists wait)...
+    assert_eq!(lean.merge_pending().unwrap(), full.merge_pending().unwrap());
+    let sky = EnvMap::constant([0.5, 1.0, 1.0]);
+    let before = lean.merges();
+    lean.set_environment(&sky);
+    full.set_environment(&sky);
+    assert!(lean.merges() > before);
+    assert!(lean.shade(EYE) == full.shade(EYE));
+    // ... and a camera turn those it now sees, where the full frame lists them from its cuts.
+    let (turn_full, turn_lean) = (full.set_eye(behind).unwrap(), lean.set_eye(behind).unwrap());
+    assert!(turn_full == 0 && turn_lean > 0, "{turn_lean}, {turn_full}");
+    assert!(lean.shade(behind) == full.shade(behind));
+    lean.set_sun_rays(None);
+    full.set_sun_rays(None);
+    assert!(lean.shade(EYE) == full.shade(EYE));
+    // Turned on again, the cache is filled with the same cuts.
+    lean.set_merged_cache(true).unwrap();
+    assert!(lean.memory().merged > 0);
+    assert!(every(&lean).into_iter().all(|(o, v)| *lean.merged(o, v).unwrap() == *full.merged(o, v).unwrap()));
+    assert!(lean.shade(EYE) == full.shade(EYE));
+    // A budget keeps the caches that fit: none under the frame's floor, both with room.
+    let floor = FrameCaches { svc: false, merged: false };
+    assert_eq!(lean.fit_memory(0).unwrap(), floor);
+    assert_eq!(lean.memory().svc_cache, 0);
+    assert!(lean.shade(behind) == full.shade(behind));
+    let without_svc = lean.memory().total();
+    assert_eq!(lean.fit_memory(without_svc + full.memory().svc_cache).unwrap(), lean_caches);
+    assert_eq!(lean.fit_memory(usize::MAX).unwrap(), FrameCaches::default());
+    assert!(lean.shade(EYE) == full.shade(EYE));
 }

@@ -140,9 +140,11 @@ fn main() -> Result<(), String> {
                 let n = frame.object(o).mesh.normals()[v];
                 let mut leaves = vec![0.0f32; tree.leaf_count()];
                 leaf_visibility(&all, tree, x + n * offset * radius, n, &mut leaves);
-                let mut means = frame.merged(o, v).clone();
+                // Merged at setup, so merging it again cannot fail.
+                let mut means = frame.merged(o, v).expect("merged at setup").into_owned();
+                let heights = means.heights.clone();
                 let mut leaf = 0usize;
-                for (value, &h) in means.values.iter_mut().zip(&frame.merged(o, v).heights) {
+                for (value, &h) in means.values.iter_mut().zip(&heights) {
                     let w = 1usize << h;
                     *value = leaves[leaf..leaf + w].iter().sum::<f32>() / w as f32;
                     leaf += w;

@@ -10,9 +10,12 @@
 //! `NO_SVC_CACHE=1` every SVC is decoded at each merge instead of kept decoded; with
 //! `NO_SUN_RAYS=1` the sun goes through the cuts too (the paper) instead of being cast by rays;
 //! with `EAGER=1` every move merges all the vertices it changes (by default those facing away
-//! from the eye wait: `Frame::set_deferred_merges`; each step prints how many). Last, a
-//! lighting change (`relight_ms`: light tree and every shading list, no merge) and a BRDF edit
-//! (`edit_ms`: the exponent changed, every vertex shaded).
+//! from the eye wait: `Frame::set_deferred_merges`; each step prints how many); with
+//! `NO_MERGED_CACHE=1` the frame keeps no merged cuts (`Frame::set_merged_cache`). Last, a
+//! lighting change (`relight_ms`: light tree and the shading lists facing the eye; a merge of
+//! those without the merged cache), the camera turned to the other side after it (`turn_ms`:
+//! the lists it now sees), a BRDF edit (`edit_ms`: the exponent changed, every vertex shaded)
+//! and the frame's memory (`frame_memory_mb`).
 
 use glam::Vec3;
 use std::path::Path;
@@ -47,6 +50,9 @@ fn main() -> Result<(), String> {
         frame.set_svc_cache(false).map_err(|e| e.to_string())?;
     }
     println!("svc_cache_mb={:.1}", frame.svc_cache_bytes() as f64 / 1e6);
+    if std::env::var_os("NO_MERGED_CACHE").is_some() {
+        frame.set_merged_cache(false).map_err(|e| e.to_string())?;
+    }
     if std::env::var_os("EAGER").is_some() {
         frame.set_deferred_merges(false).map_err(|e| e.to_string())?;
     }
@@ -101,15 +107,22 @@ fn main() -> Result<(), String> {
         // Cores busy over the path (of rayon's threads): below their count, serial parts wait.
         println!("path_cores_busy={:.2}", (b - a) / wall0.elapsed().as_secs_f64());
     }
-    // A lighting change: the light tree again and every vertex's shading list (no merge).
-    let relight: Vec<f64> = (0..5)
-        .map(|_| {
-            let t = Instant::now();
-            frame.set_environment(&env);
-            t.elapsed().as_secs_f64() * 1e3
-        })
-        .collect();
+    // A lighting change: the light tree again and the shading lists facing the eye; then the
+    // camera turned to the other side builds the lists it now sees.
+    let behind = Vec3::new(-eye.x, eye.y, -eye.z);
+    let (mut relight, mut turn) = (Vec::new(), Vec::new());
+    for _ in 0..5 {
+        frame.set_eye(eye).map_err(|e| e.to_string())?;
+        let t = Instant::now();
+        frame.set_environment(&env);
+        relight.push(t.elapsed().as_secs_f64() * 1e3);
+        let t = Instant::now();
+        frame.set_eye(behind).map_err(|e| e.to_string())?;
+        turn.push(t.elapsed().as_secs_f64() * 1e3);
+    }
     println!("relight_ms={:.2}", median(relight));
+    println!("turn_ms={:.2}", median(turn));
+    println!("frame_memory_mb={:.1}", frame.memory().total() as f64 / 1e6);
     // A BRDF edit: the movable object's exponent toggled 15 ↔ 70, then shade (no merge).
     println!("edit_ms={:.2}", edit_ms(&mut frame, o, eye, 21));
     let col = |k: usize| median(rows.iter().map(|r| r[k]).collect());

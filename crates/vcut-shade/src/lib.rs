@@ -35,5 +35,5 @@ pub mod measure;
 pub mod reference;
 pub mod sun;
 
-pub use frame::{CutFailure, Frame, FrameError, FrameMemory, FrameObject, MergeAlgorithm, MoveTiming};
+pub use frame::{CutFailure, Frame, FrameCaches, FrameError, FrameMemory, FrameObject, MergeAlgorithm, MoveTiming};
 pub use sun::SunRays;

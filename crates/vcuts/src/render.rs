@@ -9,10 +9,10 @@ use std::time::Instant;
 use vcut_data::{InsideSamples, Precomputed};
 use vcut_envmap::EnvMap;
 use vcut_scene::{Camera, Scene};
-use vcut_shade::Frame;
 use vcut_shade::brdf::parse_spec;
 use vcut_shade::image::{auto_exposure, pixel_errors, rasterize, write_exr, write_ply, write_png};
 use vcut_shade::reference::{MonteCarloParams, errors, exact_direction, monte_carlo};
+use vcut_shade::{Frame, FrameCaches};
 
 use crate::ssdo::ScreenMode;
 
@@ -140,6 +140,16 @@ pub struct RenderArgs {
     /// the image is the same bit for bit.
     #[arg(long)]
     pub eager_merges: bool,
+    /// Keep no merged cut per vertex, only its shading list: less memory (the merged cuts are
+    /// the frame's largest part), the same moves, edits and image; a lighting change or a
+    /// camera turn merges the vertices it relists again (`Frame::set_merged_cache`).
+    #[arg(long)]
+    pub no_merged_cache: bool,
+    /// Hold the frame's memory (`frame_memory_mb`) to MB: its caches (the decoded SVCs, then
+    /// the merged cuts) are kept only where they fit (`Frame::fit_memory`); `frame_caches`
+    /// says which. A warning says when even none fits.
+    #[arg(long, value_name = "MB", conflicts_with = "no_merged_cache")]
+    pub memory_budget: Option<f64>,
 }
 
 impl RenderArgs {
@@ -163,6 +173,8 @@ impl RenderArgs {
             no_sun_rays: false,
             no_horizon_culling: false,
             eager_merges: false,
+            no_merged_cache: false,
+            memory_budget: None,
         }
     }
 }
@@ -238,6 +250,11 @@ pub struct Opened {
 
 /// Opens `input` under environment `env` (default: the one recorded, else the scene's).
 pub fn open(input: &Path, env: Option<&str>) -> Result<Opened> {
+    open_with(input, env, FrameCaches::default())
+}
+
+/// [`open`] with a frame that keeps `caches` ([`Frame::with_caches`]).
+pub fn open_with(input: &Path, env: Option<&str>, caches: FrameCaches) -> Result<Opened> {
     let mut data = Precomputed::open(input)?;
     let scene = Scene::open(&data.record.scene).ok();
     let recorded = Some(data.record.environment.clone()).filter(|e| e != "scene");
@@ -254,7 +271,7 @@ pub fn open(input: &Path, env: Option<&str>) -> Result<Opened> {
         }
     };
     let t = Instant::now();
-    let frame = Frame::new(&mut data, &env)?;
+    let frame = Frame::with_caches(&mut data, &env, caches)?;
     Ok(Opened { data, frame, env, env_name, scene, setup_s: t.elapsed().as_secs_f64() })
 }
 
@@ -322,7 +339,28 @@ pub fn run(args: &RenderArgs) -> Result<RenderOutcome> {
         Inside::Occluded => InsideSamples::Occluded,
         Inside::Dropped => InsideSamples::Dropped,
     };
-    let Opened { data, mut frame, env, scene, setup_s, .. } = open(&args.input, args.env.as_deref())?;
+    let budget = match args.memory_budget {
+        Some(mb) if !(mb.is_finite() && mb > 0.0) => bail!("--memory-budget {mb}: expected a positive number of MB"),
+        Some(mb) => Some((mb * 1e6) as usize),
+        None => None,
+    };
+    // Under a budget the setup keeps no merged cut, so that its peak stays low too.
+    let caches = FrameCaches { svc: true, merged: !args.no_merged_cache && budget.is_none() };
+    let Opened { data, mut frame, env, scene, setup_s, .. } = open_with(&args.input, args.env.as_deref(), caches)?;
+    if let Some(budget) = budget {
+        frame.fit_memory(budget)?;
+        let need = frame.memory().total();
+        if need > budget {
+            log::warn!(
+                "--memory-budget {:.1}: the frame needs {:.1} MB without any cache",
+                budget as f64 / 1e6,
+                need as f64 / 1e6
+            );
+        }
+    }
+    let kept = frame.caches();
+    let names: Vec<&str> = [("svc", kept.svc), ("merged", kept.merged)].iter().filter(|c| c.1).map(|c| c.0).collect();
+    out.emit("frame_caches", if names.is_empty() { "none".into() } else { names.join(",") });
     out.setup_s = setup_s;
     out.emit("setup_s", format!("{setup_s:.3}"));
     if inside != InsideSamples::default() {

@@ -6,7 +6,6 @@
 use super::keys::Changed;
 use super::{Frame, FrameError};
 use glam::Vec3;
-use rayon::prelude::*;
 
 impl Frame {
     /// Whether a move merges only the vertices facing the last eye (the default) and leaves
@@ -52,17 +51,14 @@ impl Frame {
     pub fn set_eye(&mut self, eye: Vec3) -> Result<usize, FrameError> {
         self.eye = Some(eye);
         let waiting = self.objects.iter().any(|s| s.pending.iter().enumerate().any(|(v, &p)| p && s.faces(v, eye)));
-        let merged = if waiting { self.rekey(Changed::Nothing, false)? } else { 0 };
-        let nodes = &self.nodes;
-        for s in &mut self.objects {
-            let mut lists = std::mem::take(&mut s.lists);
-            let state = &*s;
-            lists
-                .par_iter_mut()
-                .enumerate()
-                .filter(|(v, l)| l.stale && !state.pending[*v] && state.faces(*v, eye))
-                .for_each_init(Vec::new, |below, (v, list)| state.relist(v, nodes, list, below));
-            s.lists = lists;
+        let mut merged = if waiting { self.rekey(Changed::Nothing, false)? } else { 0 };
+        for o in 0..self.objects.len() {
+            let s = &self.objects[o];
+            let which: Vec<bool> =
+                s.lists.iter().enumerate().map(|(v, l)| l.stale && !s.pending[v] && s.faces(v, eye)).collect();
+            if which.contains(&true) {
+                merged += self.relist(o, &which)?;
+            }
         }
         Ok(merged)
     }

@@ -6,7 +6,6 @@ use super::lists::{shade_nodes, specular_nodes};
 use super::object::placed;
 use crate::brdf;
 use crate::sun::{self, Sun, SunRays};
-use rayon::prelude::*;
 use vcut_envmap::EnvMap;
 use vcut_scene::Material;
 
@@ -67,21 +66,17 @@ impl Frame {
     }
 
     /// Rebuilds the shading lists after a lighting change: those of the vertices facing the
-    /// last eye (all without one); the others' are marked stale.
+    /// last eye (all without one); the others' are marked stale. With the merged cache off this
+    /// merges them again; a cut that fails to merge there (the same bytes merged at setup, so
+    /// not in practice) leaves its list stale, and a shading that needs it shades it black.
     fn relist_all(&mut self) {
-        let eye = self.eye();
-        let nodes = &self.nodes;
-        for s in &mut self.objects {
-            let mut lists = std::mem::take(&mut s.lists);
-            let state = &*s;
-            lists.par_iter_mut().enumerate().for_each_init(Vec::new, |below, (v, list)| {
-                if !state.pending[v] && eye.is_none_or(|e| state.faces(v, e)) {
-                    state.relist(v, nodes, list, below);
-                } else {
-                    list.mark_stale();
-                }
-            });
-            s.lists = lists;
+        for o in 0..self.objects.len() {
+            let s = &mut self.objects[o];
+            let which: Vec<bool> = s.pending.iter().map(|p| !p).collect();
+            for (list, _) in s.lists.iter_mut().zip(&s.pending).filter(|(_, p)| **p) {
+                list.mark_stale();
+            }
+            let _ = self.relist(o, &which);
         }
     }
 }

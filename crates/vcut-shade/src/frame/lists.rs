@@ -95,13 +95,41 @@ pub(super) fn shade_nodes(tree: &DirectionTree, light: &LightTree) -> Vec<ShadeN
 
 /// A vertex's shading list: the nodes that can reflect light (see the module documentation),
 /// their weights, and the diffuse sum Σ weight·l_k.
+///
+/// Each entry is one `u32` ([`pack`]): the node's level-order index in 17 bits (a tree of at
+/// most 65,536 directions has 131,071 nodes) and its weight as a half float without sign bit
+/// (10 mantissa bits: relative rounding error ≤ 2⁻¹¹; weights below 2⁻¹⁴ — a node that
+/// adds under 0.006 % of a fully visible one's light — are left out). The diffuse sum is
+/// formed from the unrounded weights.
 #[derive(Debug, Clone, Default)]
 pub(super) struct ShadeList {
-    pub(super) nodes: Vec<u32>,
-    pub(super) weights: Vec<f32>,
+    pub(super) entries: Vec<u32>,
     pub(super) diffuse: Vec3,
     /// Not built since the vertex's last merge or lighting change (empty meanwhile).
     pub(super) stale: bool,
+}
+
+/// Bits of an entry's weight ([`ShadeList`]).
+const WEIGHT_BITS: u32 = 15;
+/// Nodes a list entry can name.
+pub(super) const MAX_NODES: usize = 1 << (32 - WEIGHT_BITS);
+/// 2⁻¹¹² and 2¹¹²: between an f32 and a half float's exponent bias (15 against 127).
+const TO_HALF: f32 = 1.0 / (1u128 << 112) as f32;
+const FROM_HALF: f32 = (1u128 << 112) as f32;
+/// Smallest weight kept (the smallest normal half float).
+const MIN_WEIGHT: f32 = 1.0 / (1 << 14) as f32;
+
+/// The entry of node `k` with weight `w` (≥ [`MIN_WEIGHT`]): rounded to nearest.
+#[inline]
+pub(super) fn pack(k: u32, w: f32) -> u32 {
+    let bits = (w.min(65_504.0) * TO_HALF).to_bits();
+    (k << WEIGHT_BITS) | ((bits + 0x1000) >> 13)
+}
+
+/// The node and weight of an entry.
+#[inline]
+pub(super) fn unpack(e: u32) -> (usize, f32) {
+    ((e >> WEIGHT_BITS) as usize, f32::from_bits((e & ((1 << WEIGHT_BITS) - 1)) << 13) * FROM_HALF)
 }
 
 /// Whether a vertex at `x` with normal `n` faces `eye` (else it reflects nothing toward it).
@@ -125,7 +153,7 @@ impl ShadeList {
     /// frame's merge): a node inside a larger SVC node A wholly above the horizon then takes its
     /// visibility as `v_k / (n·m_A)` — the SVC's value is A's mean of V·(n·ω), not the node's
     /// (see the module documentation). `None`: every value is its own node's mean.
-    /// `scratch` holds each packed node's n·m_A (0: use its own).
+    /// `scratch` holds each packed node's value and n·m_A (0: use its own).
     ///
     /// Two passes without data-dependent branches: the non-zero nodes are packed first, then
     /// every packed node's table entry is read and the node kept or dropped by arithmetic, so
@@ -137,22 +165,21 @@ impl ShadeList {
         n: Vec3,
         table: &[ShadeNode],
         svc: Option<&[u32]>,
-        scratch: &mut Vec<f32>,
+        scratch: &mut Vec<[f32; 2]>,
     ) {
         // Sized by the non-zero nodes (a list is kept per vertex: no room for the zero ones).
         let len = cut.values.iter().filter(|&&v| v != 0.0).count();
-        self.nodes.resize(len, 0);
-        self.weights.resize(len, 0.0);
+        self.entries.resize(len, 0);
         scratch.clear();
-        scratch.resize(len, 0.0);
+        scratch.resize(len, [0.0; 2]);
         let mut packed = 0;
         match svc {
             None => {
                 for (&k, &v) in cut.indices.iter().zip(&cut.values) {
                     // The last zero nodes write past the non-zero ones: into the spare slot, if any.
                     if packed < len {
-                        self.nodes[packed] = k;
-                        self.weights[packed] = v;
+                        self.entries[packed] = k;
+                        scratch[packed] = [v, 0.0];
                     }
                     packed += usize::from(v != 0.0);
                 }
@@ -175,9 +202,8 @@ impl ShadeList {
                         a_below = if n.dot(a.axis) >= a.sin_half && below > 1e-6 { below } else { 0.0 };
                     }
                     if packed < len {
-                        self.nodes[packed] = k;
-                        self.weights[packed] = v;
-                        scratch[packed] = a_below;
+                        self.entries[packed] = k;
+                        scratch[packed] = [v, a_below];
                     }
                     packed += usize::from(v != 0.0);
                     leaf = end;
@@ -187,7 +213,7 @@ impl ShadeList {
         let mut kept = 0;
         let mut diffuse = Vec3::ZERO;
         for i in 0..packed {
-            let (k, v, a_below) = (self.nodes[i], self.weights[i], scratch[i]);
+            let (k, [v, a_below]) = (self.entries[i], scratch[i]);
             let node = &table[k as usize];
             let keep = n.dot(node.dir) > 0.0;
             let below = n.dot(node.mean);
@@ -199,21 +225,18 @@ impl ShadeList {
             } else {
                 v
             };
-            self.nodes[kept] = k;
-            self.weights[kept] = w;
+            self.entries[kept] = pack(k, w);
             diffuse += if keep { w * node.light } else { Vec3::ZERO };
-            kept += usize::from(keep);
+            kept += usize::from(keep && w >= MIN_WEIGHT);
         }
-        self.nodes.truncate(kept);
-        self.weights.truncate(kept);
+        self.entries.truncate(kept);
         self.diffuse = diffuse;
         self.stale = false;
     }
 
     /// Empties the list, keeping its buffers.
     pub(super) fn clear(&mut self) {
-        self.nodes.clear();
-        self.weights.clear();
+        self.entries.clear();
         self.diffuse = Vec3::ZERO;
         self.stale = false;
     }
@@ -238,10 +261,11 @@ impl ShadeList {
     ) -> Vec3 {
         const L: usize = 8;
         let mut sum = [[0.0f32; L]; 3];
-        for (ks, ws) in self.nodes.chunks(L).zip(self.weights.chunks(L)) {
+        for es in self.entries.chunks(L) {
             let (mut dir, mut light) = ([[0.0f32; L]; 3], [[0.0f32; L]; 3]);
-            for (j, (&k, &w)) in ks.iter().zip(ws).enumerate() {
-                let node = &table[k as usize];
+            for (j, &e) in es.iter().enumerate() {
+                let (k, w) = unpack(e);
+                let node = &table[k];
                 for c in 0..3 {
                     dir[c][j] = node.dir[c];
                     light[c][j] = w * node.light[c];
@@ -266,8 +290,9 @@ impl ShadeList {
     #[inline]
     pub(super) fn specular(&self, table: &[SpecularNode], lobe: impl Fn(Vec3) -> Vec3) -> Vec3 {
         let mut b = Vec3::ZERO;
-        for (&k, &w) in self.nodes.iter().zip(&self.weights) {
-            let node = &table[k as usize];
+        for &e in &self.entries {
+            let (k, w) = unpack(e);
+            let node = &table[k];
             b += w * lobe(node.dir) * node.light;
         }
         b

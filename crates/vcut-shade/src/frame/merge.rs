@@ -83,15 +83,16 @@ impl Frame {
     }
 
     /// Merges the vertices of object `o` marked in `changed` with their keys into `merged`
-    /// and builds their shading `lists` (in place, reusing each buffer), in parallel. Returns
-    /// how many were merged.
+    /// (`None` with the merged cache off: each cut lives until its list is built) and builds
+    /// their shading `lists` (in place, reusing each buffer), in parallel. Returns how many
+    /// were merged.
     #[allow(clippy::too_many_arguments)]
     pub(super) fn merge_all(
         &self,
         o: usize,
         keys: &[Vec<FieldKey>],
         changed: &[bool],
-        merged: &mut [MergedCut],
+        merged: Option<&mut [MergedCut]>,
         lists: &mut [ShadeList],
         cache: &mut FieldCache,
         timing: &mut MoveTiming,
@@ -145,13 +146,18 @@ impl Frame {
             .map_err(|e| FrameError::cut(o, first, e))?;
         timing.refine_s += start.elapsed().as_secs_f64();
         let start = Instant::now();
+        let slots: Vec<Option<&mut MergedCut>> = match merged {
+            Some(m) => m.iter_mut().map(Some).collect(),
+            None => (0..changed.len()).map(|_| None).collect(),
+        };
         let result =
-            merged.par_iter_mut().zip(lists.par_iter_mut()).enumerate().filter(|(v, _)| changed[*v]).try_for_each_init(
-                || (Prepared::default(), Vec::new()),
-                |(scratch, below), (v, (out, list))| {
+            slots.into_par_iter().zip(lists.par_iter_mut()).enumerate().filter(|(v, _)| changed[*v]).try_for_each_init(
+                || (Prepared::default(), Vec::new(), MergedCut::default()),
+                |(scratch, below, spare), (v, (slot, list))| {
                     let cell = |c: &CellKey| {
                         &refined[cells.binary_search(c).unwrap_or_else(|_| unreachable!("collected above"))]
                     };
+                    let out = slot.unwrap_or(spare);
                     let svc = self.merge_vertex(o, v, &keys[v], &cell, scratch, out)?;
                     // The list while the cut is still in cache.
                     match svc {
@@ -206,12 +212,18 @@ impl Frame {
         Ok(Some(svc.ends()))
     }
 
-    /// Vertex `v`'s cut at the current field inputs, merged on the spot and not kept (for a
-    /// vertex whose merge waits): [`Frame::merge_vertex`] with its cells refined here, so the
-    /// cut a merge would keep, bit for bit.
-    pub(super) fn merge_one(&self, o: usize, v: usize, out: &mut MergedCut) -> Result<(), FrameError> {
+    /// Vertex `v`'s cut with field inputs `keys`, merged on the spot and not kept (a vertex
+    /// whose merge waits, at its current inputs; with the merged cache off, any vertex at its
+    /// kept ones): [`Frame::merge_vertex`] with its cells refined here, so the cut a merge
+    /// would keep, bit for bit.
+    pub(super) fn merge_one(
+        &self,
+        o: usize,
+        v: usize,
+        keys: &[FieldKey],
+        out: &mut MergedCut,
+    ) -> Result<(), FrameError> {
         let err = |e: CutFailure| FrameError::cut(o, v, e);
-        let keys = self.keys(o, v);
         let mut local: Vec<(CellKey, Prepared)> = Vec::new();
         for (cell, _) in keys.iter().filter(|k| k.samples.is_some()).filter_map(CellKey::of) {
             let cuts = cell
@@ -223,8 +235,45 @@ impl Frame {
             local.push((cell, self.algorithm.prepare(&cuts.iter().collect::<Vec<_>>()).map_err(|e| err(e.into()))?));
         }
         let cell = |c: &CellKey| &local.iter().find(|(k, _)| k == c).unwrap_or_else(|| unreachable!("refined above")).1;
-        self.merge_vertex(o, v, &keys, &cell, &mut Prepared::default(), out)?;
+        self.merge_vertex(o, v, keys, &cell, &mut Prepared::default(), out)?;
         Ok(())
+    }
+
+    /// Builds the shading lists of object `o`'s vertices marked in `which` (none waiting for
+    /// a merge) for the current light, from their kept merged cuts — or, with the merged cache
+    /// off, by merging them again at their kept field inputs in one batch (the cuts they had,
+    /// bit for bit). Those facing away from the eye are marked stale instead. Returns how many
+    /// vertices were merged again.
+    pub(super) fn relist(&mut self, o: usize, which: &[bool]) -> Result<usize, FrameError> {
+        let eye = self.eye();
+        let state = &mut self.objects[o];
+        let mut lists = std::mem::take(&mut state.lists);
+        if self.merged_cache {
+            let (state, nodes) = (&*state, &self.nodes);
+            lists.par_iter_mut().enumerate().filter(|(v, _)| which[*v]).for_each_init(Vec::new, |below, (v, list)| {
+                if eye.is_none_or(|e| state.faces(v, e)) {
+                    state.relist(v, nodes, list, below);
+                } else {
+                    list.mark_stale();
+                }
+            });
+            self.objects[o].lists = lists;
+            return Ok(0);
+        }
+        let keys = std::mem::take(&mut state.keys);
+        let mut cache = std::mem::take(&mut state.decoded);
+        let result = self.merge_all(o, &keys, which, None, &mut lists, &mut cache, &mut MoveTiming::default());
+        let state = &mut self.objects[o];
+        if result.is_err() {
+            // Built on the spot by a shading instead (which shades black what fails there).
+            for (list, _) in lists.iter_mut().zip(which).filter(|(_, w)| **w) {
+                list.mark_stale();
+            }
+        }
+        (state.keys, state.lists, state.decoded) = (keys, lists, cache);
+        let merged = result?;
+        self.merges += merged as u64;
+        Ok(merged)
     }
 
     /// Looks up the vertices' field inputs again and re-merges those that changed (with
@@ -265,7 +314,8 @@ impl Frame {
             let mut merged = std::mem::take(&mut state.merged);
             let mut lists = std::mem::take(&mut state.lists);
             let mut cache = std::mem::take(&mut state.decoded);
-            let result = self.merge_all(k, &keys, &merge, &mut merged, &mut lists, &mut cache, &mut timing);
+            let kept = self.merged_cache.then_some(&mut merged[..]);
+            let result = self.merge_all(k, &keys, &merge, kept, &mut lists, &mut cache, &mut timing);
             let state = &mut self.objects[k];
             state.merged = merged;
             state.lists = lists;

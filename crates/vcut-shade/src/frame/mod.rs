@@ -76,7 +76,17 @@
 //! frame's (tested); a move on the teapot scene merges ~6,600 of its 11,564 changed vertices
 //! and takes ~0.75× the eager time, and the camera turn after it merges what it now sees
 //! (`cargo xtask bench`: `move_ms_eager`, `turn_ms`, `turn_ms_eager`). With deferral off a
-//! camera change never merges.
+//! camera change never merges (with the merged cache on: below).
+//!
+//! **What a frame keeps** ([`Frame::memory`] by part). Per vertex its shading list, its field
+//! inputs (keys) and — as caches, each a trade of memory for time ([`FrameCaches`]) — its SVC
+//! decoded and its merged cut. Moves and BRDF edits need neither merged cuts nor lists rebuilt
+//! from them; a lighting change, a sun toggle and a camera turn do, and without the merged
+//! cache ([`Frame::set_merged_cache`]) they merge those vertices again at their kept inputs in
+//! one batch (the same cuts, bit for bit). On the teapot scene at `balanced` the frame holds
+//! 124 instead of 218 MB without it, a lighting change takes 128 instead of 43 ms and a camera
+//! turn after it 45 instead of 18 ms (`move_path` with `NO_MERGED_CACHE=1`).
+//! [`Frame::fit_memory`] keeps the caches that fit a budget.
 
 mod deferral;
 mod keys;
@@ -122,6 +132,14 @@ pub enum FrameError {
         vertex: usize,
         /// What failed.
         error: CutFailure,
+    },
+    /// The direction tree has more nodes than a shading list entry can name.
+    #[error("the direction tree has {nodes} nodes; a frame shades at most {max} (65,536 directions)")]
+    TooManyNodes {
+        /// The tree's nodes.
+        nodes: usize,
+        /// The most a frame takes.
+        max: usize,
     },
 }
 
@@ -221,12 +239,43 @@ pub struct Frame {
     /// Whether a field whose object lies wholly below a vertex's horizon is left out of its
     /// product ([`Frame::set_horizon_culling`]).
     horizon_culling: bool,
+    /// Whether every vertex's merged cut is kept ([`Frame::set_merged_cache`]).
+    merged_cache: bool,
+}
+
+/// What a frame keeps beyond the shading lists, each a trade of memory for time
+/// ([`Frame::with_caches`], [`Frame::fit_memory`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct FrameCaches {
+    /// Every vertex's SVC decoded and prepared ([`Frame::set_svc_cache`]): spares each merge
+    /// the SVC's decoding.
+    pub svc: bool,
+    /// Every vertex's merged cut ([`Frame::set_merged_cache`]): a lighting change, a sun
+    /// toggle or a camera turn rebuilds lists from it instead of merging again.
+    pub merged: bool,
+}
+
+impl Default for FrameCaches {
+    /// Both kept.
+    fn default() -> FrameCaches {
+        FrameCaches { svc: true, merged: true }
+    }
 }
 
 impl Frame {
-    /// Reads everything from `data`, builds the light tree of `env`, and merges every vertex.
+    /// Reads everything from `data`, builds the light tree of `env`, and merges every vertex;
+    /// keeps both caches ([`FrameCaches::default`]).
     pub fn new(data: &mut Precomputed, env: &EnvMap) -> Result<Frame, FrameError> {
+        Frame::with_caches(data, env, FrameCaches::default())
+    }
+
+    /// [`Frame::new`] keeping only the caches `caches` asks for (from the start, so that the
+    /// setup's peak memory holds none of the others either).
+    pub fn with_caches(data: &mut Precomputed, env: &EnvMap, caches: FrameCaches) -> Result<Frame, FrameError> {
         let tree = data.tree()?;
+        if tree.node_count() > lists::MAX_NODES {
+            return Err(FrameError::TooManyNodes { nodes: tree.node_count(), max: lists::MAX_NODES });
+        }
         let mut objects = Vec::new();
         for o in 0..data.objects.len() {
             let svc = data.svc_arrays(o)?;
@@ -275,25 +324,19 @@ impl Frame {
             defer: true,
             spot_merges: 0,
             horizon_culling: true,
+            merged_cache: caches.merged,
         };
-        frame.set_svc_cache(true)?;
+        frame.set_svc_cache(caches.svc)?;
         // The sun and the shading table before the merges build the lists.
         frame.light_state();
         for o in 0..frame.objects.len() {
             let n = frame.objects[o].mesh.vertex_count();
             let keys: Vec<Vec<FieldKey>> = (0..n).map(|v| frame.keys(o, v)).collect();
-            let mut merged = vec![MergedCut::default(); n];
+            let mut merged = vec![MergedCut::default(); if caches.merged { n } else { 0 }];
             let mut lists = vec![ShadeList::default(); n];
             let mut cache = FieldCache::default();
-            frame.merge_all(
-                o,
-                &keys,
-                &vec![true; n],
-                &mut merged,
-                &mut lists,
-                &mut cache,
-                &mut MoveTiming::default(),
-            )?;
+            let kept = caches.merged.then_some(&mut merged[..]);
+            frame.merge_all(o, &keys, &vec![true; n], kept, &mut lists, &mut cache, &mut MoveTiming::default())?;
             frame.objects[o].decoded = cache;
             frame.objects[o].pending = vec![false; n];
             frame.objects[o].keys = keys;
@@ -379,11 +422,87 @@ impl Frame {
         Ok(())
     }
 
+    /// Keeps every vertex's merged cut (`on`, the default) or only its shading list. Without
+    /// them the frame holds less memory (the merged cuts are its largest part: ~45 % of the
+    /// teapot scene's at `balanced`), moves and BRDF edits cost the same, and what would build a
+    /// list from a kept cut merges the vertex again at its kept field inputs: a lighting change
+    /// or a sun toggle merges every vertex facing the eye, a camera turn those newly facing
+    /// it, [`Frame::merged`] the one asked for. Images are the same bit for bit (tested).
+    /// Turning it on merges every vertex once (at its kept inputs) to fill it.
+    pub fn set_merged_cache(&mut self, on: bool) -> Result<(), FrameError> {
+        if on == self.merged_cache {
+            return Ok(());
+        }
+        self.merged_cache = on;
+        for o in 0..self.objects.len() {
+            let s = &mut self.objects[o];
+            if !on {
+                s.merged = Vec::new();
+                continue;
+            }
+            let n = s.mesh.vertex_count();
+            let (keys, mut lists, mut cache) =
+                (std::mem::take(&mut s.keys), std::mem::take(&mut s.lists), std::mem::take(&mut s.decoded));
+            let mut merged = vec![MergedCut::default(); n];
+            let result = self.merge_all(
+                o,
+                &keys,
+                &vec![true; n],
+                Some(&mut merged),
+                &mut lists,
+                &mut cache,
+                &mut MoveTiming::default(),
+            );
+            let s = &mut self.objects[o];
+            // Waiting vertices keep their cut of the old inputs, and no list.
+            for (list, _) in lists.iter_mut().zip(&s.pending).filter(|(_, p)| **p) {
+                list.mark_stale();
+            }
+            (s.keys, s.lists, s.decoded, s.merged) = (keys, lists, cache, merged);
+            if let Err(e) = result {
+                self.set_merged_cache(false)?;
+                return Err(e);
+            }
+        }
+        Ok(())
+    }
+
+    /// Which caches the frame keeps now.
+    pub fn caches(&self) -> FrameCaches {
+        FrameCaches { svc: self.svc_cache_on(), merged: self.merged_cache }
+    }
+
+    /// Keeps the caches that fit in `budget` bytes of [`Frame::memory`] with what the frame
+    /// must hold, adding them in order of what they save — the SVC cache (every merge) before
+    /// the merged cuts (lighting changes and camera turns) — and drops the others. Returns the
+    /// caches kept; the frame's memory without any is over `budget` when none is.
+    pub fn fit_memory(&mut self, budget: usize) -> Result<FrameCaches, FrameError> {
+        self.set_merged_cache(false)?;
+        self.set_svc_cache(true)?;
+        if self.memory().total() > budget {
+            self.set_svc_cache(false)?;
+        }
+        if self.memory().total() <= budget {
+            self.set_merged_cache(true)?;
+            if self.memory().total() > budget {
+                self.set_merged_cache(false)?;
+            }
+        }
+        Ok(self.caches())
+    }
+
     /// The merged cut of vertex `v` of object `o`, as of its last merge: a vertex whose merge
     /// waits ([`Frame::set_deferred_merges`], [`Frame::pending_merges`]) still has the cut of
-    /// its field inputs before the move.
-    pub fn merged(&self, o: usize, v: usize) -> &MergedCut {
-        &self.objects[o].merged[v]
+    /// its field inputs before the move. With the merged cache off ([`Frame::set_merged_cache`])
+    /// it is merged again here at those inputs (the same cut, bit for bit).
+    pub fn merged(&self, o: usize, v: usize) -> Result<std::borrow::Cow<'_, MergedCut>, FrameError> {
+        let s = &self.objects[o];
+        if let Some(cut) = s.merged.get(v) {
+            return Ok(std::borrow::Cow::Borrowed(cut));
+        }
+        let mut cut = MergedCut::default();
+        self.merge_one(o, v, &s.keys[v], &mut cut)?;
+        Ok(std::borrow::Cow::Owned(cut))
     }
 
     /// The SVC of vertex `v` of object `o`.

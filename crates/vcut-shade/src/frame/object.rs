@@ -48,7 +48,7 @@ impl ObjectState {
     }
 
     /// Builds vertex `v`'s shading list from its kept merged cut into `list`.
-    pub(super) fn relist(&self, v: usize, nodes: &[ShadeNode], list: &mut ShadeList, below: &mut Vec<f32>) {
+    pub(super) fn relist(&self, v: usize, nodes: &[ShadeNode], list: &mut ShadeList, below: &mut Vec<[f32; 2]>) {
         list.rebuild(&self.merged[v], self.mesh.normals()[v], nodes, self.svc_ends(v).as_deref(), below);
     }
 

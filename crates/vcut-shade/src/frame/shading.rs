@@ -7,6 +7,7 @@ use super::lists::{ShadeList, blinn_phong_argument, faces, phong_argument};
 use crate::brdf;
 use glam::Vec3;
 use rayon::prelude::*;
+use std::borrow::Cow;
 use vcut_merge::MergedCut;
 
 impl Frame {
@@ -60,7 +61,7 @@ impl Frame {
     /// documentation (plus the sun's leaves by rays, with [`Frame::set_sun_rays`]).
     ///
     /// Vertices whose list is stale build it on the spot without keeping it ([`Frame::set_eye`]
-    /// keeps them), and so do vertices facing `eye` whose merge waits with their cut (a read
+    /// keeps them; without the merged cache they merge again for it), and so do vertices facing `eye` whose merge waits with their cut (a read
     /// error there, which setup's decoding of the same file makes unlikely, shades the vertex
     /// black; [`Frame::set_eye`] reports it). `eye` becomes the eye later merges build lists for.
     pub fn shade(&mut self, eye: Vec3) -> Vec<Vec<Vec3>> {
@@ -78,8 +79,12 @@ impl Frame {
                     .map_init(
                         || (ShadeList::default(), Vec::new(), MergedCut::default()),
                         |(built, below, cut), (v, list)| {
-                            if s.pending[v] && s.faces(v, eye) {
-                                if this.merge_one(o, v, cut).is_err() {
+                            let pending = s.pending[v] && s.faces(v, eye);
+                            if pending || (list.stale && !this.merged_cache && s.faces(v, eye)) {
+                                // At its current inputs if waiting, else at its kept ones.
+                                let keys =
+                                    if pending { Cow::Owned(this.keys(o, v)) } else { Cow::Borrowed(&s.keys[v]) };
+                                if this.merge_one(o, v, &keys, cut).is_err() {
                                     return (Vec3::ZERO, true);
                                 }
                                 let ends = s.svc_ends(v);

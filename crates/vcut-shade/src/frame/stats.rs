@@ -36,14 +36,16 @@ impl FrameMemory {
 impl Frame {
     /// Vertices re-merged by moves so far, and by camera turns or [`Frame::merge_pending`]
     /// merging what moves left waiting ([`Frame::set_deferred_merges`]; the merges at setup are
-    /// not counted, nor [`Frame::shade`]'s on-the-spot ones: [`Frame::spot_merges`]). BRDF and
-    /// lighting edits never merge.
+    /// not counted, nor [`Frame::shade`]'s on-the-spot ones: [`Frame::spot_merges`]). BRDF
+    /// edits never merge; lighting edits and camera turns merge what they relist only without
+    /// the merged cache ([`Frame::set_merged_cache`]), and are counted then.
     pub fn merges(&self) -> u64 {
         self.merges
     }
 
     /// Vertices [`Frame::shade`] merged on the spot without keeping them: waiting vertices
-    /// (deferred merges) facing an eye that no [`Frame::set_eye`] announced.
+    /// (deferred merges) facing an eye that no [`Frame::set_eye`] announced, and without the
+    /// merged cache those whose list is stale.
     pub fn spot_merges(&self) -> u64 {
         self.spot_merges
     }
@@ -53,14 +55,11 @@ impl Frame {
         self.last_move
     }
 
-    /// Bytes a shading pass reads from the shading lists (node index and weight per entry, and
-    /// the diffuse sum per vertex): with the machine's memory bandwidth, a floor under its time.
+    /// Bytes a shading pass reads from the shading lists (node index and weight packed in 4
+    /// bytes per entry, and the diffuse sum per vertex): with the machine's memory bandwidth, a
+    /// floor under its time.
     pub fn shade_bytes(&self) -> usize {
-        self.objects
-            .iter()
-            .flat_map(|s| &s.lists)
-            .map(|l| l.nodes.len() * (size_of::<u32>() + size_of::<f32>()) + size_of::<Vec3>())
-            .sum()
+        self.objects.iter().flat_map(|s| &s.lists).map(|l| l.entries.len() * size_of::<u32>() + size_of::<Vec3>()).sum()
     }
 
     /// Bytes of every vertex's merged cut (height u8, value f32 and level-order index u32 per
@@ -87,11 +86,7 @@ impl Frame {
                     size_of::<MergedCut>() + c.heights.capacity() + 4 * c.values.capacity() + 4 * c.indices.capacity()
                 })
                 .sum::<usize>();
-            m.lists += s
-                .lists
-                .iter()
-                .map(|l| size_of::<ShadeList>() + 4 * l.nodes.capacity() + 4 * l.weights.capacity())
-                .sum::<usize>();
+            m.lists += s.lists.iter().map(|l| size_of::<ShadeList>() + 4 * l.entries.capacity()).sum::<usize>();
             m.svc_cache += s.svc_refined.iter().map(Prepared::bytes).sum::<usize>()
                 + s.svc_refined.capacity() * size_of::<Prepared>();
             m.keys += s.keys.iter().map(|k| vec + k.capacity() * size_of::<FieldKey>()).sum::<usize>();

@@ -73,12 +73,15 @@ fn a_split_svc_node_takes_its_own_cosine() {
     let split = ShadeList::new(&product, n, &table, Some(&svc_ends));
     let exact = ShadeList::new(&own, n, &table, None);
     let old = ShadeList::new(&product, n, &table, None);
-    assert_eq!(split.nodes, exact.nodes);
-    for (i, (w, e)) in split.weights.iter().zip(&exact.weights).enumerate() {
-        assert!((w - e).abs() <= 1e-5 * e.abs().max(1e-3), "node {i}: {w} vs {e}");
+    let unpacked = |l: &ShadeList| -> (Vec<usize>, Vec<f32>) { l.entries.iter().map(|&e| unpack(e)).unzip() };
+    let ((split_nodes, split_w), (exact_nodes, exact_w), (_, old_w)) =
+        (unpacked(&split), unpacked(&exact), unpacked(&old));
+    assert_eq!(split_nodes, exact_nodes);
+    // Equal up to the weights' rounding (2^-11 relative each).
+    for (i, (w, e)) in split_w.iter().zip(&exact_w).enumerate() {
+        assert!((w - e).abs() <= 1.5e-3 * e.abs().max(1e-3), "node {i}: {w} vs {e}");
     }
-    let worst =
-        old.weights.iter().zip(&exact.weights).map(|(w, e)| (w - e).abs() / e.abs().max(1e-3)).fold(0.0, f32::max);
+    let worst = old_w.iter().zip(&exact_w).map(|(w, e)| (w - e).abs() / e.abs().max(1e-3)).fold(0.0, f32::max);
     assert!(worst > 1e-2, "the old weights were off by {worst} only: the test splits nothing");
     assert!((split.diffuse - exact.diffuse).abs().max_element() <= 1e-5 * exact.diffuse.max_element());
 }
@@ -114,8 +117,7 @@ fn lanes_agree_with_the_per_node_sum() {
         let lobe = brdf::Lobe::with_pow(&m, n, wo, brdf::Pow::Table(&pow));
         for len in [0usize, 1, 7, 8, 9, 41] {
             let list = ShadeList {
-                nodes: (0..len as u32).map(|k| (k * 7) % 64).collect(),
-                weights: (0..len).map(|_| unit()).collect(),
+                entries: (0..len as u32).map(|k| pack((k * 7) % 64, unit().max(1e-3))).collect(),
                 diffuse: Vec3::ZERO,
                 stale: false,
             };
@@ -136,4 +138,23 @@ fn lanes_agree_with_the_per_node_sum() {
             }
         }
     }
+}
+
+/// A list entry keeps its node exactly and its weight to half-float precision, over every
+/// node index a tree of 65,536 directions has and weights from the smallest kept up.
+#[test]
+fn list_entries_round_their_weight_to_half_precision_and_keep_the_node() {
+    let mut worst = 0.0f32;
+    for k in [0u32, 1, 4_095, 65_534, 131_070] {
+        assert!((k as usize) < MAX_NODES);
+        for i in 0..2_000 {
+            let w = 2f32.powf(-14.0 + 29.0 * i as f32 / 2_000.0) * (1.0 + (i % 7) as f32 / 7.0);
+            let (node, back) = unpack(pack(k, w));
+            assert_eq!(node, k as usize);
+            worst = worst.max((back - w).abs() / w);
+        }
+    }
+    assert!(worst <= 1.0 / 2048.0 + 1e-7 && worst > 1e-5, "worst relative error {worst}");
+    assert_eq!(unpack(pack(7, 1.0)), (7, 1.0));
+    assert_eq!(unpack(pack(7, 1e9)).1, 65_504.0, "clamped to the largest half float");
 }
