@@ -84,8 +84,8 @@
 //! from them; a lighting change, a sun toggle and a camera turn do, and without the merged
 //! cache ([`Frame::set_merged_cache`]) they merge those vertices again at their kept inputs in
 //! one batch (the same cuts, bit for bit). On the teapot scene at `balanced` the frame holds
-//! 124 instead of 218 MB without it, a lighting change takes 128 instead of 43 ms and a camera
-//! turn after it 45 instead of 18 ms (`move_path` with `NO_MERGED_CACHE=1`).
+//! 88 instead of 193 MB without it, a lighting change takes 125 instead of 46 ms and a camera
+//! turn after it 45 instead of 19 ms (`move_path` with `NO_MERGED_CACHE=1`).
 //! [`Frame::fit_memory`] keeps the caches that fit a budget.
 
 mod deferral;
@@ -423,7 +423,7 @@ impl Frame {
     }
 
     /// Keeps every vertex's merged cut (`on`, the default) or only its shading list. Without
-    /// them the frame holds less memory (the merged cuts are its largest part: ~45 % of the
+    /// them the frame holds less memory (the merged cuts are its largest part: ~55 % of the
     /// teapot scene's at `balanced`), moves and BRDF edits cost the same, and what would build a
     /// list from a kept cut merges the vertex again at its kept field inputs: a lighting change
     /// or a sun toggle merges every vertex facing the eye, a camera turn those newly facing
