@@ -522,7 +522,7 @@ fn without_the_merged_cache_a_frame_holds_less_and_shades_the_same() {
     let env = EnvMap::constant([1.0; 3]);
     let (moved, behind) = (Vec3::new(0.3, 0.1, -0.2), Vec3::new(-3.0, 2.0, -5.0));
     let mut full = Frame::new(&mut d, &env).unwrap();
-    let lean_caches = FrameCaches { svc: true, merged: false };
+    let lean_caches = FrameCaches { merged: false, ..FrameCaches::default() };
     let mut lean = Frame::with_caches(&mut Precomputed::open(&path).unwrap(), &env, lean_caches).unwrap();
     assert_eq!((full.caches(), lean.caches()), (FrameCaches::default(), lean_caches));
     let (m_full, m_lean) = (full.memory(), lean.memory());
@@ -565,12 +565,21 @@ fn without_the_merged_cache_a_frame_holds_less_and_shades_the_same() {
     assert!(every(&lean).into_iter().all(|(o, v)| *lean.merged(o, v).unwrap() == *full.merged(o, v).unwrap()));
     assert!(lean.shade(EYE) == full.shade(EYE));
     // A budget keeps the caches that fit: none under the frame's floor, both with room.
-    let floor = FrameCaches { svc: false, merged: false };
+    let floor = FrameCaches { svc: false, cells: false, merged: false };
     assert_eq!(lean.fit_memory(0).unwrap(), floor);
-    assert_eq!(lean.memory().svc_cache, 0);
+    let m = lean.memory();
+    assert_eq!((m.svc_cache, m.field_cache, m.merged), (0, 0, 0));
     assert!(lean.shade(behind) == full.shade(behind));
-    let without_svc = lean.memory().total();
-    assert_eq!(lean.fit_memory(without_svc + full.memory().svc_cache).unwrap(), lean_caches);
-    assert_eq!(lean.fit_memory(usize::MAX).unwrap(), FrameCaches::default());
+    // Moves without any cache: the same merges and images, and nothing kept.
+    assert_eq!(lean.translate(ball, Vec3::ZERO).unwrap(), full.translate(ball, Vec3::ZERO).unwrap());
+    assert_eq!(lean.memory().field_cache, 0);
+    assert!(lean.shade(behind) == full.shade(behind));
+    // A budget drops the caches that save least first.
+    let (m, svc) = (full.memory(), full.memory().svc_cache);
+    assert_eq!(full.fit_memory(usize::MAX).unwrap(), FrameCaches::default());
+    assert_eq!(full.fit_memory(m.total() - 1).unwrap(), FrameCaches { merged: false, ..FrameCaches::default() });
+    assert_eq!(full.fit_memory(full.memory().total() - 1).unwrap(), FrameCaches { svc: true, ..floor });
+    assert!(full.memory().total() <= m.total() - m.merged - m.field_cache);
+    assert_eq!(full.fit_memory(full.memory().total() - svc + 1).unwrap(), floor);
     assert!(lean.shade(EYE) == full.shade(EYE));
 }

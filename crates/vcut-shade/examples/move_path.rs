@@ -11,7 +11,8 @@
 //! `NO_SUN_RAYS=1` the sun goes through the cuts too (the paper) instead of being cast by rays;
 //! with `EAGER=1` every move merges all the vertices it changes (by default those facing away
 //! from the eye wait: `Frame::set_deferred_merges`; each step prints how many); with
-//! `NO_MERGED_CACHE=1` the frame keeps no merged cuts (`Frame::set_merged_cache`). Last, a
+//! `NO_MERGED_CACHE=1` the frame keeps no merged cuts (`Frame::set_merged_cache`), with
+//! `NO_CELL_CACHE=1` no field cells between moves (`Frame::set_cell_cache`). Last, a
 //! lighting change (`relight_ms`: light tree and the shading lists facing the eye; a merge of
 //! those without the merged cache), the camera turned to the other side after it (`turn_ms`:
 //! the lists it now sees), a BRDF edit (`edit_ms`: the exponent changed, every vertex shaded)
@@ -50,6 +51,9 @@ fn main() -> Result<(), String> {
         frame.set_svc_cache(false).map_err(|e| e.to_string())?;
     }
     println!("svc_cache_mb={:.1}", frame.svc_cache_bytes() as f64 / 1e6);
+    if std::env::var_os("NO_CELL_CACHE").is_some() {
+        frame.set_cell_cache(false);
+    }
     if std::env::var_os("NO_MERGED_CACHE").is_some() {
         frame.set_merged_cache(false).map_err(|e| e.to_string())?;
     }

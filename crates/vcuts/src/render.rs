@@ -145,9 +145,10 @@ pub struct RenderArgs {
     /// camera turn merges the vertices it relists again (`Frame::set_merged_cache`).
     #[arg(long)]
     pub no_merged_cache: bool,
-    /// Hold the frame's memory (`frame_memory_mb`) to MB: its caches (the decoded SVCs, then
-    /// the merged cuts) are kept only where they fit (`Frame::fit_memory`); `frame_caches`
-    /// says which. A warning says when even none fits.
+    /// Hold the frame's memory (`frame_memory_mb`) to MB: no merged cuts are kept, and the
+    /// field cells and then the decoded SVCs are dropped where they do not fit
+    /// (`Frame::fit_memory`); `frame_caches` says which are kept. A warning says when even
+    /// none fits.
     #[arg(long, value_name = "MB", conflicts_with = "no_merged_cache")]
     pub memory_budget: Option<f64>,
 }
@@ -345,7 +346,7 @@ pub fn run(args: &RenderArgs) -> Result<RenderOutcome> {
         None => None,
     };
     // Under a budget the setup keeps no merged cut, so that its peak stays low too.
-    let caches = FrameCaches { svc: true, merged: !args.no_merged_cache && budget.is_none() };
+    let caches = FrameCaches { merged: !args.no_merged_cache && budget.is_none(), ..FrameCaches::default() };
     let Opened { data, mut frame, env, scene, setup_s, .. } = open_with(&args.input, args.env.as_deref(), caches)?;
     if let Some(budget) = budget {
         frame.fit_memory(budget)?;
@@ -359,7 +360,11 @@ pub fn run(args: &RenderArgs) -> Result<RenderOutcome> {
         }
     }
     let kept = frame.caches();
-    let names: Vec<&str> = [("svc", kept.svc), ("merged", kept.merged)].iter().filter(|c| c.1).map(|c| c.0).collect();
+    let names: Vec<&str> = [("svc", kept.svc), ("cells", kept.cells), ("merged", kept.merged)]
+        .iter()
+        .filter(|c| c.1)
+        .map(|c| c.0)
+        .collect();
     out.emit("frame_caches", if names.is_empty() { "none".into() } else { names.join(",") });
     out.setup_s = setup_s;
     out.emit("setup_s", format!("{setup_s:.3}"));

@@ -169,7 +169,9 @@ impl Frame {
                 },
             );
         timing.merge_s += start.elapsed().as_secs_f64();
-        *cache = FieldCache { keys: wanted, cuts: decoded, cells, refined };
+        if self.cell_cache {
+            *cache = FieldCache { keys: wanted, cuts: decoded, cells, refined };
+        }
         result.map(|()| vertices.len())
     }
 

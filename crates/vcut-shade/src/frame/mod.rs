@@ -80,13 +80,16 @@
 //!
 //! **What a frame keeps** ([`Frame::memory`] by part). Per vertex its shading list, its field
 //! inputs (keys) and — as caches, each a trade of memory for time ([`FrameCaches`]) — its SVC
-//! decoded and its merged cut. Moves and BRDF edits need neither merged cuts nor lists rebuilt
+//! decoded and its merged cut, and per object the field cells its last merge refined. Moves and BRDF edits need neither merged cuts nor lists rebuilt
 //! from them; a lighting change, a sun toggle and a camera turn do, and without the merged
 //! cache ([`Frame::set_merged_cache`]) they merge those vertices again at their kept inputs in
 //! one batch (the same cuts, bit for bit). On the teapot scene at `balanced` the frame holds
 //! 88 instead of 193 MB without it, a lighting change takes 125 instead of 46 ms and a camera
 //! turn after it 45 instead of 19 ms (`move_path` with `NO_MERGED_CACHE=1`).
-//! [`Frame::fit_memory`] keeps the caches that fit a budget.
+//! Without any cache (the SVCs decoded at each merge, no field cells kept between moves) it
+//! holds 47 MB, 4.1 KB a vertex, and a drag step 121–125 instead of 72–110 ms
+//! (`move_path` with `NO_CELL_CACHE=1 NO_SVC_CACHE=1` too; [`Frame::fit_memory`] drops
+//! caches to fit a budget; `vcuts render --memory-budget`).
 
 mod deferral;
 mod keys;
@@ -241,24 +244,29 @@ pub struct Frame {
     horizon_culling: bool,
     /// Whether every vertex's merged cut is kept ([`Frame::set_merged_cache`]).
     merged_cache: bool,
+    /// Whether the last merge's field cells are kept ([`Frame::set_cell_cache`]).
+    cell_cache: bool,
 }
 
-/// What a frame keeps beyond the shading lists, each a trade of memory for time
-/// ([`Frame::with_caches`], [`Frame::fit_memory`]).
+/// What a frame keeps beyond the shading lists and field inputs, each a trade of memory for
+/// time ([`Frame::with_caches`], [`Frame::fit_memory`]).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct FrameCaches {
     /// Every vertex's SVC decoded and prepared ([`Frame::set_svc_cache`]): spares each merge
     /// the SVC's decoding.
     pub svc: bool,
+    /// The field cells the last merge of each object refined, and their decoded samples
+    /// ([`Frame::set_cell_cache`]): the next move along a path needs most of them again.
+    pub cells: bool,
     /// Every vertex's merged cut ([`Frame::set_merged_cache`]): a lighting change, a sun
     /// toggle or a camera turn rebuilds lists from it instead of merging again.
     pub merged: bool,
 }
 
 impl Default for FrameCaches {
-    /// Both kept.
+    /// All kept.
     fn default() -> FrameCaches {
-        FrameCaches { svc: true, merged: true }
+        FrameCaches { svc: true, cells: true, merged: true }
     }
 }
 
@@ -325,6 +333,7 @@ impl Frame {
             spot_merges: 0,
             horizon_culling: true,
             merged_cache: caches.merged,
+            cell_cache: caches.cells,
         };
         frame.set_svc_cache(caches.svc)?;
         // The sun and the shading table before the merges build the lists.
@@ -467,26 +476,39 @@ impl Frame {
         Ok(())
     }
 
-    /// Which caches the frame keeps now.
-    pub fn caches(&self) -> FrameCaches {
-        FrameCaches { svc: self.svc_cache_on(), merged: self.merged_cache }
+    /// Keeps the field cells each object's last merge refined, with their decoded samples
+    /// (`on`, the default), for the next move, which reuses those it needs again; off, every
+    /// merge decodes and refines the cells it uses and drops them after. The images are the
+    /// same either way.
+    pub fn set_cell_cache(&mut self, on: bool) {
+        self.cell_cache = on;
+        if !on {
+            for s in &mut self.objects {
+                s.decoded = FieldCache::default();
+            }
+        }
     }
 
-    /// Keeps the caches that fit in `budget` bytes of [`Frame::memory`] with what the frame
-    /// must hold, adding them in order of what they save — the SVC cache (every merge) before
-    /// the merged cuts (lighting changes and camera turns) — and drops the others. Returns the
-    /// caches kept; the frame's memory without any is over `budget` when none is.
+    /// Which caches the frame keeps now.
+    pub fn caches(&self) -> FrameCaches {
+        FrameCaches { svc: self.svc_cache_on(), cells: self.cell_cache, merged: self.merged_cache }
+    }
+
+    /// Drops caches, the one that saves least first — the merged cuts (lighting changes and
+    /// camera turns), the field cells (the next move's), the SVCs (every merge) — until
+    /// [`Frame::memory`] is within `budget` bytes; adds none (filling one would take the
+    /// memory it measures). Returns the caches kept; the frame's memory without any is over
+    /// `budget` when none is. The cell cache is measured as the last merges left it: a move
+    /// that uses more cells may take it past `budget` until the next call.
     pub fn fit_memory(&mut self, budget: usize) -> Result<FrameCaches, FrameError> {
-        self.set_merged_cache(false)?;
-        self.set_svc_cache(true)?;
+        if self.memory().total() > budget {
+            self.set_merged_cache(false)?;
+        }
+        if self.memory().total() > budget {
+            self.set_cell_cache(false);
+        }
         if self.memory().total() > budget {
             self.set_svc_cache(false)?;
-        }
-        if self.memory().total() <= budget {
-            self.set_merged_cache(true)?;
-            if self.memory().total() > budget {
-                self.set_merged_cache(false)?;
-            }
         }
         Ok(self.caches())
     }
