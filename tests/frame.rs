@@ -583,3 +583,28 @@ fn without_the_merged_cache_a_frame_holds_less_and_shades_the_same() {
     assert_eq!(full.fit_memory(full.memory().total() - svc + 1).unwrap(), floor);
     assert!(lean.shade(EYE) == full.shade(EYE));
 }
+
+/// Without the cell cache a merge goes in ranges of at most 4,096 vertices (so that the cells
+/// decoded at once stay few): a ground of 4,489 vertices is set up and moved over in two, with
+/// the images of a frame that merges it at once.
+#[test]
+fn merges_in_ranges_shade_as_one_merge() {
+    let dir = scratch("ranges");
+    let path = dir.join("r.vcuts");
+    let scene = BALL_ABOVE_GROUND.replacen("resolution = 12", "resolution = 66", 1);
+    let mut d = data(&scene, &[("field_spheres", "8")], &path);
+    let env = EnvMap::constant([1.0; 3]);
+    let mut whole = Frame::new(&mut d, &env).unwrap();
+    let none = FrameCaches { svc: false, cells: false, merged: false };
+    let mut ranges = Frame::with_caches(&mut Precomputed::open(&path).unwrap(), &env, none).unwrap();
+    let ground = whole.object_index("ground").unwrap();
+    assert!(whole.object(ground).mesh.vertex_count() > 4096);
+    assert!(ranges.shade(EYE) == whole.shade(EYE));
+    let ball = whole.object_index("ball").unwrap();
+    for step in [Vec3::new(0.4, 0.0, 0.1), Vec3::new(-0.3, 0.1, 0.2)] {
+        assert_eq!(ranges.translate(ball, step).unwrap(), whole.translate(ball, step).unwrap());
+        assert!(ranges.shade(EYE) == whole.shade(EYE));
+    }
+    assert_eq!(ranges.memory().field_cache, 0);
+    assert!(whole.memory().field_cache > 0);
+}

@@ -145,10 +145,9 @@ pub struct RenderArgs {
     /// camera turn merges the vertices it relists again (`Frame::set_merged_cache`).
     #[arg(long)]
     pub no_merged_cache: bool,
-    /// Hold the frame's memory (`frame_memory_mb`) to MB: no merged cuts are kept, and the
-    /// field cells and then the decoded SVCs are dropped where they do not fit
-    /// (`Frame::fit_memory`); `frame_caches` says which are kept. A warning says when even
-    /// none fits.
+    /// Hold the frame's memory (`frame_memory_mb`) to MB: no merged cuts and no field cells
+    /// between moves are kept, and the decoded SVCs only if they fit (`Frame::fit_memory`);
+    /// `frame_caches` says which are kept. A warning says when even none fits.
     #[arg(long, value_name = "MB", conflicts_with = "no_merged_cache")]
     pub memory_budget: Option<f64>,
 }
@@ -345,8 +344,12 @@ pub fn run(args: &RenderArgs) -> Result<RenderOutcome> {
         Some(mb) => Some((mb * 1e6) as usize),
         None => None,
     };
-    // Under a budget the setup keeps no merged cut, so that its peak stays low too.
-    let caches = FrameCaches { merged: !args.no_merged_cache && budget.is_none(), ..FrameCaches::default() };
+    // Under a budget the frame keeps no merged cuts and no field cells from the start, so that
+    // the setup's peak stays low too (it merges in ranges then).
+    let caches = match budget {
+        Some(_) => FrameCaches { svc: true, cells: false, merged: false },
+        None => FrameCaches { merged: !args.no_merged_cache, ..FrameCaches::default() },
+    };
     let Opened { data, mut frame, env, scene, setup_s, .. } = open_with(&args.input, args.env.as_deref(), caches)?;
     if let Some(budget) = budget {
         frame.fit_memory(budget)?;

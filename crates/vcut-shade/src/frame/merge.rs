@@ -28,6 +28,9 @@ pub(super) struct FieldCache {
     pub(super) refined: Vec<Prepared>,
 }
 
+/// Merged vertices a range of [`Frame::merge_all`] holds at most without the cell cache.
+const MERGE_BATCH: usize = 4096;
+
 /// The merged cut of a vertex inside an object (a cut of one zero node).
 pub(super) fn full_zero(h: u32) -> MergedCut {
     MergedCut { root_height: h, heights: vec![h as u8], values: vec![0.0], indices: vec![0] }
@@ -85,11 +88,55 @@ impl Frame {
     /// Merges the vertices of object `o` marked in `changed` with their keys into `merged`
     /// (`None` with the merged cache off: each cut lives until its list is built) and builds
     /// their shading `lists` (in place, reusing each buffer), in parallel. Returns how many
-    /// were merged.
+    /// were merged. With the cell cache off ([`Frame::set_cell_cache`]) it goes in ranges of
+    /// at most [`MERGE_BATCH`] merged vertices, so that the cells decoded and refined at once
+    /// stay few (a range reuses those it shares with the one before, and none is kept after).
     #[allow(clippy::too_many_arguments)]
     pub(super) fn merge_all(
         &self,
         o: usize,
+        keys: &[Vec<FieldKey>],
+        changed: &[bool],
+        mut merged: Option<&mut [MergedCut]>,
+        lists: &mut [ShadeList],
+        cache: &mut FieldCache,
+        timing: &mut MoveTiming,
+    ) -> Result<usize, FrameError> {
+        let (n, batch) = (changed.len(), if self.cell_cache { usize::MAX } else { MERGE_BATCH });
+        let (mut total, mut start) = (0, 0);
+        while start < n {
+            let (mut end, mut count) = (start, 0);
+            while end < n && count < batch {
+                count += usize::from(changed[end]);
+                end += 1;
+            }
+            let range = start..end;
+            let slots = merged.as_deref_mut().map(|m| &mut m[range.clone()]);
+            total += self.merge_range(
+                o,
+                start,
+                &keys[range.clone()],
+                &changed[range.clone()],
+                slots,
+                &mut lists[range],
+                cache,
+                timing,
+            )?;
+            start = end;
+        }
+        if !self.cell_cache {
+            *cache = FieldCache::default();
+        }
+        Ok(total)
+    }
+
+    /// [`Frame::merge_all`] over the vertices `offset..offset + changed.len()` (every slice
+    /// starts at vertex `offset`); leaves in `cache` the cells and samples it used.
+    #[allow(clippy::too_many_arguments)]
+    fn merge_range(
+        &self,
+        o: usize,
+        offset: usize,
         keys: &[Vec<FieldKey>],
         changed: &[bool],
         merged: Option<&mut [MergedCut]>,
@@ -99,11 +146,11 @@ impl Frame {
     ) -> Result<usize, FrameError> {
         let vertices: Vec<usize> = (0..changed.len()).filter(|&v| changed[v]).collect();
         timing.fields += vertices.iter().map(|&v| keys[v].len()).sum::<usize>();
-        let first = vertices.first().copied().unwrap_or(0);
+        let first = offset + vertices.first().copied().unwrap_or(0);
         let me = &self.objects[o];
-        let normals = me.mesh.normals();
+        let normals = &me.mesh.normals()[offset..];
         let eye = self.eye();
-        let facing = |v: usize| eye.is_none_or(|e| me.faces(v, e));
+        let facing = |v: usize| eye.is_none_or(|e| me.faces(offset + v, e));
         let table = &self.nodes;
         let old = std::mem::take(cache);
         let start = Instant::now();
@@ -158,7 +205,7 @@ impl Frame {
                         &refined[cells.binary_search(c).unwrap_or_else(|_| unreachable!("collected above"))]
                     };
                     let out = slot.unwrap_or(spare);
-                    let svc = self.merge_vertex(o, v, &keys[v], &cell, scratch, out)?;
+                    let svc = self.merge_vertex(o, offset + v, &keys[v], &cell, scratch, out)?;
                     // The list while the cut is still in cache.
                     match svc {
                         None => list.clear(),
@@ -169,9 +216,7 @@ impl Frame {
                 },
             );
         timing.merge_s += start.elapsed().as_secs_f64();
-        if self.cell_cache {
-            *cache = FieldCache { keys: wanted, cuts: decoded, cells, refined };
-        }
+        *cache = FieldCache { keys: wanted, cuts: decoded, cells, refined };
         result.map(|()| vertices.len())
     }
 
