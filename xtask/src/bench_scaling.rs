@@ -71,7 +71,8 @@ pub fn run(quick: bool, data_dir: &Path, out: &Path) -> Result<ScalingSection> {
         let p = measure(sweep, &scene, preset, data_dir)?;
         println!(
             "scaling {sweep} {preset}: {} objects ({} movable), {} vertices: precompute {:.1} s, frame peak {}, move {:.1} ms eager \
-             ({} merged, {:.1} µs each), {:.1} ms deferred, edit {:.1} ms, rel L2 vs exact {:.4}",
+             ({} merged, {:.1} µs each), {:.1} ms deferred, edit {:.1} ms, rel L2 vs exact {:.4}; no cache: frame peak {}, \
+             move {:.1} ms eager",
             p.objects,
             p.movable,
             p.vertices,
@@ -82,7 +83,9 @@ pub fn run(quick: bool, data_dir: &Path, out: &Path) -> Result<ScalingSection> {
             p.us_per_merged_vertex,
             p.move_ms,
             p.edit_ms,
-            p.rel_l2_exact
+            p.rel_l2_exact,
+            p.lean_frame_peak_rss_bytes.map_or("unknown".into(), human),
+            p.lean_move_ms_eager
         );
         section.points.push(p);
     }

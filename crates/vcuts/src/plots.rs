@@ -109,10 +109,11 @@ pub fn tradeoff(points: &[Point], x_key: &'static str, x_label: &str, path: &Pat
 }
 
 /// The figures drawn, their labels and the unit each is scaled to.
-const DRAWN: [(&str, &str, f64); 5] = [
+const DRAWN: [(&str, &str, f64); 6] = [
     ("move_ms_eager", "move, eager (ms)", 1.0),
     ("us_per_merged_vertex", "µs per merged vertex", 1.0),
     ("frame_peak_rss_bytes", "frame peak (MB)", 1e-6),
+    ("lean_frame_peak_rss_bytes", "frame peak, no cache (MB)", 1e-6),
     ("precompute_s", "precompute (s)", 1.0),
     ("edit_ms", "BRDF edit (ms)", 1.0),
 ];

@@ -22,7 +22,7 @@ use vcut_scene::budget::{peak_memory, reset_peak_memory, resident_memory, trim_h
 use vcut_scene::{Motion, Scene};
 use vcut_shade::measure::{edit_ms, move_path};
 use vcut_shade::reference::{ExactReference, relative_errors};
-use vcut_shade::{Frame, MergeAlgorithm};
+use vcut_shade::{Frame, FrameCaches, MergeAlgorithm};
 
 /// One scene measured.
 #[derive(Serialize, Deserialize, Clone, Debug, Default, PartialEq)]
@@ -58,6 +58,13 @@ pub struct ScalingPoint {
     /// Eager: the move's time (lookups, decoding, refining, merging) per vertex it merged.
     pub us_per_merged_vertex: f64,
     pub edit_ms: f64,
+    /// A frame keeping no cache (`FrameCaches` all off, as `render --memory-budget` with a
+    /// budget below its needs): its peak resident memory over the memory before (setup, an
+    /// eager drag, a shading), the same per vertex, what it holds after, and its eager drag.
+    pub lean_frame_peak_rss_bytes: Option<u64>,
+    pub lean_frame_peak_bytes_per_vertex: Option<f64>,
+    pub lean_frame_bytes: usize,
+    pub lean_move_ms_eager: f64,
     /// Relative L2 against the exact-direction reference over `exact_subset` vertices (every
     /// k-th of the scene's), at rest.
     pub rel_l2_exact: f64,
@@ -73,6 +80,9 @@ pub struct ScalingGoals {
     pub frame_peak_bytes_per_vertex_balanced: Option<f64>,
     /// `move_ms_eager` at 32 objects, `fast` (goal ≤ 150).
     pub drag_ms_eager_k32_fast: Option<f64>,
+    /// `lean_frame_peak_bytes_per_vertex` at `balanced`, the largest over the object sweep: the
+    /// same goal for a frame that keeps no cache.
+    pub lean_frame_peak_bytes_per_vertex_balanced: Option<f64>,
 }
 
 /// The `scaling` section of the bench report.
@@ -87,11 +97,13 @@ pub struct ScalingSection {
 }
 
 /// The figures whose growth is fitted.
-pub const FITTED: [&str; 8] = [
+pub const FITTED: [&str; 10] = [
     "precompute_s",
     "file_bytes",
     "frame_peak_rss_bytes",
     "frame_bytes",
+    "lean_frame_peak_rss_bytes",
+    "lean_move_ms_eager",
     "move_ms_eager",
     "move_ms",
     "us_per_merged_vertex",
@@ -111,6 +123,8 @@ impl ScalingPoint {
             "file_bytes" => self.file_bytes as f64,
             "frame_peak_rss_bytes" => self.frame_peak_rss_bytes.map_or(f64::NAN, |b| b as f64),
             "frame_bytes" => self.frame_bytes as f64,
+            "lean_frame_peak_rss_bytes" => self.lean_frame_peak_rss_bytes.map_or(f64::NAN, |b| b as f64),
+            "lean_move_ms_eager" => self.lean_move_ms_eager,
             "move_ms_eager" => self.move_ms_eager,
             "move_ms" => self.move_ms,
             "us_per_merged_vertex" => self.us_per_merged_vertex,
@@ -167,6 +181,11 @@ pub fn goals(points: &[ScalingPoint]) -> ScalingGoals {
             .filter_map(|p| p.frame_peak_bytes_per_vertex)
             .reduce(f64::max),
         drag_ms_eager_k32_fast: at(32, "fast").map(|p| p.move_ms_eager),
+        lean_frame_peak_bytes_per_vertex_balanced: points
+            .iter()
+            .filter(|p| p.sweep == "objects" && p.preset == "balanced")
+            .filter_map(|p| p.lean_frame_peak_bytes_per_vertex)
+            .reduce(f64::max),
     }
 }
 
@@ -242,14 +261,32 @@ pub fn measure(sweep: &str, scene: &str, preset: &str, data_dir: &Path) -> Resul
         })
         .collect();
     let (rel_l2_exact, _) = relative_errors(pairs.into_iter());
+    let moved_name = frame.object(moved).name.to_string();
+    let (objects, movable) = (
+        frame.object_count(),
+        (0..frame.object_count()).filter(|&o| frame.object(o).motion == Motion::Movable).count(),
+    );
+    drop((frame, reference, data));
+
+    // The same with no cache kept.
+    let before = start_peak();
+    let mut data = Precomputed::open(&file)?;
+    let none = FrameCaches { svc: false, cells: false, merged: false };
+    let mut lean = Frame::with_caches(&mut data, &opened.environment, none)?;
+    lean.set_eye(eye)?;
+    lean.set_deferred_merges(false)?;
+    let lean_drag = move_path(&mut lean, moved, eye, MergeAlgorithm::Counter, 4)?;
+    std::hint::black_box(lean.shade(eye));
+    let lean_peak = peak_since(before);
+    let lean_bytes = lean.memory().total();
     Ok(ScalingPoint {
         sweep: sweep.into(),
         preset: preset.into(),
         scene: scene.into(),
-        objects: frame.object_count(),
-        movable: (0..frame.object_count()).filter(|&o| frame.object(o).motion == Motion::Movable).count(),
+        objects,
+        movable,
         vertices,
-        moved_object: frame.object(moved).name.to_string(),
+        moved_object: moved_name,
         precompute_s,
         file_bytes: summary.file_bytes,
         precompute_peak_rss_bytes: precompute_peak,
@@ -266,6 +303,10 @@ pub fn measure(sweep: &str, scene: &str, preset: &str, data_dir: &Path) -> Resul
         edit_ms: edit,
         rel_l2_exact,
         exact_subset: subset.len(),
+        lean_frame_peak_rss_bytes: lean_peak,
+        lean_frame_peak_bytes_per_vertex: lean_peak.map(|b| b as f64 / vertices as f64),
+        lean_frame_bytes: lean_bytes,
+        lean_move_ms_eager: lean_drag.move_ms,
     })
 }
 
