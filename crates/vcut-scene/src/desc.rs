@@ -36,7 +36,7 @@
 use crate::loaders::{GltfObjects, ObjObjects};
 use crate::material::Material;
 use crate::mesh::{Mesh, MeshOptions, Weld};
-use crate::{Budget, Builtin, Camera, Motion, Scene, SceneError, SceneObject, assets, shapes, teapot};
+use crate::{Budget, Builtin, Camera, Motion, Scene, SceneError, SceneObject, assets, budget, shapes, teapot};
 use glam::{EulerRot, Mat4, Quat, Vec3};
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
@@ -232,7 +232,7 @@ impl SceneDesc {
         let environment = self.environment.load(base, file)?;
         let mut objects = Vec::new();
         for (i, o) in self.objects.iter().enumerate() {
-            objects.extend(o.load(base, file, i)?);
+            objects.extend(o.load_within(base, file, i, budget)?);
         }
         let mut seen = std::collections::HashSet::new();
         for o in &objects {
@@ -302,9 +302,22 @@ impl EnvironmentDesc {
 }
 
 impl ObjectDesc {
-    /// Builds or loads the object(s) this entry names, transformed to world space.
+    /// Builds or loads the object(s) this entry names, transformed to world space, within the
+    /// memory available now.
     pub fn load(&self, base: &Path, file: &Path, index: usize) -> Result<Vec<SceneObject>, SceneError> {
-        self.check(file, index, &Budget::available(), &mut 0)?;
+        self.load_within(base, file, index, &Budget::available())
+    }
+
+    /// [`ObjectDesc::load`] with the memory its built-in shapes and its `instances` copies
+    /// take held to `budget`.
+    fn load_within(
+        &self,
+        base: &Path,
+        file: &Path,
+        index: usize,
+        budget: &Budget,
+    ) -> Result<Vec<SceneObject>, SceneError> {
+        self.check(file, index, budget, &mut 0)?;
         let bad =
             |reason: String| SceneError::SceneFile { path: file.into(), reason: format!("object {index}: {reason}") };
         let res = self.resolution;
@@ -369,6 +382,21 @@ impl ObjectDesc {
         );
         if !xf.is_finite() {
             return Err(bad("non-finite transform".into()));
+        }
+        if self.instances.len() > 1 {
+            // The copies of a loaded mesh (a built-in's were counted by `check`).
+            let one: u64 =
+                parts.iter().map(|p| budget::mesh_bytes(p.1.vertex_count() as u64, p.1.triangle_count() as u64)).sum();
+            let copies = one.saturating_mul(self.instances.len() as u64 - 1);
+            if copies > budget.max_bytes {
+                return Err(bad(format!(
+                    "instances: {} copies of {} would take about {}, more than the {} of memory available",
+                    self.instances.len(),
+                    self.source,
+                    budget::human(copies),
+                    budget::human(budget.max_bytes)
+                )));
+            }
         }
         let single = parts.len() == 1;
         let own = self.name.clone();

@@ -352,6 +352,29 @@ mod tests {
         assert!(msg.contains("instances[1]") && msg.contains("many.toml"), "{msg}");
     }
 
+    /// Copies of a mesh loaded from a file are held to the memory budget too, with an error
+    /// naming the scene file, the object and `instances`.
+    #[test]
+    fn instances_of_a_file_mesh_are_held_to_the_budget() {
+        let dir = std::env::temp_dir().join(format!("vcut-scene-instances-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        std::fs::write(dir.join("tri.obj"), "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n").unwrap();
+        let offsets: Vec<String> = (0..100).map(|k| format!("[{k}.0, 0.0, 0.0]")).collect();
+        let text = format!(
+            "[environment]\nsource = \"builtin:constant\"\n\n[[object]]\nname = \"tri\"\nsource = \"tri.obj\"\ninstances = [{}]\n",
+            offsets.join(", ")
+        );
+        let desc = SceneDesc::parse(&text, Path::new("tris.toml")).unwrap();
+        let one = budget::mesh_bytes(3, 1);
+        let room = Budget { max_bytes: one * 200 };
+        let s = desc.instantiate_within(&dir, Path::new("tris.toml"), &room).unwrap();
+        assert_eq!((s.objects.len(), s.objects[99].name.as_str()), (100, "tri/99"));
+        let tight = Budget { max_bytes: one * 50 };
+        let msg = desc.instantiate_within(&dir, Path::new("tris.toml"), &tight).unwrap_err().to_string();
+        assert!(msg.contains("tris.toml") && msg.contains("instances") && msg.contains("100 copies"), "{msg}");
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
     #[test]
     fn builtin_descriptions_round_trip_through_toml() {
         for name in scenes::BUILTIN_SCENES {
