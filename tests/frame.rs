@@ -9,7 +9,7 @@ use vcut_precompute::PrecomputeParams;
 use vcut_precompute::run::{Job, NoProgress, precompute};
 use vcut_scene::{Material, Scene, SceneDesc};
 use vcut_shade::reference::{errors, exact_direction};
-use vcut_shade::{Frame, FrameCaches, MergeAlgorithm, SunRays};
+use vcut_shade::{FIELD_REACH, Frame, FrameCaches, MergeAlgorithm, SunRays};
 
 const BALL_ABOVE_GROUND: &str = r#"
 [[object]]
@@ -192,8 +192,8 @@ fn moves_re_merge_only_what_changed_and_edits_never_merge() {
     assert!(frame.shade(EYE) == shaded);
 }
 
-/// Four balls (r = 0.5, so a field reaches 5 units) 4 units apart in a row over a ground,
-/// placed as instances of one entry.
+/// Four balls (r = 0.5, so a field reaches 3 units, 5 with the paper's reach) 4 units apart
+/// in a row over a ground, placed as instances of one entry.
 const BALLS_IN_A_ROW: &str = r#"
 [[object]]
 name = "ground"
@@ -253,8 +253,10 @@ fn a_field_wholly_below_a_vertex_horizon_is_left_out() {
     let mut d = data(BALLS_IN_A_ROW, &[], &dir.join("r.vcuts"));
     let offset = d.svc_origin_offset();
     let mut frame = Frame::new(&mut d, &EnvMap::constant([1.0; 3])).unwrap();
-    // Every merge done at once, so every vertex's kept inputs are current.
+    // Every merge done at once, so every vertex's kept inputs are current; the paper's reach,
+    // so that ball 0's field reaches ball 1.
     frame.set_deferred_merges(false).unwrap();
+    frame.set_field_reach(None).unwrap();
     let (b0, b1) = (frame.object_index("ball/0").unwrap(), frame.object_index("ball/1").unwrap());
     let eye = Vec3::new(2.0, 3.0, 9.0);
     let culled = frame.shade(eye);
@@ -607,4 +609,37 @@ fn merges_in_ranges_shade_as_one_merge() {
     }
     assert_eq!(ranges.memory().field_cache, 0);
     assert!(whole.memory().field_cache > 0);
+}
+
+/// A field reaches 6 of its object's radii by default, the paper's outermost sphere on
+/// request: shorter, a move re-merges fewer vertices, and the error against the exact
+/// reference does not grow.
+#[test]
+fn a_field_reaches_six_radii_unless_asked_for_its_outermost_sphere() {
+    let dir = scratch("reach");
+    let mut d = data(BALLS_IN_A_ROW, &[], &dir.join("r.vcuts"));
+    let offset = d.svc_origin_offset();
+    let mut frame = Frame::new(&mut d, &EnvMap::constant([1.0; 3])).unwrap();
+    frame.set_deferred_merges(false).unwrap();
+    let (b0, b1) = (frame.object_index("ball/0").unwrap(), frame.object_index("ball/1").unwrap());
+    let n1 = frame.object(b1).mesh.vertex_count();
+    let reaches = |frame: &Frame| (0..n1).any(|v| frame.field_sources(b1, v).iter().any(|s| s.0 == b0));
+    assert!(!reaches(&frame), "ball 0 is 8 of its radii from ball 1's centre");
+    let (eye, step) = (Vec3::new(2.0, 3.0, 9.0), Vec3::new(0.3, 0.0, 0.2));
+    let reference = exact_direction(&frame, eye, offset);
+    let short_error = errors(&frame.shade(eye), &reference).0;
+    let short = frame.translate(b0, step).unwrap();
+    frame.translate(b0, Vec3::ZERO).unwrap();
+    assert!(frame.set_field_reach(None).unwrap() > 0);
+    assert!(reaches(&frame));
+    let long_error = errors(&frame.shade(eye), &reference).0;
+    let long = frame.translate(b0, step).unwrap();
+    assert!(long > short, "{long} vertices re-merged at the paper's reach, {short} at 6 radii");
+    assert!(short_error <= long_error + 1e-3, "6 radii {short_error}, the paper's reach {long_error}");
+    for bad in [0.0, -1.0, f32::NAN, f32::INFINITY] {
+        let e = frame.set_field_reach(Some(bad)).unwrap_err().to_string();
+        assert!(e.contains("field reach"), "{e}");
+    }
+    frame.set_field_reach(Some(FIELD_REACH)).unwrap();
+    assert!(!reaches(&frame));
 }

@@ -35,5 +35,7 @@ pub mod measure;
 pub mod reference;
 pub mod sun;
 
-pub use frame::{CutFailure, Frame, FrameCaches, FrameError, FrameMemory, FrameObject, MergeAlgorithm, MoveTiming};
+pub use frame::{
+    CutFailure, FIELD_REACH, Frame, FrameCaches, FrameError, FrameMemory, FrameObject, MergeAlgorithm, MoveTiming,
+};
 pub use sun::SunRays;

@@ -135,6 +135,12 @@ pub struct RenderArgs {
     /// (`Frame::set_horizon_culling`).
     #[arg(long)]
     pub no_horizon_culling: bool,
+    /// How far a field shadows, in its object's bounding radii (default 6; 10, the default
+    /// precompute's outermost sphere, is the paper's reach): shorter is fewer fields per
+    /// vertex and cheaper moves, the sky shadows of farther objects left out
+    /// (`Frame::set_field_reach`).
+    #[arg(long, value_name = "RADII")]
+    pub field_reach: Option<f32>,
     /// Merge every vertex a move changes at once. By default a move merges the vertices facing
     /// the camera and leaves the others until a camera sees them (`Frame::set_deferred_merges`):
     /// the image is the same bit for bit.
@@ -172,6 +178,7 @@ impl RenderArgs {
             inside_samples: Inside::Occluded,
             no_sun_rays: false,
             no_horizon_culling: false,
+            field_reach: None,
             eager_merges: false,
             no_merged_cache: false,
             memory_budget: None,
@@ -377,6 +384,9 @@ pub fn run(args: &RenderArgs) -> Result<RenderOutcome> {
     out.emit("inside_samples", inside.name().into());
     if args.no_horizon_culling {
         frame.set_horizon_culling(false)?;
+    }
+    if args.field_reach.is_some() {
+        frame.set_field_reach(args.field_reach).map_err(|e| anyhow::anyhow!("--field-reach: {e}"))?;
     }
     if args.no_sun_rays {
         frame.set_sun_rays(None);

@@ -79,6 +79,9 @@ impl Frame {
             return None;
         }
         let p = me.mesh.positions()[v] + me.translation;
+        if self.field_reach.is_some_and(|r| p.distance(layout.center + other.translation) > r * layout.radius) {
+            return None;
+        }
         if self.horizon_culling
             && wholly_below(p, me.mesh.normals()[v], layout.center + other.translation, layout.radius)
         {
