@@ -61,9 +61,10 @@ impl Frame {
     /// documentation (plus the sun's leaves by rays, with [`Frame::set_sun_rays`]).
     ///
     /// Vertices whose list is stale build it on the spot without keeping it ([`Frame::set_eye`]
-    /// keeps them; without the merged cache they merge again for it), and so do vertices facing `eye` whose merge waits with their cut (a read
-    /// error there, which setup's decoding of the same file makes unlikely, shades the vertex
-    /// black; [`Frame::set_eye`] reports it). `eye` becomes the eye later merges build lists for.
+    /// keeps them; without the merged cache they merge again for it), and so do vertices
+    /// facing `eye` whose merge waits with their cut (a read error there, which setup's
+    /// decoding of the same file makes unlikely, shades the vertex black; [`Frame::set_eye`]
+    /// reports it). `eye` becomes the eye later merges build lists for.
     pub fn shade(&mut self, eye: Vec3) -> Vec<Vec<Vec3>> {
         self.eye = Some(eye);
         let this = &*self;
