@@ -169,6 +169,18 @@ fn moves_re_merge_only_what_changed_and_edits_never_merge() {
     frame.translate(ball, Vec3::ZERO).unwrap();
     assert!(frame.shade(EYE) == before, "moving back did not restore the cached result");
     assert!(frame.last_move().vertices > 0 && frame.last_move().merge_s > 0.0);
+    // Every re-merged cut's nodes counted once: at least one each, at most all the frame's.
+    let all_nodes: usize = (0..frame.object_count())
+        .flat_map(|o| (0..frame.object(o).mesh.vertex_count()).map(move |v| (o, v)))
+        .map(|(o, v)| frame.merged(o, v).unwrap().heights.len())
+        .sum();
+    let m = frame.last_move();
+    assert!(
+        m.nodes >= m.vertices && m.nodes <= all_nodes,
+        "{} nodes, {} vertices, {all_nodes} in all",
+        m.nodes,
+        m.vertices
+    );
 
     // The index baseline merges the same cuts bit for bit.
     let moved = Vec3::new(0.3, 0.1, -0.2);

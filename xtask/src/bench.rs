@@ -67,6 +67,13 @@ pub struct BenchArgs {
     /// Measure only the scaling section, replacing it in OUT/report.json.
     #[arg(long, conflicts_with_all = ["no_scaling", "plot_only", "only_ssdo", "only_leaves"])]
     pub only_scaling: bool,
+    /// The scaling section's object counts (default 1,2,4,…,64; with --quick 1,2,4,8).
+    #[arg(long, value_delimiter = ',')]
+    pub scaling_objects: Option<Vec<usize>>,
+    /// The presets of the scaling section's object sweep (default fast,balanced; with --quick
+    /// fast).
+    #[arg(long, value_delimiter = ',')]
+    pub scaling_presets: Option<Vec<String>>,
     /// Reuse a scene's data file from an earlier run (and the precompute figures kept beside
     /// it) instead of precomputing again: to re-time frames after a change to shading.
     #[arg(long)]
@@ -338,7 +345,8 @@ pub fn run(args: &BenchArgs) -> Result<()> {
     }
     if args.only_scaling {
         let path = args.out.join("report.json");
-        let section = crate::bench_scaling::run(args.quick, &args.out.join("data"), &args.out)?;
+        let section =
+            crate::bench_scaling::run(&crate::bench_scaling::Sweeps::of(args)?, &args.out.join("data"), &args.out)?;
         replace_section(&path, "scaling", &section)?;
         println!("report={}", path.display());
         return Ok(());
@@ -453,7 +461,8 @@ pub fn run(args: &BenchArgs) -> Result<()> {
         report.leaves = Some(crate::bench_leaves::run(args.quick, &args.out.join("leaves"))?);
     }
     if !args.no_scaling {
-        report.scaling = Some(crate::bench_scaling::run(args.quick, &data_dir, &args.out)?);
+        report.scaling =
+            Some(crate::bench_scaling::run(&crate::bench_scaling::Sweeps::of(args)?, &data_dir, &args.out)?);
     }
     report.bench_s = started.elapsed().as_secs_f64();
     let (md, csv) = vcuts::table1::table1(&report.scenes);

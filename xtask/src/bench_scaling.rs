@@ -45,18 +45,52 @@ target = [0.0, 1.2, 0.0]
     )
 }
 
-/// Runs the sweeps (`quick`: 1–8 objects at `fast`, and ~3k and ~10k vertices).
-pub fn run(quick: bool, data_dir: &Path, out: &Path) -> Result<ScalingSection> {
+/// What the sweeps measure.
+pub struct Sweeps {
+    /// The showroom's object counts.
+    pub counts: Vec<usize>,
+    /// The object sweep's presets.
+    pub presets: Vec<String>,
+    /// The teapot's tessellations.
+    pub tessellations: &'static [u32],
+}
+
+impl Sweeps {
+    /// The bench's sweeps (`--quick`: 1–8 objects at `fast`, and ~3k and ~10k vertices),
+    /// narrowed by `--scaling-objects` and `--scaling-presets`.
+    pub fn of(args: &crate::bench::BenchArgs) -> Result<Sweeps> {
+        let quick = args.quick;
+        let counts = args
+            .scaling_objects
+            .clone()
+            .unwrap_or_else(|| if quick { vec![1, 2, 4, 8] } else { vec![1, 2, 4, 8, 16, 32, 64] });
+        if let Some(k) = counts.iter().find(|&&k| k == 0) {
+            anyhow::bail!("--scaling-objects {k}: a showroom holds at least one object");
+        }
+        let presets = args
+            .scaling_presets
+            .clone()
+            .unwrap_or_else(|| if quick { vec!["fast".into()] } else { vec!["fast".into(), "balanced".into()] });
+        if let Some(p) = presets.iter().find(|p| !vcut_data::params::PRESETS.contains(&p.as_str())) {
+            anyhow::bail!(
+                "--scaling-presets {p}: not a preset (expected one of {})",
+                vcut_data::params::PRESETS.join(", ")
+            );
+        }
+        let tessellations = if quick { &QUICK_TESSELLATIONS[..] } else { &TESSELLATIONS[..] };
+        Ok(Sweeps { counts, presets, tessellations })
+    }
+}
+
+/// Runs the sweeps.
+pub fn run(sweeps: &Sweeps, data_dir: &Path, out: &Path) -> Result<ScalingSection> {
     std::fs::create_dir_all(data_dir).with_context(|| format!("creating {}", data_dir.display()))?;
-    let counts: &[usize] = if quick { &[1, 2, 4, 8] } else { &[1, 2, 4, 8, 16, 32, 64] };
-    let presets: &[&str] = if quick { &["fast"] } else { &["fast", "balanced"] };
-    let tessellations = if quick { &QUICK_TESSELLATIONS[..] } else { &TESSELLATIONS[..] };
     let mut section = ScalingSection::default();
     let mut jobs: Vec<(&str, String, &str)> = Vec::new();
-    for &preset in presets {
-        jobs.extend(counts.iter().map(|k| ("objects", format!("builtin:showroom:{k}"), preset)));
+    for preset in &sweeps.presets {
+        jobs.extend(sweeps.counts.iter().map(|k| ("objects", format!("builtin:showroom:{k}"), preset.as_str())));
     }
-    for &r in tessellations {
+    for &r in sweeps.tessellations {
         let path = data_dir.join(format!("scaling-teapot-{r}.toml"));
         write_atomic(&path, teapot_scene(r).as_bytes())?;
         jobs.push(("tessellation", path.display().to_string(), "fast"));
@@ -71,7 +105,7 @@ pub fn run(quick: bool, data_dir: &Path, out: &Path) -> Result<ScalingSection> {
         let p = measure(sweep, &scene, preset, data_dir)?;
         println!(
             "scaling {sweep} {preset}: {} objects ({} movable), {} vertices: precompute {:.1} s, frame peak {}, move {:.1} ms eager \
-             ({} merged, {:.1} µs each), {:.1} ms deferred, edit {:.1} ms, rel L2 vs exact {:.4}; no cache: frame peak {}, \
+             ({} merged, {:.1} µs each: {:.0} nodes, {:.1} ns each), {:.1} ms deferred, edit {:.1} ms, rel L2 vs exact {:.4}; no cache: frame peak {}, \
              move {:.1} ms eager",
             p.objects,
             p.movable,
@@ -81,6 +115,8 @@ pub fn run(quick: bool, data_dir: &Path, out: &Path) -> Result<ScalingSection> {
             p.move_ms_eager,
             p.merged_vertices_eager,
             p.us_per_merged_vertex,
+            p.nodes_per_merged_vertex,
+            p.ns_per_merged_node,
             p.move_ms,
             p.edit_ms,
             p.rel_l2_exact,

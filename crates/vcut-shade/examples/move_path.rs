@@ -9,10 +9,14 @@
 //! move + shade), between two rounds of the default merge, for a ratio in one run; with
 //! `NO_SVC_CACHE=1` every SVC is decoded at each merge instead of kept decoded; with
 //! `NO_SUN_RAYS=1` the sun goes through the cuts too (the paper) instead of being cast by rays;
-//! with `EAGER=1` every move merges all the vertices it changes (by default those facing away
+//! with `COLD=1` the timed path is the frame's first (by default a first round over it
+//! comes before, so the timed one sees a warm frame); with `EAGER=1` every move merges all the vertices it changes (by default those facing away
 //! from the eye wait: `Frame::set_deferred_merges`; each step prints how many); with
 //! `NO_MERGED_CACHE=1` the frame keeps no merged cuts (`Frame::set_merged_cache`), with
-//! `NO_CELL_CACHE=1` no field cells between moves (`Frame::set_cell_cache`). Last, a
+//! `NO_CELL_CACHE=1` no field cells between moves (`Frame::set_cell_cache`); `FIELD_REACH=R`
+//! sets how far fields reach, in radii (`Frame::set_field_reach`). Over the path it prints the
+//! merged cuts' nodes per re-merged vertex, the merge's nanoseconds per node and the move's
+//! microseconds per re-merged vertex. Last, a
 //! lighting change (`relight_ms`: light tree and the shading lists facing the eye; a merge of
 //! those without the merged cache), the camera turned to the other side after it (`turn_ms`:
 //! the lists it now sees), a BRDF edit (`edit_ms`: the exponent changed, every vertex shaded)
@@ -57,6 +61,10 @@ fn main() -> Result<(), String> {
     if std::env::var_os("NO_MERGED_CACHE").is_some() {
         frame.set_merged_cache(false).map_err(|e| e.to_string())?;
     }
+    if let Some(r) = std::env::var_os("FIELD_REACH") {
+        let r: f32 = r.to_string_lossy().parse().map_err(|e| format!("FIELD_REACH: {e}"))?;
+        frame.set_field_reach(Some(r)).map_err(|e| e.to_string())?;
+    }
     if std::env::var_os("EAGER").is_some() {
         frame.set_deferred_merges(false).map_err(|e| e.to_string())?;
     }
@@ -70,7 +78,9 @@ fn main() -> Result<(), String> {
     let mut rows: Vec<[f64; 7]> = Vec::new();
     // The path, then (with VS_INDEX set) the index baseline over it and the path again: the
     // machine's speed drifts, the ratio of the two in one run does not.
-    let rounds = if std::env::var_os("VS_INDEX").is_some() { 3 } else { 1 };
+    // `COLD=1`: no round before the timed one (the path's first drag, as the bench times it).
+    let rounds =
+        if std::env::var_os("VS_INDEX").is_some() { 3 } else { usize::from(std::env::var_os("COLD").is_none()) };
     let mut index_ms = Vec::new();
     for round in 0..rounds {
         if round == 1 {
@@ -91,6 +101,7 @@ fn main() -> Result<(), String> {
     frame.set_merge_algorithm(MergeAlgorithm::Counter).map_err(|e| e.to_string())?;
     frame.translate(o, Vec3::ZERO).map_err(|e| e.to_string())?;
     let (cpu0, wall0) = (cpu_seconds(), Instant::now());
+    let mut totals = (0usize, 0usize, 0.0f64, 0.0f64);
     for i in 1..=steps {
         let t = Instant::now();
         let merged = frame.translate(o, step * i as f32).map_err(|e| e.to_string())?;
@@ -106,7 +117,14 @@ fn main() -> Result<(), String> {
             m.deferred, row[0], row[1], row[2], row[3], row[4], row[6], row[5]
         );
         rows.push(row);
+        totals = (totals.0 + m.vertices, totals.1 + m.nodes, totals.2 + m.merge_s, totals.3 + move_ms);
     }
+    // A merge's cost is the walk's output (each node emitted and listed once): nodes per
+    // vertex say how fine the vertices' products are, nanoseconds per node what each costs.
+    let (vertices, nodes, merge_s, move_ms) = totals;
+    println!("nodes_per_merged_vertex={:.0}", nodes as f64 / vertices.max(1) as f64);
+    println!("ns_per_merged_node={:.1}", merge_s * 1e9 / nodes.max(1) as f64);
+    println!("us_per_merged_vertex={:.2}", move_ms * 1e3 / vertices.max(1) as f64);
     if let (Some(a), Some(b)) = (cpu0, cpu_seconds()) {
         // Cores busy over the path (of rayon's threads): below their count, serial parts wait.
         println!("path_cores_busy={:.2}", (b - a) / wall0.elapsed().as_secs_f64());

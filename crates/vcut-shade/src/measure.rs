@@ -68,6 +68,19 @@ impl PathTiming {
                 .collect(),
         )
     }
+
+    /// Nodes of the merged cuts per vertex the steps merged: how fine the products are (a
+    /// merge emits every node once and lists it). NaN if no step merged.
+    pub fn nodes_per_merged_vertex(&self) -> f64 {
+        let (nodes, vertices) = self.steps.iter().fold((0, 0), |(n, v), t| (n + t.nodes, v + t.vertices));
+        if vertices == 0 { f64::NAN } else { nodes as f64 / vertices as f64 }
+    }
+
+    /// Median over the steps of the merge's time (merging and listing, wall clock) per node
+    /// it emitted (ns); NaN if no step merged.
+    pub fn ns_per_merged_node(&self) -> f64 {
+        median(self.steps.iter().filter(|t| t.nodes > 0).map(|t| t.merge_s * 1e9 / t.nodes as f64).collect())
+    }
 }
 
 /// Moves object `o` from rest along `steps` steps of [`path_step`] with `algorithm`, shading

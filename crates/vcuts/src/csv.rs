@@ -65,13 +65,16 @@ pub fn scaling(points: &[ScalingPoint]) -> String {
         text.push(',');
         text.push_str(key);
     }
-    text.push_str(",merged_vertices_eager,rel_l2_exact\n");
+    text.push_str(",merged_vertices_eager,nodes_per_merged_vertex,ns_per_merged_node,rel_l2_exact\n");
     for p in points {
         text.push_str(&format!("{},{},{},{},{}", p.sweep, p.preset, p.objects, p.movable, p.vertices));
         for key in crate::scaling::FITTED {
             text.push_str(&format!(",{}", p.figure(key)));
         }
-        text.push_str(&format!(",{},{}\n", p.merged_vertices_eager, p.rel_l2_exact));
+        text.push_str(&format!(
+            ",{},{},{},{}\n",
+            p.merged_vertices_eager, p.nodes_per_merged_vertex, p.ns_per_merged_node, p.rel_l2_exact
+        ));
     }
     text
 }
@@ -128,6 +131,6 @@ mod tests {
         let col = |name: &str| lines[0].iter().position(|h| *h == name).unwrap();
         assert_eq!((lines[1][col("move_ms_eager")], lines[1][col("movable")]), ("12.5", "4"));
         assert_eq!(lines[2][col("merged_vertices_eager")], "900");
-        assert_eq!(crate::scaling::FITTED.len() + 7, lines[0].len());
+        assert_eq!(crate::scaling::FITTED.len() + 9, lines[0].len());
     }
 }

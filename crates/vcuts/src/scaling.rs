@@ -57,6 +57,12 @@ pub struct ScalingPoint {
     pub merged_vertices: usize,
     /// Eager: the move's time (lookups, decoding, refining, merging) per vertex it merged.
     pub us_per_merged_vertex: f64,
+    /// Eager: nodes of the merged cuts per vertex merged, and the merge's time per node (ns):
+    /// their product is most of `us_per_merged_vertex`.
+    #[serde(default)]
+    pub nodes_per_merged_vertex: f64,
+    #[serde(default)]
+    pub ns_per_merged_node: f64,
     pub edit_ms: f64,
     /// A frame keeping no cache (`FrameCaches` all off, as `render --memory-budget` with a
     /// budget below its needs): its peak resident memory over the memory before (setup, an
@@ -76,6 +82,12 @@ pub struct ScalingPoint {
 pub struct ScalingGoals {
     /// `us_per_merged_vertex` at 32 objects over that at 2, `fast` (goal ≤ 1.5).
     pub us_per_vertex_k32_vs_k2: Option<f64>,
+    /// Its two parts: `nodes_per_merged_vertex` at 32 over 2 (how much finer the products of
+    /// more fields are: a bound no merge of the same cuts goes below) and `ns_per_merged_node`.
+    #[serde(default)]
+    pub nodes_per_vertex_k32_vs_k2: Option<f64>,
+    #[serde(default)]
+    pub ns_per_node_k32_vs_k2: Option<f64>,
     /// `frame_peak_bytes_per_vertex` at `balanced`, the largest over the object sweep (goal ≤ 4096).
     pub frame_peak_bytes_per_vertex_balanced: Option<f64>,
     /// `move_ms_eager` at 32 objects, `fast` (goal ≤ 150).
@@ -175,6 +187,12 @@ pub fn goals(points: &[ScalingPoint]) -> ScalingGoals {
         us_per_vertex_k32_vs_k2: at(32, "fast")
             .zip(at(2, "fast"))
             .map(|(a, b)| a.us_per_merged_vertex / b.us_per_merged_vertex),
+        nodes_per_vertex_k32_vs_k2: at(32, "fast")
+            .zip(at(2, "fast"))
+            .map(|(a, b)| a.nodes_per_merged_vertex / b.nodes_per_merged_vertex),
+        ns_per_node_k32_vs_k2: at(32, "fast")
+            .zip(at(2, "fast"))
+            .map(|(a, b)| a.ns_per_merged_node / b.ns_per_merged_node),
         frame_peak_bytes_per_vertex_balanced: points
             .iter()
             .filter(|p| p.sweep == "objects" && p.preset == "balanced")
@@ -300,6 +318,8 @@ pub fn measure(sweep: &str, scene: &str, preset: &str, data_dir: &Path) -> Resul
         move_ms: deferred.move_ms,
         merged_vertices: deferred.merged,
         us_per_merged_vertex: eager.us_per_merged_vertex(),
+        nodes_per_merged_vertex: eager.nodes_per_merged_vertex(),
+        ns_per_merged_node: eager.ns_per_merged_node(),
         edit_ms: edit,
         rel_l2_exact,
         exact_subset: subset.len(),
@@ -325,6 +345,7 @@ mod tests {
             preset: preset.into(),
             movable: k,
             us_per_merged_vertex: us,
+            nodes_per_merged_vertex: 100.0 * us,
             move_ms_eager: 10.0 * k as f64,
             frame_peak_bytes_per_vertex: Some(1000.0 * k as f64),
             ..ScalingPoint::default()
@@ -336,6 +357,7 @@ mod tests {
         assert!(!e.contains_key("objects/fast/frame_peak_rss_bytes"));
         let g = goals(&points);
         assert_eq!(g.us_per_vertex_k32_vs_k2, Some(1.5));
+        assert_eq!(g.nodes_per_vertex_k32_vs_k2, Some(1.5));
         assert_eq!(g.drag_ms_eager_k32_fast, Some(320.0));
         assert_eq!(g.frame_peak_bytes_per_vertex_balanced, Some(8000.0));
     }

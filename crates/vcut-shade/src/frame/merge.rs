@@ -218,6 +218,7 @@ impl Frame {
             .map_err(|e| FrameError::cut(o, first, e))?;
         timing.refine_s += start.elapsed().as_secs_f64();
         let start = Instant::now();
+        let nodes = std::sync::atomic::AtomicUsize::new(0);
         let slots: Vec<Option<&mut MergedCut>> = match merged {
             Some(m) => m.iter_mut().map(Some).collect(),
             None => (0..changed.len()).map(|_| None).collect(),
@@ -231,6 +232,7 @@ impl Frame {
                     };
                     let out = slot.unwrap_or(spare);
                     let svc = self.merge_vertex(o, offset + v, &keys[v], &cell, scratch, out)?;
+                    nodes.fetch_add(out.heights.len(), std::sync::atomic::Ordering::Relaxed);
                     // The list while the cut is still in cache.
                     match svc {
                         None => list.clear(),
@@ -241,6 +243,7 @@ impl Frame {
                 },
             );
         timing.merge_s += start.elapsed().as_secs_f64();
+        timing.nodes += nodes.into_inner();
         *cache = FieldCache { keys: wanted, cuts: decoded, cells, refined };
         result.map(|()| vertices.len())
     }

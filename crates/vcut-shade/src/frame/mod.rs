@@ -207,6 +207,10 @@ pub struct MoveTiming {
     pub sun_rays: u64,
     /// Vertices re-merged.
     pub vertices: usize,
+    /// Nodes of the re-merged vertices' cuts, summed: the walk emits each once and builds the
+    /// shading list from it, so a merge's time grows with them (over `vertices`: how fine the
+    /// product of a vertex's SVC and fields is).
+    pub nodes: usize,
     /// Field factors of the re-merged vertices' products, summed (over `vertices`: the fields
     /// that reach a merged vertex, on average).
     pub fields: usize,
