@@ -74,6 +74,10 @@ pub struct BenchArgs {
     /// fast).
     #[arg(long, value_delimiter = ',')]
     pub scaling_presets: Option<Vec<String>>,
+    /// The vertex sweep's teapot tessellations, quads per patch edge (default 18,36,74,186:
+    /// ~12k, 43k, 177k and 1.1M vertices with the ground; with --quick 9,18).
+    #[arg(long, value_delimiter = ',')]
+    pub scaling_tessellations: Option<Vec<u32>>,
     /// Reuse a scene's data file from an earlier run (and the precompute figures kept beside
     /// it) instead of precomputing again: to re-time frames after a change to shading.
     #[arg(long)]

@@ -2,7 +2,9 @@
 //! `balanced`, and one teapot tessellated from 10k to ~1M vertices, each point measured by
 //! `vcuts::scaling::measure`; the growth exponents fitted, `scaling.csv`, and log–log plots
 //! (`scaling_objects.png`, `scaling_vertices.png`). A point whose frame would not fit in the
-//! memory available (extrapolated from the sweep's last point) is skipped and named.
+//! memory available (extrapolated from the sweep's last point) is skipped and named. The
+//! section so far is written to `scaling.json` and `scaling.csv` after every point, so that a
+//! sweep stopped part way keeps what it measured.
 
 use anyhow::{Context, Result};
 use std::path::Path;
@@ -52,7 +54,7 @@ pub struct Sweeps {
     /// The object sweep's presets.
     pub presets: Vec<String>,
     /// The teapot's tessellations.
-    pub tessellations: &'static [u32],
+    pub tessellations: Vec<u32>,
 }
 
 impl Sweeps {
@@ -77,7 +79,10 @@ impl Sweeps {
                 vcut_data::params::PRESETS.join(", ")
             );
         }
-        let tessellations = if quick { &QUICK_TESSELLATIONS[..] } else { &TESSELLATIONS[..] };
+        let tessellations = args
+            .scaling_tessellations
+            .clone()
+            .unwrap_or_else(|| if quick { QUICK_TESSELLATIONS.to_vec() } else { TESSELLATIONS.to_vec() });
         Ok(Sweeps { counts, presets, tessellations })
     }
 }
@@ -90,7 +95,7 @@ pub fn run(sweeps: &Sweeps, data_dir: &Path, out: &Path) -> Result<ScalingSectio
     for preset in &sweeps.presets {
         jobs.extend(sweeps.counts.iter().map(|k| ("objects", format!("builtin:showroom:{k}"), preset.as_str())));
     }
-    for &r in sweeps.tessellations {
+    for &r in &sweeps.tessellations {
         let path = data_dir.join(format!("scaling-teapot-{r}.toml"));
         write_atomic(&path, teapot_scene(r).as_bytes())?;
         jobs.push(("tessellation", path.display().to_string(), "fast"));
@@ -124,6 +129,10 @@ pub fn run(sweeps: &Sweeps, data_dir: &Path, out: &Path) -> Result<ScalingSectio
             p.lean_move_ms_eager
         );
         section.points.push(p);
+        section.exponents = exponents(&section.points);
+        section.goals = goals(&section.points);
+        write_atomic(&out.join("scaling.json"), serde_json::to_string_pretty(&section)?.as_bytes())?;
+        write_atomic(&out.join("scaling.csv"), vcuts::csv::scaling(&section.points).as_bytes())?;
     }
     section.exponents = exponents(&section.points);
     section.goals = goals(&section.points);

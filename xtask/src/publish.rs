@@ -1,5 +1,7 @@
 //! `cargo xtask publish`: what the docs show, generated. Copies a bench report's `table1.md`
-//! (and the trade-off plot, when there is one) to `docs/report/` and writes the table between
+//! and plots (trade-off, scaling: those it has; a report of one section, e.g. from
+//! `bench --only-scaling`, brings its plots and keeps the table there) to `docs/report/` and
+//! writes the table between
 //! the `<!-- table1 -->` and `<!-- /table1 -->` markers of `README.md` and
 //! `docs/benchmarks.md`; and writes each library crate's `README.md` (what a registry page
 //! shows) from its crate documentation — so none of them is edited by hand. It also requires
@@ -23,6 +25,8 @@ pub struct PublishArgs {
 const BEGIN: &str = "<!-- table1 -->";
 const END: &str = "<!-- /table1 -->";
 const DOCS: [&str; 2] = ["README.md", "docs/benchmarks.md"];
+/// What a report brings to `docs/report/`, those it has.
+const PUBLISHED: [&str; 4] = ["table1.md", "tradeoff_size.png", "scaling_objects.png", "scaling_vertices.png"];
 
 /// `text` with the block between the markers replaced by `table`; `None` without markers.
 pub fn splice(text: &str, table: &str) -> Option<String> {
@@ -35,7 +39,8 @@ pub fn splice(text: &str, table: &str) -> Option<String> {
 pub fn run(args: &PublishArgs) -> Result<()> {
     let kept = Path::new("docs/report");
     let report = args.report.as_deref().unwrap_or(kept);
-    let source = report.join("table1.md");
+    // A report without a table (one section measured) keeps the table published before.
+    let source = Some(report.join("table1.md")).filter(|s| s.exists()).unwrap_or_else(|| kept.join("table1.md"));
     let table = std::fs::read_to_string(&source).with_context(|| format!("reading {}", source.display()))?;
     if !table.trim_start().starts_with("| scene |") {
         bail!("{}: not a Table 1 written by `cargo xtask bench`", source.display());
@@ -60,7 +65,7 @@ pub fn run(args: &PublishArgs) -> Result<()> {
     }
     if report != kept {
         std::fs::create_dir_all(kept).with_context(|| format!("creating {}", kept.display()))?;
-        for name in ["table1.md", "tradeoff_size.png"] {
+        for name in PUBLISHED {
             let from = report.join(name);
             if from.exists() {
                 std::fs::copy(&from, kept.join(name)).with_context(|| format!("copying {}", from.display()))?;
