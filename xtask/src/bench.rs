@@ -341,6 +341,7 @@ pub fn run(args: &BenchArgs) -> Result<()> {
             bail!("--scenes {s}: expected teapot, bunny or spheres");
         }
     }
+    let sweeps = crate::bench_scaling::Sweeps::of(args)?;
     if args.plot_only {
         let path = args.out.join("tradeoff.csv");
         let text = std::fs::read_to_string(&path).with_context(|| format!("reading {}", path.display()))?;
@@ -349,8 +350,7 @@ pub fn run(args: &BenchArgs) -> Result<()> {
     }
     if args.only_scaling {
         let path = args.out.join("report.json");
-        let section =
-            crate::bench_scaling::run(&crate::bench_scaling::Sweeps::of(args)?, &args.out.join("data"), &args.out)?;
+        let section = crate::bench_scaling::run(&sweeps, &args.out.join("data"), &args.out)?;
         replace_section(&path, "scaling", &section)?;
         println!("report={}", path.display());
         return Ok(());
@@ -465,8 +465,7 @@ pub fn run(args: &BenchArgs) -> Result<()> {
         report.leaves = Some(crate::bench_leaves::run(args.quick, &args.out.join("leaves"))?);
     }
     if !args.no_scaling {
-        report.scaling =
-            Some(crate::bench_scaling::run(&crate::bench_scaling::Sweeps::of(args)?, &data_dir, &args.out)?);
+        report.scaling = Some(crate::bench_scaling::run(&sweeps, &data_dir, &args.out)?);
     }
     report.bench_s = started.elapsed().as_secs_f64();
     let (md, csv) = vcuts::table1::table1(&report.scenes);

@@ -58,8 +58,9 @@ pub struct Sweeps {
 }
 
 impl Sweeps {
-    /// The bench's sweeps (`--quick`: 1–8 objects at `fast`, and ~3k and ~10k vertices),
-    /// narrowed by `--scaling-objects` and `--scaling-presets`.
+    /// The bench's sweeps (`--quick`: 1–8 objects at `fast`, and ~3k and ~10k vertices), or
+    /// those `--scaling-objects`, `--scaling-presets` and `--scaling-tessellations` name
+    /// (checked here, before any section runs).
     pub fn of(args: &crate::bench::BenchArgs) -> Result<Sweeps> {
         let quick = args.quick;
         let counts = args
@@ -87,6 +88,16 @@ impl Sweeps {
     }
 }
 
+/// Fits the section's exponents and goals to its points so far and writes it to
+/// `out/scaling.json` and `out/scaling.csv`.
+fn keep(section: &mut ScalingSection, out: &Path) -> Result<()> {
+    section.exponents = exponents(&section.points);
+    section.goals = goals(&section.points);
+    write_atomic(&out.join("scaling.json"), serde_json::to_string_pretty(section)?.as_bytes())?;
+    write_atomic(&out.join("scaling.csv"), vcuts::csv::scaling(&section.points).as_bytes())?;
+    Ok(())
+}
+
 /// Runs the sweeps.
 pub fn run(sweeps: &Sweeps, data_dir: &Path, out: &Path) -> Result<ScalingSection> {
     std::fs::create_dir_all(data_dir).with_context(|| format!("creating {}", data_dir.display()))?;
@@ -104,6 +115,7 @@ pub fn run(sweeps: &Sweeps, data_dir: &Path, out: &Path) -> Result<ScalingSectio
         if let Some(why) = too_big(&section.points, sweep, preset, &scene)? {
             println!("scaling: skipping {scene} at {preset}: {why}");
             section.skipped.push(format!("{scene} at {preset}: {why}"));
+            keep(&mut section, out)?;
             continue;
         }
         println!("\n== scaling: {scene} at {preset}");
@@ -129,14 +141,8 @@ pub fn run(sweeps: &Sweeps, data_dir: &Path, out: &Path) -> Result<ScalingSectio
             p.lean_move_ms_eager
         );
         section.points.push(p);
-        section.exponents = exponents(&section.points);
-        section.goals = goals(&section.points);
-        write_atomic(&out.join("scaling.json"), serde_json::to_string_pretty(&section)?.as_bytes())?;
-        write_atomic(&out.join("scaling.csv"), vcuts::csv::scaling(&section.points).as_bytes())?;
+        keep(&mut section, out)?;
     }
-    section.exponents = exponents(&section.points);
-    section.goals = goals(&section.points);
-    write_atomic(&out.join("scaling.csv"), vcuts::csv::scaling(&section.points).as_bytes())?;
     vcuts::plots::scaling(&section, "objects", "objects", &out.join("scaling_objects.png"))?;
     vcuts::plots::scaling(&section, "tessellation", "vertices", &out.join("scaling_vertices.png"))?;
     println!("scaling exponents: {}", serde_json::to_string(&section.exponents)?);

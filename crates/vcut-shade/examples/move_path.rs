@@ -9,9 +9,10 @@
 //! move + shade), between two rounds of the default merge, for a ratio in one run; with
 //! `NO_SVC_CACHE=1` every SVC is decoded at each merge instead of kept decoded; with
 //! `NO_SUN_RAYS=1` the sun goes through the cuts too (the paper) instead of being cast by rays;
-//! with `COLD=1` the timed path is the frame's first (by default a first round over it
-//! comes before, so the timed one sees a warm frame); with `EAGER=1` every move merges all the vertices it changes (by default those facing away
-//! from the eye wait: `Frame::set_deferred_merges`; each step prints how many); with
+//! with `COLD=1` the timed path is the frame's first (by default a first round over it comes
+//! before, so the timed one sees a warm frame); with `EAGER=1` every move merges all the
+//! vertices it changes (by default those facing away from the eye wait:
+//! `Frame::set_deferred_merges`; each step prints how many); with
 //! `NO_MERGED_CACHE=1` the frame keeps no merged cuts (`Frame::set_merged_cache`), with
 //! `NO_CELL_CACHE=1` no field cells between moves (`Frame::set_cell_cache`); `FIELD_REACH=R`
 //! sets how far fields reach, in radii (`Frame::set_field_reach`). Over the path it prints the

@@ -183,16 +183,13 @@ pub fn exponents(points: &[ScalingPoint]) -> BTreeMap<String, f64> {
 pub fn goals(points: &[ScalingPoint]) -> ScalingGoals {
     let at =
         |k: usize, preset: &str| points.iter().find(|p| p.sweep == "objects" && p.movable == k && p.preset == preset);
+    // A figure at 32 objects over the same at 2, `fast`.
+    let k32_vs_k2 =
+        |figure: fn(&ScalingPoint) -> f64| at(32, "fast").zip(at(2, "fast")).map(|(a, b)| figure(a) / figure(b));
     ScalingGoals {
-        us_per_vertex_k32_vs_k2: at(32, "fast")
-            .zip(at(2, "fast"))
-            .map(|(a, b)| a.us_per_merged_vertex / b.us_per_merged_vertex),
-        nodes_per_vertex_k32_vs_k2: at(32, "fast")
-            .zip(at(2, "fast"))
-            .map(|(a, b)| a.nodes_per_merged_vertex / b.nodes_per_merged_vertex),
-        ns_per_node_k32_vs_k2: at(32, "fast")
-            .zip(at(2, "fast"))
-            .map(|(a, b)| a.ns_per_merged_node / b.ns_per_merged_node),
+        us_per_vertex_k32_vs_k2: k32_vs_k2(|p| p.us_per_merged_vertex),
+        nodes_per_vertex_k32_vs_k2: k32_vs_k2(|p| p.nodes_per_merged_vertex),
+        ns_per_node_k32_vs_k2: k32_vs_k2(|p| p.ns_per_merged_node),
         frame_peak_bytes_per_vertex_balanced: points
             .iter()
             .filter(|p| p.sweep == "objects" && p.preset == "balanced")
