@@ -1,17 +1,19 @@
 //! The precompute end to end: what it computes (SVCs, fields, which objects get one), that
 //! fields agree with rays cast directly, the `.vcuts` file's damage checks, and that a killed
-//! run resumes to a byte-identical file.
+//! run resumes to a byte-identical file; a sharded run gathers to the same bytes, and a gather
+//! of an incomplete or mixed set of shards names what is wrong.
 
 use glam::Vec3;
 use std::path::Path;
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use vcut_cut::Cut;
 use vcut_data::file::{Reader, SectionId, SectionKind, partial_path};
+use vcut_data::shard::{GatherError, gather, shard_path};
 use vcut_data::{FieldLayout, Precomputed};
 use vcut_dirtree::DirectionTree;
 use vcut_merge::{MergedCut, merge_weighted_sum};
 use vcut_precompute::field::point_visibility;
-use vcut_precompute::run::{Job, NoProgress, PrecomputeError, Progress, Summary, precompute};
+use vcut_precompute::run::{Job, NoProgress, PrecomputeError, Progress, Summary, precompute, precompute_shard};
 use vcut_precompute::{Occluder, PrecomputeParams};
 use vcut_scene::{Scene, SceneDesc};
 use vcut_tests::scratch;
@@ -307,4 +309,99 @@ fn a_killed_run_resumes_to_a_byte_identical_file() {
     assert_eq!(summary.stages.iter().map(|s| s.resumed).sum::<usize>(), 0);
     run(&s, other, &whole_path);
     assert!(std::fs::read(&out).unwrap() == std::fs::read(&whole_path).unwrap(), "stale partial sections leaked");
+}
+
+/// The ball scene with a second, static ball: three objects, two fields of different sizes.
+fn two_balls() -> Scene {
+    scene(&format!(
+        "{BALL_ABOVE_GROUND}\n[[object]]\nname = \"rock\"\nsource = \"builtin:sphere\"\nsize = 0.3\nresolution = 8\ntranslation = [1.2, 0.3, 0.0]\n"
+    ))
+}
+
+fn shard(
+    s: &Scene,
+    params: PrecomputeParams,
+    out: &Path,
+    index: u32,
+    n: u32,
+    progress: &dyn Progress,
+    stop: &AtomicBool,
+) -> Result<Summary, PrecomputeError> {
+    let plan = vcut_precompute::plan::plan(s, &params, n).unwrap();
+    precompute_shard(&job(s, params, &shard_path(out, index, n)), None, index, &plan, progress, stop)
+}
+
+#[test]
+fn shards_gather_to_the_one_machine_file_and_a_missing_shard_is_named() {
+    let dir = scratch("precompute-shards");
+    let s = two_balls();
+    let whole_path = dir.join("whole.vcuts");
+    run(&s, small(), &whole_path);
+    let whole = std::fs::read(&whole_path).unwrap();
+    let out = dir.join("sharded.vcuts");
+    let n = 3;
+    let plan = vcut_precompute::plan::plan(&s, &small(), n).unwrap();
+    assert!(plan.loads().iter().all(|&l| l > 0), "every shard has work: {:?}", plan.loads());
+    assert!(plan.balance_ratio() < 1.5, "balance {}", plan.balance_ratio());
+    // Shard 1 is killed once and resumed, as a requeued array task would be.
+    let kill = KillAfter { after: 1, computed: AtomicUsize::new(0), stop: AtomicBool::new(false) };
+    let err = shard(&s, small(), &out, 1, n, &kill, &kill.stop).unwrap_err();
+    assert!(matches!(err, PrecomputeError::Interrupted { .. }), "{err}");
+    // The plan's cost model counts the rays each shard casts (cones, inside points) closely.
+    for i in [0, 2] {
+        let summary = shard(&s, small(), &out, i, n, &NoProgress, &AtomicBool::new(false)).unwrap();
+        let cast: u64 = summary.stages.iter().map(|s| s.rays.rays_cast).sum();
+        let planned = plan.loads()[i as usize] as f64;
+        assert!((cast as f64 / planned - 1.0).abs() < 0.1, "shard {i}: {cast} rays cast, {planned} planned");
+    }
+    let files: Vec<_> = (0..n).map(|i| shard_path(&out, i, n)).collect();
+    // Shard 1 never finished: the gather names it and the sections it owes, and writes nothing.
+    let err = gather(&[files[0].clone(), files[2].clone()], &out).unwrap_err();
+    assert_eq!(err.shards_to_rerun(), [1]);
+    let owed = plan.sections().iter().filter(|p| p.owner == 1).count();
+    let text = err.to_string();
+    assert!(text.contains(&format!("shard 1 of 3 owes {owed} sections")), "{text}");
+    assert!(!out.exists() && !partial_path(&out).exists());
+    // A shard file opens for no renderer.
+    let e = Precomputed::open(&files[0]).err().unwrap().to_string();
+    assert!(e.contains("shard 0 of 3") && e.contains("--gather"), "{e}");
+    let summary = shard(&s, small(), &out, 1, n, &NoProgress, &AtomicBool::new(false)).unwrap();
+    assert!(summary.stages.iter().map(|s| s.resumed).sum::<usize>() >= 1);
+    let g = gather(&files, &out).unwrap();
+    assert_eq!(g.shards, n);
+    assert!(std::fs::read(&out).unwrap() == whole, "the gathered file differs from the one-machine run");
+    // Twice the same shard, a whole file, shards of other parameters: each refused by name.
+    let e = gather(&[files[0].clone(), files[0].clone()], &out).unwrap_err();
+    assert!(matches!(e, GatherError::Duplicate { index: 0, .. }), "{e}");
+    let e = gather(std::slice::from_ref(&whole_path), &out).unwrap_err();
+    assert!(matches!(e, GatherError::NotAShard { .. }) && e.to_string().contains("whole.vcuts"), "{e}");
+    let mut other = small();
+    other.set("svc_max_error", "0.02").unwrap();
+    let other_out = dir.join("other.vcuts");
+    shard(&s, other, &other_out, 2, n, &NoProgress, &AtomicBool::new(false)).unwrap();
+    let e = gather(&[files[0].clone(), files[1].clone(), shard_path(&other_out, 2, n)], &out).unwrap_err();
+    assert!(matches!(e, GatherError::Mismatch { .. }) && e.to_string().contains("section params"), "{e}");
+    // A plan of another scene is refused before anything is computed.
+    let other_plan = vcut_precompute::plan::plan(&scene(BALL_ABOVE_GROUND), &small(), n).unwrap();
+    let e = precompute_shard(
+        &job(&s, small(), &dir.join("x.vcuts")),
+        None,
+        0,
+        &other_plan,
+        &NoProgress,
+        &AtomicBool::new(false),
+    )
+    .unwrap_err();
+    assert!(matches!(e, PrecomputeError::Plan(_)), "{e}");
+}
+
+#[test]
+fn one_shard_is_the_whole_file_with_its_plan() {
+    let dir = scratch("precompute-one-shard");
+    let s = scene(BALL_ABOVE_GROUND);
+    run(&s, small(), &dir.join("whole.vcuts"));
+    let out = dir.join("one.vcuts");
+    shard(&s, small(), &out, 0, 1, &NoProgress, &AtomicBool::new(false)).unwrap();
+    gather(&[shard_path(&out, 0, 1)], &out).unwrap();
+    assert!(std::fs::read(&out).unwrap() == std::fs::read(dir.join("whole.vcuts")).unwrap());
 }

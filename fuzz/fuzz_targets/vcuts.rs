@@ -1,5 +1,5 @@
 //! Fuzz target: a `.vcuts` file of arbitrary bytes — the container (header, offset table,
-//! section checksums) and every section payload parser behind it — gives errors, never a panic.
+//! section checksums), every section payload parser behind it and a shard file's plan — gives errors, never a panic.
 #![no_main]
 
 use libfuzzer_sys::fuzz_target;
@@ -7,10 +7,11 @@ use std::io::Cursor;
 use std::path::Path;
 use vcut_data::file::{Reader, SectionKind};
 use vcut_data::sections;
+use vcut_data::shard::ShardPlan;
 
 fuzz_target!(|data: &[u8]| {
     let Some((&mode, rest)) = data.split_first() else { return };
-    match mode % 5 {
+    match mode % 6 {
         // Payload parsers directly, so the fuzzer need not forge CRCs to reach them.
         0 => {
             if let Ok(a) = sections::CutArray::parse(rest.to_vec()) {
@@ -30,6 +31,11 @@ fuzz_target!(|data: &[u8]| {
         }
         3 => {
             let _ = sections::decode_field_layout(rest);
+        }
+        5 => {
+            if let Ok((index, plan)) = ShardPlan::decode(rest) {
+                assert!(index < plan.shards() && plan.sections().iter().all(|s| s.owner < plan.shards()));
+            }
         }
         // The container: open, then read every section it lists and parse the cut arrays.
         _ => {

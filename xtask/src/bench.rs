@@ -67,6 +67,13 @@ pub struct BenchArgs {
     /// Measure only the scaling section, replacing it in OUT/report.json.
     #[arg(long, conflicts_with_all = ["no_scaling", "plot_only", "only_ssdo", "only_leaves"])]
     pub only_scaling: bool,
+    /// Skip the distributed section (a precompute whole and sharded, gathered; the projection
+    /// over M nodes).
+    #[arg(long)]
+    pub no_distributed: bool,
+    /// Measure only the distributed section, replacing it in OUT/report.json.
+    #[arg(long, conflicts_with_all = ["no_distributed", "plot_only", "only_ssdo", "only_leaves", "only_scaling"])]
+    pub only_distributed: bool,
     /// The scaling section's object counts (default 1,2,4,…,64; with --quick 1,2,4,8).
     #[arg(long, value_delimiter = ',')]
     pub scaling_objects: Option<Vec<usize>>,
@@ -355,6 +362,13 @@ pub fn run(args: &BenchArgs) -> Result<()> {
         println!("report={}", path.display());
         return Ok(());
     }
+    if args.only_distributed {
+        let path = args.out.join("report.json");
+        let section = crate::bench_distributed::run(args.quick, &args.out.join("data"), &args.out)?;
+        replace_section(&path, "distributed", &section)?;
+        println!("report={}", path.display());
+        return Ok(());
+    }
     if args.only_ssdo || args.only_leaves {
         let path = args.out.join("report.json");
         std::fs::create_dir_all(&args.out).with_context(|| format!("creating {}", args.out.display()))?;
@@ -449,6 +463,7 @@ pub fn run(args: &BenchArgs) -> Result<()> {
         ssdo: None,
         leaves: None,
         scaling: None,
+        distributed: None,
         bench_s: 0.0,
     };
     if !args.no_tradeoff {
@@ -466,6 +481,9 @@ pub fn run(args: &BenchArgs) -> Result<()> {
     }
     if !args.no_scaling {
         report.scaling = Some(crate::bench_scaling::run(&sweeps, &data_dir, &args.out)?);
+    }
+    if !args.no_distributed {
+        report.distributed = Some(crate::bench_distributed::run(args.quick, &data_dir, &args.out)?);
     }
     report.bench_s = started.elapsed().as_secs_f64();
     let (md, csv) = vcuts::table1::table1(&report.scenes);

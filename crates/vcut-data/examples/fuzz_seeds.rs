@@ -26,6 +26,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             SectionKind::Mesh => 1,
             SectionKind::FieldLayout => 3,
             SectionKind::Svc | SectionKind::Field => 0,
+            SectionKind::Shard => 5,
             SectionKind::Params => continue,
         };
         if seen.contains(&id.kind) {

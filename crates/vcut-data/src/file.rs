@@ -25,17 +25,21 @@ pub enum SectionKind {
     Svc = 5,
     /// Visibility cut field cuts of one sphere (`a` = object, `b` = sphere).
     Field = 6,
+    /// Only in a shard file of a sharded precompute: the shard's index and the plan
+    /// ([`crate::shard`]). A whole file never holds one.
+    Shard = 7,
 }
 
 impl SectionKind {
     /// Every kind, in number order.
-    pub const ALL: [SectionKind; 6] = [
+    pub const ALL: [SectionKind; 7] = [
         SectionKind::Params,
         SectionKind::Directions,
         SectionKind::Mesh,
         SectionKind::FieldLayout,
         SectionKind::Svc,
         SectionKind::Field,
+        SectionKind::Shard,
     ];
 
     /// Lower-case name.
@@ -47,6 +51,7 @@ impl SectionKind {
             SectionKind::FieldLayout => "field-layout",
             SectionKind::Svc => "svc",
             SectionKind::Field => "field",
+            SectionKind::Shard => "shard",
         }
     }
 }
@@ -64,7 +69,7 @@ impl Kind for SectionKind {
 
     fn describe(self, a: u32, b: u32) -> String {
         match self {
-            SectionKind::Params | SectionKind::Directions => self.name().into(),
+            SectionKind::Params | SectionKind::Directions | SectionKind::Shard => self.name().into(),
             SectionKind::Mesh | SectionKind::FieldLayout => format!("{} (object {a})", self.name()),
             SectionKind::Svc => format!("svc (object {a}, chunk {b})"),
             SectionKind::Field => format!("field (object {a}, sphere {b})"),
@@ -90,7 +95,7 @@ mod tests {
         for k in SectionKind::ALL {
             assert_eq!(SectionKind::from_code(k.code()), Some(k));
         }
-        assert_eq!(SectionKind::from_code(7), None);
+        assert_eq!(SectionKind::from_code(8), None);
         assert_eq!(SectionId::new(SectionKind::Svc, 0, 3).to_string(), "svc (object 0, chunk 3)");
         assert_eq!(SectionId::new(SectionKind::Field, 1, 2).to_string(), "field (object 1, sphere 2)");
         assert_eq!(SectionId::new(SectionKind::Mesh, 4, 0).to_string(), "mesh (object 4)");

@@ -8,6 +8,8 @@
 //!   to any vertex's or field sample's cut), directions, meshes, field layouts.
 //! - [`Precomputed`]: a finished file opened for rendering (meshes, directions, layouts at
 //!   open; cuts per object or per field sphere on demand, every section checked).
+//! - [`shard`]: a precompute split over N machines — the plan, the shard files, and the
+//!   gather that joins them into the one-machine file byte for byte.
 //! - [`field`]: where a visibility cut field's samples are (S concentric spheres × 6·R² cube-map
 //!   points) and the trilinear lookup of the 8 samples around a point.
 //!
@@ -32,6 +34,7 @@ pub mod file;
 pub mod params;
 pub mod precomputed;
 pub mod sections;
+pub mod shard;
 
 pub use field::{FieldLayout, FieldSample, InsideSamples, RadialSpacing};
 pub use file::{FileError, Reader, SectionId, SectionKind, Writer};

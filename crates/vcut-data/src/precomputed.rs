@@ -124,6 +124,17 @@ impl Precomputed {
     /// Opens `path` and reads its small sections.
     pub fn open(path: &std::path::Path) -> Result<Precomputed, FileError> {
         let mut reader = Reader::open(path)?;
+        if let Some((index, plan)) = crate::shard::read_shard(&mut reader)? {
+            return Err(FileError::Header {
+                path: path.into(),
+                extension: "vcuts",
+                reason: format!(
+                    "shard {index} of {} of a sharded precompute, not a whole file: gather the shards first \
+                     (precompute --gather SHARD_FILES... -o out.vcuts)",
+                    plan.shards()
+                ),
+            });
+        }
         let id = SectionId::new(SectionKind::Params, 0, 0);
         let text = String::from_utf8(reader.section(id)?).map_err(|_| reader.section_error(id, "not UTF-8"))?;
         let record = Record::parse(&text).map_err(|e| reader.section_error(id, e))?;

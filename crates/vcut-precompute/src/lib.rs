@@ -13,6 +13,7 @@
 //! - [`params`]: [`PrecomputeParams`] and the presets `fast`, `balanced`, `paper`.
 //! - [`run`]: the whole job into a resumable `.vcuts` file, with progress and a summary;
 //!   [`setup`]: what it builds before casting rays and the one cut of a vertex or point;
+//!   [`plan`]: its cut sections with their cost in rays, split over N shards for a farm;
 //!   [`estimate`]: its time, rays, output bytes and peak memory from a short timed sample.
 //!
 //! # Invariants
@@ -39,6 +40,7 @@ pub mod estimate;
 pub mod field;
 /// The parameters (they describe the file, so they live with it in `vcut-data`).
 pub use vcut_data::params;
+pub mod plan;
 pub mod run;
 pub mod setup;
 pub mod svc;

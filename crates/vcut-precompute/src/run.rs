@@ -10,18 +10,25 @@
 //! **Order.** `params`, `directions`, one `mesh` per object, one `field-layout` per field, the
 //! `svc` chunks (`svc_chunk` vertices each), then one `field` section per sphere. Each section is
 //! deterministic (parallel work is collected in order), so a resumed file is byte-identical.
+//!
+//! **Shards.** [`precompute_shard`] writes the same header sections, a `shard` section (its
+//! index and the plan, [`crate::plan`]), and only the cut sections the plan gives it; gathering
+//! every shard's file ([`vcut_data::shard::gather`]) gives this run's file byte for byte.
 
 use crate::field::sphere_cuts;
 use crate::params::PrecomputeParams;
+use crate::plan::CutSection;
 use crate::setup::Setup;
 use crate::{Occluder, RayStats, cone_outside, visit_leaves};
 use glam::Vec3;
 use rayon::prelude::*;
+use std::collections::HashSet;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;
 use vcut_cut::codec::{self, ShapeCoding, ValueFormat};
 use vcut_data::file::{FileError, Reader, SectionId, SectionKind, Writer};
+use vcut_data::shard::ShardPlan;
 use vcut_data::{FieldLayout, sections};
 use vcut_dirtree::DirectionTree;
 use vcut_scene::{Motion, Scene};
@@ -76,6 +83,9 @@ pub enum PrecomputeError {
     /// Bad parameters.
     #[error(transparent)]
     Params(#[from] crate::params::ParamError),
+    /// A shard's plan is unusable, or not the plan of this scene and these parameters.
+    #[error("shard plan: {0}")]
+    Plan(String),
     /// A cut did not encode (a value outside the chosen format's range).
     #[error("{section}: {error}")]
     Encode {
@@ -323,6 +333,30 @@ pub fn precompute_with<'a>(
     progress: &dyn Progress,
     interrupt: &AtomicBool,
 ) -> Result<Summary, PrecomputeError> {
+    run_sections(job, setup, None, progress, interrupt)
+}
+
+/// [`precompute_with`] for shard `index` of `plan` ([`crate::plan::plan`]): writes the shard file
+/// `job.output` — the header sections, the `shard` section, then only the cut sections the plan
+/// gives this shard ([`vcut_data::shard`]). Resumes and stops as a whole run does.
+pub fn precompute_shard<'a>(
+    job: &'a Job<'a>,
+    setup: Option<Setup<'a>>,
+    index: u32,
+    plan: &ShardPlan,
+    progress: &dyn Progress,
+    interrupt: &AtomicBool,
+) -> Result<Summary, PrecomputeError> {
+    run_sections(job, setup, Some((index, plan)), progress, interrupt)
+}
+
+fn run_sections<'a>(
+    job: &'a Job<'a>,
+    setup: Option<Setup<'a>>,
+    shard: Option<(u32, &ShardPlan)>,
+    progress: &dyn Progress,
+    interrupt: &AtomicBool,
+) -> Result<Summary, PrecomputeError> {
     let p = &job.params;
     p.check()?;
     let scene = job.scene;
@@ -368,6 +402,28 @@ pub fn precompute_with<'a>(
             writer.put(SectionId::new(SectionKind::FieldLayout, i as u32, 0), &sections::encode_field_layout(l))?;
         }
     }
+    let sections = crate::plan::cut_sections(scene, p, &setup.layouts);
+    let mut owned: Option<HashSet<SectionId>> = None;
+    if let Some((index, plan)) = shard {
+        if !plan.sections().iter().map(|s| s.id).eq(sections.iter().map(|s| s.id)) {
+            return Err(PrecomputeError::Plan(format!(
+                "its {} sections are not the {} of scene {} with these parameters",
+                plan.sections().len(),
+                sections.len(),
+                job.scene_source
+            )));
+        }
+        let bytes = plan.encode(index).map_err(|e| PrecomputeError::Plan(e.to_string()))?;
+        writer.put(SectionId::new(SectionKind::Shard, 0, 0), &bytes)?;
+        owned = Some(plan.sections().iter().filter(|s| s.owner == index).map(|s| s.id).collect());
+    }
+    let mine = |kind: SectionKind| -> Vec<CutSection> {
+        sections
+            .iter()
+            .filter(|s| s.id.kind == kind && owned.as_ref().is_none_or(|o| o.contains(&s.id)))
+            .copied()
+            .collect()
+    };
     progress.advance(1);
     progress.end_stage();
     stages.push(StageSummary { seconds: t0.elapsed().as_secs_f64(), ..StageSummary::new("directions") });
@@ -375,46 +431,44 @@ pub fn precompute_with<'a>(
 
     // Stage 2: SVCs.
     let t0 = Instant::now();
-    let total_vertices: usize = scene.objects.iter().map(|o| o.mesh.vertex_count()).sum();
+    let svc_sections = mine(SectionKind::Svc);
     let mut raw = RawMeter::default();
-    progress.stage("svc", total_vertices as u64);
+    progress.stage("svc", svc_sections.iter().map(|s| s.units).sum());
     let mut svc = StageSummary::new("svc");
-    for (i, o) in scene.objects.iter().enumerate() {
-        let n = o.mesh.vertex_count();
-        for (chunk, start) in (0..n).step_by(p.svc_chunk as usize).enumerate() {
-            let end = (start + p.svc_chunk as usize).min(n);
-            let id = SectionId::new(SectionKind::Svc, i as u32, chunk as u32);
-            check_interrupt(&writer)?;
-            if svc.try_keep(&mut writer, id, (end - start) as u64, progress)? {
-                continue;
-            }
-            let c0 = Instant::now();
-            let results: Vec<(vcut_cut::Cut, RayStats)> = (start..end)
-                .into_par_iter()
-                .map_init(
-                    || setup.scratch(),
-                    |scratch, v| {
-                        let out = setup.svc_cut(i, v, scratch);
-                        progress.advance(1);
-                        out
-                    },
-                )
-                .collect();
-            let (cuts, stats): (Vec<vcut_cut::Cut>, Vec<RayStats>) = results.into_iter().unzip();
-            svc.rays = stats.into_iter().fold(svc.rays, |a, b| a + b);
-            let encoded = encode_all(&cuts, p.svc_values, p.shape_coding, id)?;
-            writer.put(id, &sections::encode_cut_array(root, p.svc_values, p.shape_coding, &encoded, None))?;
-            svc.compute_seconds += c0.elapsed().as_secs_f64();
-            svc.computed += 1;
-            progress.section(id, false);
-            raw.measure_all(
-                setup.svc_occluder(i),
-                (start..end).step_by(RAW_STRIDE).map(|v| {
-                    let (origin, normal) = setup.svc_origin(i, v);
-                    svc_rays(tree, origin, normal)
-                }),
-            );
+    for &CutSection { id, units, .. } in &svc_sections {
+        let i = id.a as usize;
+        let start = id.b as usize * p.svc_chunk as usize;
+        let end = start + units as usize;
+        check_interrupt(&writer)?;
+        if svc.try_keep(&mut writer, id, (end - start) as u64, progress)? {
+            continue;
         }
+        let c0 = Instant::now();
+        let results: Vec<(vcut_cut::Cut, RayStats)> = (start..end)
+            .into_par_iter()
+            .map_init(
+                || setup.scratch(),
+                |scratch, v| {
+                    let out = setup.svc_cut(i, v, scratch);
+                    progress.advance(1);
+                    out
+                },
+            )
+            .collect();
+        let (cuts, stats): (Vec<vcut_cut::Cut>, Vec<RayStats>) = results.into_iter().unzip();
+        svc.rays = stats.into_iter().fold(svc.rays, |a, b| a + b);
+        let encoded = encode_all(&cuts, p.svc_values, p.shape_coding, id)?;
+        writer.put(id, &sections::encode_cut_array(root, p.svc_values, p.shape_coding, &encoded, None))?;
+        svc.compute_seconds += c0.elapsed().as_secs_f64();
+        svc.computed += 1;
+        progress.section(id, false);
+        raw.measure_all(
+            setup.svc_occluder(i),
+            (start..end).step_by(RAW_STRIDE).map(|v| {
+                let (origin, normal) = setup.svc_origin(i, v);
+                svc_rays(tree, origin, normal)
+            }),
+        );
     }
     progress.end_stage();
     svc.raw_rays_per_second = raw.rate();
@@ -425,39 +479,35 @@ pub fn precompute_with<'a>(
     let t0 = Instant::now();
     let field_objects = setup.field_objects();
     let mut raw = RawMeter::default();
-    let field_points: u64 = field_objects.iter().map(|&i| setup.layouts[i].map_or(0, |l| l.point_count() as u64)).sum();
-    progress.stage("fields", field_points);
+    let field_sections = mine(SectionKind::Field);
+    progress.stage("fields", field_sections.iter().map(|s| s.units).sum());
     let mut fields = StageSummary::new("fields");
     let mut inside_points = 0u64;
-    for &i in &field_objects {
-        let l = setup.layouts[i].unwrap_or_else(|| unreachable!());
-        for s in 0..l.spheres {
-            let id = SectionId::new(SectionKind::Field, i as u32, s);
-            check_interrupt(&writer)?;
-            if fields.try_keep(&mut writer, id, l.points_per_sphere() as u64, progress)? {
-                continue;
-            }
-            let c0 = Instant::now();
-            let sc = sphere_cuts(setup.alone(i), tree, &setup.leaf_areas, &l, s, p.field_select());
-            progress.advance(l.points_per_sphere() as u64);
-            inside_points += sc.inside.iter().filter(|&&x| x).count() as u64;
-            fields.rays += sc.stats;
-            let encoded = encode_all(&sc.cuts, p.field_values, p.shape_coding, id)?;
-            writer.put(
-                id,
-                &sections::encode_cut_array(root, p.field_values, p.shape_coding, &encoded, Some(&sc.inside)),
-            )?;
-            fields.compute_seconds += c0.elapsed().as_secs_f64();
-            fields.computed += 1;
-            progress.section(id, false);
-            raw.measure_all(
-                setup.alone(i),
-                (0..l.points_per_sphere())
-                    .step_by(RAW_STRIDE)
-                    .filter(|&k| !sc.inside[k])
-                    .map(|k| field_rays(tree, l.point(s, k as u32), &l)),
-            );
+    for &CutSection { id, .. } in &field_sections {
+        let (i, s) = (id.a as usize, id.b);
+        let l = setup.layouts[i].unwrap_or_else(|| unreachable!("a field section of an object without a field"));
+        check_interrupt(&writer)?;
+        if fields.try_keep(&mut writer, id, l.points_per_sphere() as u64, progress)? {
+            continue;
         }
+        let c0 = Instant::now();
+        let sc = sphere_cuts(setup.alone(i), tree, &setup.leaf_areas, &l, s, p.field_select());
+        progress.advance(l.points_per_sphere() as u64);
+        inside_points += sc.inside.iter().filter(|&&x| x).count() as u64;
+        fields.rays += sc.stats;
+        let encoded = encode_all(&sc.cuts, p.field_values, p.shape_coding, id)?;
+        writer
+            .put(id, &sections::encode_cut_array(root, p.field_values, p.shape_coding, &encoded, Some(&sc.inside)))?;
+        fields.compute_seconds += c0.elapsed().as_secs_f64();
+        fields.computed += 1;
+        progress.section(id, false);
+        raw.measure_all(
+            setup.alone(i),
+            (0..l.points_per_sphere())
+                .step_by(RAW_STRIDE)
+                .filter(|&k| !sc.inside[k])
+                .map(|k| field_rays(tree, l.point(s, k as u32), &l)),
+        );
     }
     progress.end_stage();
     fields.raw_rays_per_second = raw.rate();

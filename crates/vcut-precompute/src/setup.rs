@@ -17,6 +17,28 @@ use vcut_dirtree::DirectionTree;
 use vcut_scene::{Motion, Scene};
 use vcut_sphere::DirectionSet;
 
+/// Per object, the layout of its field if it gets one ([`objects_needing_fields`]).
+pub fn field_layouts(scene: &Scene, p: &PrecomputeParams) -> Vec<Option<FieldLayout>> {
+    let needs = objects_needing_fields(scene);
+    scene
+        .objects
+        .iter()
+        .zip(&needs)
+        .map(|(o, &n)| {
+            n.then(|| {
+                crate::field::layout_around(
+                    &o.mesh,
+                    p.field_spheres,
+                    p.field_resolution,
+                    [p.field_inner, p.field_inner_flat],
+                    p.field_outer,
+                    p.field_spacing,
+                )
+            })
+        })
+        .collect()
+}
+
 /// A per-thread buffer of leaf values and a cut selector.
 pub type Scratch = (Vec<f32>, Selector);
 
@@ -47,24 +69,7 @@ impl<'a> Setup<'a> {
     pub fn new(job: &'a Job<'a>) -> Result<Setup<'a>, PrecomputeError> {
         let (p, scene) = (&job.params, job.scene);
         let (set, areas, tree) = directions(p, job.cache_dir.as_deref())?;
-        let needs = objects_needing_fields(scene);
-        let layouts = scene
-            .objects
-            .iter()
-            .zip(&needs)
-            .map(|(o, &n)| {
-                n.then(|| {
-                    crate::field::layout_around(
-                        &o.mesh,
-                        p.field_spheres,
-                        p.field_resolution,
-                        [p.field_inner, p.field_inner_flat],
-                        p.field_outer,
-                        p.field_spacing,
-                    )
-                })
-            })
-            .collect();
+        let layouts = field_layouts(scene, p);
         let leaf_areas = leaf_solid_angles(&tree);
         let alone = scene.objects.iter().map(|_| OnceLock::new()).collect();
         Ok(Setup { scene, params: p, set, areas, tree, leaf_areas, layouts, statics: OnceLock::new(), alone })

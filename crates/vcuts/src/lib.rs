@@ -10,6 +10,8 @@
 
 pub mod csv;
 pub mod directions;
+pub mod distributed;
+pub mod farm;
 pub mod inspect;
 pub mod leaves;
 pub mod machine;
@@ -21,6 +23,7 @@ pub mod render;
 pub mod report;
 pub mod resources;
 pub mod scaling;
+pub mod shard;
 pub mod ssdo;
 pub mod table1;
 #[cfg(feature = "viewer")]
@@ -88,6 +91,11 @@ pub enum Command {
     /// (resumes an interrupted run; prints time per stage, rays/s against the raw figure, and
     /// data size in the height codec and the index baseline).
     Precompute(precompute::PrecomputeArgs),
+    /// A sharded precompute as a batch engine's jobs: `farm slurm` writes (and with --submit
+    /// submits) an sbatch array of `precompute --shard` tasks and a gather job after it;
+    /// `--resubmit` reruns only the shards that did not finish. `farm kubernetes` writes an
+    /// Indexed Job manifest.
+    Farm(farm::FarmArgs),
     /// Render a frame from a .vcuts file: move objects (--move NAME=dx,dy,dz), edit BRDFs
     /// (--brdf NAME=blinn-phong:alpha=70), write PNG/EXR/PLY, print merge and shade times, and
     /// with --compare exact the error against the exact-direction reference.
@@ -114,6 +122,7 @@ pub fn run(command: Command) -> Result<()> {
         Command::Inspect(args) => inspect::run(&args),
         Command::Directions(args) => directions::run(&args),
         Command::Precompute(args) => precompute::run(&args).map(|_| ()),
+        Command::Farm(args) => farm::run(&args),
         Command::Render(args) => render::run(&args).map(|_| ()),
         Command::Reference(mut args) => {
             args.compare.get_or_insert(render::Compare::Both);

@@ -10,7 +10,7 @@ use std::time::Instant;
 use vcut_data::file::SectionId;
 use vcut_precompute::PrecomputeParams;
 use vcut_precompute::estimate::{Estimate, estimate};
-use vcut_precompute::run::{Job, Progress, Summary, precompute_with};
+use vcut_precompute::run::{Job, Progress, Summary, precompute_shard, precompute_with};
 use vcut_scene::budget::human;
 use vcut_scene::{Scene, SceneDesc};
 
@@ -54,12 +54,52 @@ pub struct PrecomputeArgs {
     /// Discard a partial file from an earlier run instead of resuming it.
     #[arg(long)]
     pub fresh: bool,
+    /// Print the cut sections with their estimated cost and their split over N shards, and stop.
+    #[arg(long, value_name = "N", conflicts_with_all = ["shard", "gather"])]
+    pub plan: Option<u32>,
+    /// Compute only shard I of N (0-based) into `<output>.shard-I-of-N.vcuts`; `env/N` takes I
+    /// from SLURM_ARRAY_TASK_ID, JOB_COMPLETION_INDEX or AWS_BATCH_JOB_ARRAY_INDEX.
+    #[arg(long, value_name = "I/N", conflicts_with = "gather")]
+    pub shard: Option<String>,
+    /// Join shard files into the file one machine writes (-o, or the first shard's name without
+    /// `.shard-I-of-N`), checking every checksum and that no section is missing.
+    #[arg(long, value_name = "SHARD_FILES", num_args = 1..)]
+    pub gather: Vec<PathBuf>,
     /// The estimate printed before the run.
     #[command(flatten)]
     pub estimate: crate::resources::EstimateArgs,
 }
 
 impl PrecomputeArgs {
+    /// The options that say what to compute (scene, environment, preset, parameters, cache,
+    /// estimate), as a command line: what each task of a farm runs, with `output`.
+    pub fn task_args(&self, output: &Path, cache_dir: &Path) -> Vec<String> {
+        let mut a: Vec<String> = vec!["--scene".into(), self.scene.clone()];
+        let mut opt = |name: &str, v: Option<String>| {
+            if let Some(v) = v {
+                a.push(name.into());
+                a.push(v);
+            }
+        };
+        opt("--env", self.env.clone());
+        opt("--preset", self.preset.clone());
+        opt("--directions", self.directions.map(|x| x.to_string()));
+        opt("--svc-max-error", self.svc_max_error.map(|x| x.to_string()));
+        opt("--field-spheres", self.field_spheres.map(|x| x.to_string()));
+        opt("--field-resolution", self.field_resolution.map(|x| x.to_string()));
+        opt("--field-max-error", self.field_max_error.map(|x| x.to_string()));
+        for kv in &self.set {
+            opt("--set", Some(kv.clone()));
+        }
+        opt("--output", Some(output.display().to_string()));
+        opt("--cache-dir", Some(cache_dir.display().to_string()));
+        opt("--estimate-seconds", Some(self.estimate.seconds.to_string()));
+        if self.estimate.force {
+            a.push("--force".into());
+        }
+        a
+    }
+
     /// Defaults for `scene` with `preset`.
     pub fn new(scene: &str, preset: &str) -> Self {
         PrecomputeArgs {
@@ -75,6 +115,9 @@ impl PrecomputeArgs {
             set: Vec::new(),
             cache_dir: "target/vcut-cache".into(),
             fresh: false,
+            plan: None,
+            shard: None,
+            gather: Vec::new(),
             estimate: Default::default(),
         }
     }
@@ -172,15 +215,15 @@ pub fn cached_or_run(scene: &str, preset: &str) -> Result<PathBuf> {
 }
 
 /// What a `precompute` command line resolves to: the scene, the parameters, the output.
-struct Resolved {
-    scene: Scene,
-    params: PrecomputeParams,
+pub(crate) struct Resolved {
+    pub(crate) scene: Scene,
+    pub(crate) params: PrecomputeParams,
     environment: String,
-    output: PathBuf,
+    pub(crate) output: PathBuf,
     load_s: f64,
 }
 
-fn resolve(args: &PrecomputeArgs) -> Result<Resolved> {
+pub(crate) fn resolve(args: &PrecomputeArgs) -> Result<Resolved> {
     let desc = if args.scene.ends_with(".toml") { Some(SceneDesc::read(Path::new(&args.scene))?) } else { None };
     let params = resolve_params(args, desc.as_ref())?;
     let t = Instant::now();
@@ -216,7 +259,29 @@ pub fn estimate_only(args: &PrecomputeArgs, seconds: f64) -> Result<Estimate> {
 /// Runs `precompute` (with `--dry-run`, only its estimate); returns the output path and the
 /// summary.
 pub fn run(args: &PrecomputeArgs) -> Result<(PathBuf, Option<Summary>)> {
+    if !args.gather.is_empty() {
+        return Ok((crate::shard::run_gather(&args.gather, args.output.as_deref())?, None));
+    }
     let Resolved { scene, params, environment, output, load_s } = resolve(args)?;
+    if let Some(n) = args.plan {
+        let plan = vcut_precompute::plan::plan(&scene, &params, n).with_context(|| format!("--plan {n}"))?;
+        crate::shard::print_plan(&plan, &params);
+        return Ok((output, None));
+    }
+    let shard = match &args.shard {
+        Some(spec) => {
+            let (index, n) = crate::shard::parse_spec(spec, |v| std::env::var(v).ok())?;
+            let plan = vcut_precompute::plan::plan(&scene, &params, n)?;
+            let load = plan.loads()[index as usize] as f64 / plan.loads().iter().sum::<u64>().max(1) as f64;
+            println!("shard {index} of {n}: {:.1} % of the plan's cost", 100.0 * load);
+            Some((index, plan))
+        }
+        None => None,
+    };
+    let output = match &shard {
+        Some((index, plan)) => vcut_data::shard::shard_path(&output, *index, plan.shards()),
+        None => output,
+    };
     let partial = vcut_data::file::partial_path(&output);
     if args.fresh && partial.exists() {
         std::fs::remove_file(&partial).with_context(|| format!("removing {}", partial.display()))?;
@@ -241,7 +306,8 @@ pub fn run(args: &PrecomputeArgs) -> Result<(PathBuf, Option<Summary>)> {
         cache_dir: Some(args.cache_dir.clone()),
         output: output.clone(),
     };
-    let budget = args.estimate.budget();
+    // The shards of a farm sample together as long as one run would.
+    let budget = args.estimate.budget() / shard.as_ref().map_or(1, |(_, plan)| plan.shards());
     let (estimate, setup) = estimate(&job, budget)?;
     print_estimate(&estimate);
     crate::resources::check("precompute", estimate.peak_bytes, (&output, estimate.output_bytes), args.estimate.force)?;
@@ -250,9 +316,13 @@ pub fn run(args: &PrecomputeArgs) -> Result<(PathBuf, Option<Summary>)> {
     }
     let bars = Bars::default();
     let t = Instant::now();
-    let summary = precompute_with(&job, Some(setup), &bars, &AtomicBool::new(false))?;
+    let summary = match &shard {
+        Some((index, plan)) => precompute_shard(&job, Some(setup), *index, plan, &bars, &AtomicBool::new(false))?,
+        None => precompute_with(&job, Some(setup), &bars, &AtomicBool::new(false))?,
+    };
     print_summary(&output, &summary, t.elapsed().as_secs_f64(), &params);
-    print_against(&estimate, &summary);
+    // A shard's figures are a part of the whole the estimate is about: only its memory compares.
+    print_against(&estimate, &summary, shard.is_none());
     Ok((output, Some(summary)))
 }
 
@@ -281,12 +351,15 @@ fn print_estimate(e: &Estimate) {
     println!("estimate_sample_s={ss:.2}");
 }
 
-/// The run's figures against the estimate's: actual peak memory and each ratio.
-fn print_against(e: &Estimate, s: &Summary) {
+/// The run's peak memory, and for a whole run its figures against the estimate's.
+fn print_against(e: &Estimate, s: &Summary, whole: bool) {
     let ray_s: f64 = s.stages.iter().filter(|st| st.name != "directions").map(|st| st.seconds).sum();
     let rays: u64 = s.stages.iter().map(|st| st.rays.rays_cast).sum();
     let peak = vcut_scene::budget::peak_memory().unwrap_or(0);
     println!("peak_rss_mb={:.1}", mb(peak));
+    if !whole {
+        return;
+    }
     println!("estimate_vs_actual_s={:.3}", e.seconds / ray_s.max(1e-9));
     println!("estimate_vs_actual_rays={:.3}", (e.svc_rays + e.field_rays) as f64 / rays.max(1) as f64);
     println!("estimate_vs_actual_output={:.3}", e.output_bytes as f64 / s.file_bytes.max(1) as f64);

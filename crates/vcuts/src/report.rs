@@ -33,6 +33,8 @@ pub struct Report {
     pub leaves: Option<LeavesSection>,
     #[serde(skip_serializing_if = "Option::is_none")]
     pub scaling: Option<crate::scaling::ScalingSection>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub distributed: Option<crate::distributed::DistributedSection>,
     pub bench_s: f64,
 }
 

@@ -16,7 +16,8 @@ pub struct EstimateArgs {
     /// Run even when the estimate exceeds the free memory or disk.
     #[arg(long)]
     pub force: bool,
-    /// Seconds of the run's own work to time for the estimate.
+    /// Seconds of the run's own work to time for the estimate (a shard of N times a share
+    /// of it: the N shards together sample as long as one run).
     #[arg(long = "estimate-seconds", default_value_t = 2.0)]
     pub seconds: f64,
 }
