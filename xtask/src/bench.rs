@@ -67,6 +67,12 @@ pub struct BenchArgs {
     /// Measure only the scaling section, replacing it in OUT/report.json.
     #[arg(long, conflicts_with_all = ["no_scaling", "plot_only", "only_ssdo", "only_leaves"])]
     pub only_scaling: bool,
+    /// Skip the accuracy section (every map, both scenes, each preset, at rest and moved).
+    #[arg(long)]
+    pub no_accuracy: bool,
+    /// Measure only the accuracy section, replacing it in OUT/report.json.
+    #[arg(long, conflicts_with_all = ["no_accuracy", "plot_only", "only_ssdo", "only_leaves", "only_scaling", "only_distributed"])]
+    pub only_accuracy: bool,
     /// Skip the distributed section (a precompute whole and sharded, gathered; the projection
     /// over M nodes).
     #[arg(long)]
@@ -362,6 +368,13 @@ pub fn run(args: &BenchArgs) -> Result<()> {
         println!("report={}", path.display());
         return Ok(());
     }
+    if args.only_accuracy {
+        let path = args.out.join("report.json");
+        let section = crate::bench_accuracy::run(args.quick, args.no_mc, &args.out.join("data"), &args.out)?;
+        replace_section(&path, "accuracy", &section)?;
+        println!("report={}", path.display());
+        return Ok(());
+    }
     if args.only_distributed {
         let path = args.out.join("report.json");
         let section = crate::bench_distributed::run(args.quick, &args.out.join("data"), &args.out)?;
@@ -464,6 +477,7 @@ pub fn run(args: &BenchArgs) -> Result<()> {
         leaves: None,
         scaling: None,
         distributed: None,
+        accuracy: None,
         bench_s: 0.0,
     };
     if !args.no_tradeoff {
@@ -481,6 +495,9 @@ pub fn run(args: &BenchArgs) -> Result<()> {
     }
     if !args.no_scaling {
         report.scaling = Some(crate::bench_scaling::run(&sweeps, &data_dir, &args.out)?);
+    }
+    if !args.no_accuracy {
+        report.accuracy = Some(crate::bench_accuracy::run(args.quick, args.no_mc, &data_dir, &args.out)?);
     }
     if !args.no_distributed {
         report.distributed = Some(crate::bench_distributed::run(args.quick, &data_dir, &args.out)?);

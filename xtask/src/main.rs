@@ -4,6 +4,7 @@
 //! library functions. Run with no arguments for help.
 
 mod bench;
+mod bench_accuracy;
 mod bench_distributed;
 mod bench_leaves;
 mod bench_scaling;

@@ -8,6 +8,7 @@
 //! The viewer (`view`) is the default feature `viewer`; `--no-default-features` builds the
 //! headless rest without the GPU and window stack.
 
+pub mod accuracy;
 pub mod csv;
 pub mod directions;
 pub mod distributed;

@@ -1,7 +1,9 @@
 //! The bench's plots (feature `plots`): the trade-off sweeps' error against data size or move
-//! time with the Pareto fronts, and the scaling section's log–log growth curves. PNG, written
-//! atomically; drawn without text where the machine has no sans-serif font.
+//! time with the Pareto fronts, the scaling section's log–log growth curves, and the accuracy
+//! section's error per map. PNG, written atomically; drawn without text where the machine has no
+//! sans-serif font.
 
+use crate::accuracy::AccuracySection;
 use crate::report::Point;
 use crate::scaling::{ScalingPoint, ScalingSection};
 use anyhow::{Context, Result};
@@ -189,6 +191,97 @@ pub fn scaling(section: &ScalingSection, sweep: &str, x_label: &str, path: &Path
     std::fs::rename(&tmp, path).with_context(|| format!("writing {}", path.display()))
 }
 
+/// The accuracy section at rest: per scene and preset, the error against the exact reference
+/// under each map (log scale), with the goals' 1 % and 0.5 % lines.
+pub fn accuracy(section: &AccuracySection, path: &Path) -> Result<()> {
+    let rest: Vec<_> = section.rows.iter().filter(|r| r.pose == "rest" && r.rel_l2_exact > 0.0).collect();
+    let mut maps: Vec<&str> = Vec::new();
+    for r in &rest {
+        if !maps.contains(&r.map.as_str()) {
+            maps.push(&r.map);
+        }
+    }
+    let mut keys: Vec<(&str, &str)> = Vec::new();
+    for r in &rest {
+        if !keys.contains(&(r.scene.as_str(), r.preset.as_str())) {
+            keys.push((&r.scene, &r.preset));
+        }
+    }
+    if rest.is_empty() {
+        return Ok(());
+    }
+    let y0 = rest.iter().map(|r| r.rel_l2_exact * 100.0).fold(0.5f64, f64::min) / 2.0;
+    let y1 = rest.iter().map(|r| r.rel_l2_exact * 100.0).fold(1.0f64, f64::max) * 2.0;
+    let text = font();
+    let tmp = path.with_extension("partial.png");
+    {
+        let root = BitMapBackend::new(&tmp, (1000, 600)).into_drawing_area();
+        root.fill(&WHITE).map_err(|e| anyhow::anyhow!("{e}"))?;
+        let mut builder = ChartBuilder::on(&root);
+        builder.margin(20);
+        if text {
+            builder.caption("error against the exact reference per map, at rest", ("sans-serif", 22));
+            builder.x_label_area_size(60).y_label_area_size(70);
+        }
+        let n = maps.len() as f64;
+        let mut chart =
+            builder.build_cartesian_2d(-0.5..n - 0.5, (y0..y1).log_scale()).map_err(|e| anyhow::anyhow!("{e}"))?;
+        if text {
+            let names = maps.clone();
+            chart
+                .configure_mesh()
+                .x_labels(maps.len() * 2 + 1)
+                .x_label_formatter(&move |x| {
+                    let k = x.round();
+                    if (x - k).abs() < 1e-6 && k >= 0.0 {
+                        names.get(k as usize).map_or(String::new(), |s| s.to_string())
+                    } else {
+                        String::new()
+                    }
+                })
+                .y_desc("rel. L2 %")
+                .draw()
+                .map_err(|e| anyhow::anyhow!("{e}"))?;
+        }
+        for (goal, label) in [(1.0, "goal at balanced: 1 %"), (0.5, "goal at paper: 0.5 %")] {
+            let line = chart
+                .draw_series(LineSeries::new([(-0.5, goal), (n - 0.5, goal)], BLACK.mix(0.5).stroke_width(1)))
+                .map_err(|e| anyhow::anyhow!("{e}"))?;
+            if text {
+                line.label(label).legend(move |(x, y)| PathElement::new([(x, y), (x + 18, y)], BLACK.mix(0.5)));
+            }
+        }
+        for (k, &(scene, preset)) in keys.iter().enumerate() {
+            let colour = Palette99::pick(k).to_rgba();
+            let xy: Vec<(f64, f64)> = rest
+                .iter()
+                .filter(|r| r.scene == scene && r.preset == preset)
+                .filter_map(|r| maps.iter().position(|m| *m == r.map).map(|x| (x as f64, r.rel_l2_exact * 100.0)))
+                .collect();
+            chart
+                .draw_series(xy.iter().map(|&p| Circle::new(p, 5, colour.filled())))
+                .map_err(|e| anyhow::anyhow!("{e}"))?;
+            let line =
+                chart.draw_series(LineSeries::new(xy, colour.stroke_width(2))).map_err(|e| anyhow::anyhow!("{e}"))?;
+            if text {
+                line.label(format!("{scene}, {preset}"))
+                    .legend(move |(x, y)| PathElement::new([(x, y), (x + 18, y)], colour.stroke_width(2)));
+            }
+        }
+        if text {
+            chart
+                .configure_series_labels()
+                .position(SeriesLabelPosition::UpperRight)
+                .background_style(WHITE.mix(0.85))
+                .border_style(BLACK)
+                .draw()
+                .map_err(|e| anyhow::anyhow!("{e}"))?;
+        }
+        root.present().map_err(|e| anyhow::anyhow!("{e}"))?;
+    }
+    std::fs::rename(&tmp, path).with_context(|| format!("writing {}", path.display()))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -233,6 +326,31 @@ mod tests {
         // A sweep with no points draws nothing and is no error.
         scaling(&section, "tessellation", "vertices", &dir.join("none.png")).unwrap();
         assert!(!dir.join("none.png").exists());
+        let row = |map: &str, preset: &str, e: f64| crate::accuracy::AccuracyRow {
+            scene: "teapot".into(),
+            preset: preset.into(),
+            map: map.into(),
+            pose: "rest".into(),
+            sun_leaves: 1,
+            rel_l2_exact: e,
+            max_err_exact: 0.0,
+            rel_l2_mc: None,
+            max_err_mc: None,
+            rel_l2_exact_cuts_only: e,
+            edit_ms: 1.0,
+            edit_ms_cuts_only: 1.0,
+            move_ms: 1.0,
+            move_ms_cuts_only: 1.0,
+            rays_share_edit: 0.0,
+            rays_share_move: 0.0,
+            rays_per_move: 0.0,
+        };
+        let acc = AccuracySection {
+            rows: vec![row("sky-30", "fast", 0.02), row("studio", "fast", 0.03), row("sky-30", "paper", 0.004)],
+            skipped: Vec::new(),
+        };
+        accuracy(&acc, &dir.join("accuracy.png")).unwrap();
+        assert!(is_png(&dir.join("accuracy.png")));
         std::fs::remove_dir_all(&dir).unwrap();
     }
 }

@@ -201,7 +201,17 @@ fn scene_stem(scene: &str) -> String {
 /// exactly the preset's parameters.
 pub fn cached_or_run(scene: &str, preset: &str) -> Result<PathBuf> {
     let params = PrecomputeParams::preset(preset).with_context(|| format!("--preset {preset}"))?;
-    let file = PathBuf::from(format!("target/vcuts/{}-{}.vcuts", scene_stem(scene), params.preset));
+    cached_or_run_at(
+        scene,
+        preset,
+        &PathBuf::from(format!("target/vcuts/{}-{}.vcuts", scene_stem(scene), params.preset)),
+    )
+}
+
+/// [`cached_or_run`] into `file`.
+pub fn cached_or_run_at(scene: &str, preset: &str, file: &Path) -> Result<PathBuf> {
+    let params = PrecomputeParams::preset(preset).with_context(|| format!("--preset {preset}"))?;
+    let file = file.to_path_buf();
     let cached = vcut_data::Precomputed::open(&file)
         .map(|d| d.record.scene == scene && d.record.params == params)
         .unwrap_or(false);
@@ -210,7 +220,9 @@ pub fn cached_or_run(scene: &str, preset: &str) -> Result<PathBuf> {
         Ok(file)
     } else {
         println!("precompute {scene}, preset {preset} (SVCs and fields into a .vcuts file)");
-        Ok(run(&PrecomputeArgs::new(scene, preset))?.0)
+        let mut args = PrecomputeArgs::new(scene, preset);
+        args.output = Some(file);
+        Ok(run(&args)?.0)
     }
 }
 

@@ -35,6 +35,8 @@ pub struct Report {
     pub scaling: Option<crate::scaling::ScalingSection>,
     #[serde(skip_serializing_if = "Option::is_none")]
     pub distributed: Option<crate::distributed::DistributedSection>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub accuracy: Option<crate::accuracy::AccuracySection>,
     pub bench_s: f64,
 }
 
