@@ -67,6 +67,23 @@ pub fn sun_leaves(light: &LightTree, rays: &SunRays) -> Vec<u32> {
     bright
 }
 
+/// How concentrated the light left in the cuts is: √(Σ s²) over the leaves of `light` other than
+/// `cast`, s a leaf's share of the whole light's luminance — 1 for all light in one leaf, 1/√N
+/// for light spread evenly over N leaves, 0 for no light. Errors the cuts make leaf by leaf,
+/// independent of each other, add up as this does.
+pub fn concentration(light: &LightTree, cast: &[u32]) -> f64 {
+    let leaves = light.leaves();
+    let total: f64 = leaves.iter().map(|&l| luminance(l).max(0.0)).sum();
+    if total <= 0.0 {
+        return 0.0;
+    }
+    let squares: f64 = (0..leaves.len() as u32)
+        .filter(|l| !cast.contains(l))
+        .map(|l| (luminance(leaves[l as usize]).max(0.0) / total).powi(2))
+        .sum();
+    squares.sqrt()
+}
+
 /// `light` without the leaves `sun` (their light set to zero), for the cuts to carry the rest.
 pub fn without(light: &LightTree, sun: &[u32]) -> LightTree {
     let mut leaves = light.leaves().to_vec();
@@ -221,6 +238,10 @@ mod tests {
         // A constant sky has no sun; nor has a black one.
         assert!(sun_leaves(&LightTree::from_leaves(10, &[[1.0; 3]; 1024]), &SunRays::default()).is_empty());
         assert!(sun_leaves(&LightTree::from_leaves(10, &[[0.0; 3]; 1024]), &SunRays::default()).is_empty());
+        let even = LightTree::from_leaves(10, &[[1.0; 3]; 1024]);
+        assert!((concentration(&even, &[]) - 1.0 / 32.0).abs() < 1e-12);
+        assert!(concentration(&light, &[]) > concentration(&light, &[5]));
+        assert_eq!(concentration(&LightTree::from_leaves(10, &[[0.0; 3]; 1024]), &[]), 0.0);
         // Without it the tree keeps the rest.
         let sky = without(&light, &[5]);
         assert_eq!(sky.leaves()[5], [0.0; 3]);

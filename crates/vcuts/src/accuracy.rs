@@ -29,6 +29,11 @@ pub struct AccuracyRow {
     pub pose: String,
     /// Light-tree leaves cast by rays (the sun rule's choice).
     pub sun_leaves: usize,
+    /// √(Σ s²) over the light tree's leaves, s a leaf's share of the light
+    /// (`vcut_shade::sun::concentration`): 1 all in one leaf, 1/√N spread evenly.
+    pub light_concentration: f64,
+    /// The same over the leaves the cuts carry (those not cast by rays).
+    pub light_concentration_left: f64,
     /// Relative L2 error against the exact-direction reference.
     pub rel_l2_exact: f64,
     /// Largest error against it, relative to its mean.
@@ -196,6 +201,9 @@ pub fn measure_map(
             None => (None, None),
         };
         let sun_leaves = frame.sun_leaves();
+        let cast = vcut_shade::sun::sun_leaves(frame.light(), &SunRays::default());
+        let light_concentration = vcut_shade::sun::concentration(frame.light(), &[]);
+        let light_concentration_left = vcut_shade::sun::concentration(frame.light(), &cast);
         let edit = edit_ms(frame, s.movable, s.eye, 11);
         let path = move_path(frame, s.movable, s.eye, MergeAlgorithm::Counter, 4)?;
         let steps = path.steps.len().max(1) as f64;
@@ -216,6 +224,8 @@ pub fn measure_map(
             map: map.into(),
             pose: pose.into(),
             sun_leaves,
+            light_concentration,
+            light_concentration_left,
             rel_l2_exact,
             max_err_exact,
             rel_l2_mc,

@@ -332,6 +332,8 @@ mod tests {
             map: map.into(),
             pose: "rest".into(),
             sun_leaves: 1,
+            light_concentration: 0.5,
+            light_concentration_left: 0.1,
             rel_l2_exact: e,
             max_err_exact: 0.0,
             rel_l2_mc: None,
