@@ -43,6 +43,9 @@ const CASES: &[(&str, [&str; 3])] = &[
     ("[environment]\nsun_diameter_deg = 0", ["[environment]", "sun_diameter_deg = 0.0", "(0, 45]"]),
     ("[environment]\nsun_to_zenith = -3", ["[environment]", "sun_to_zenith = -3.0", "[0.000001, 1000000000]"]),
     ("[environment]\nsource = \"\"", ["[environment]", "source = \"\"", "must name a map"]),
+    ("[environment]\nlight_error = 0", ["[environment]", "light_error = 0.0", "(0, 1)"]),
+    ("[environment]\nlight_error = 1.5", ["[environment]", "light_error = 1.5", "(0, 1)"]),
+    ("[environment]\nlight_error = nan", ["[environment]", "light_error = NaN", "(0, 1)"]),
     (
         "[[object]]\nsource = \"builtin:sphere\"\nresolution = 4294967295",
         ["object 0", "resolution = 4294967295", "above the limit"],

@@ -2,7 +2,8 @@
 //! each preset (`--quick`: `fast`), under the built-in maps and (in a full run) every map of the
 //! shared assets, at rest and moved — measured by `vcuts::accuracy::measure_map`; written to
 //! `accuracy.json` after every map (a stopped run keeps what it measured), `accuracy.md` and
-//! `accuracy.png` (the error per map at rest, with the goals).
+//! `accuracy.png` (the error per map at rest, with the goals); then the target-error sweep under
+//! the map whose bright leaves err most, per scene and preset (`vcuts::accuracy::measure_knob`).
 
 use anyhow::{Context, Result};
 use std::path::Path;
@@ -11,7 +12,7 @@ use vcut_scene::Scene;
 use vcut_shade::Frame;
 use vcut_shade::measure::first_movable;
 use vcut_shade::reference::MonteCarloParams;
-use vcuts::accuracy::{AccuracySection, McCache, Subject, asset_maps, builtin_maps, measure_map};
+use vcuts::accuracy::{AccuracySection, McCache, Subject, asset_maps, builtin_maps, measure_knob, measure_map};
 use vcuts::report::{write_atomic, write_json};
 
 /// Runs the section.
@@ -56,6 +57,18 @@ pub fn run(quick: bool, no_mc: bool, data_dir: &Path, out: &Path) -> Result<Accu
             for (map, env) in &maps {
                 let cache = (!no_mc).then_some((&mut mc, &mc_params));
                 section.rows.extend(measure_map(&mut frame, &subject, map, env, cache)?);
+                write_json(&out.join("accuracy.json"), &section)?;
+            }
+            // The target-error sweep under the map whose bright leaves err most through the cuts
+            // (the choice's estimate with none cast) at rest: where the target matters most.
+            let worst = section
+                .rows
+                .iter()
+                .filter(|r| r.scene == name && r.preset == preset && r.pose == "rest")
+                .max_by(|a, b| a.light_estimate_cuts.total_cmp(&b.light_estimate_cuts))
+                .map(|r| r.map.clone());
+            if let Some((map, env)) = worst.and_then(|w| maps.iter().find(|(m, _)| *m == w)) {
+                section.knob.extend(measure_knob(&mut frame, &subject, map, env)?);
                 write_json(&out.join("accuracy.json"), &section)?;
             }
         }

@@ -194,6 +194,9 @@ impl EnvironmentDesc {
             return Err(t.bad("sun_diameter_deg", self.sun_diameter_deg, "must lie in (0, 45] degrees"));
         }
         t.within("sun_to_zenith", self.sun_to_zenith, 1e-6, 1e9, "")?;
+        if let Some(e) = self.light_error.filter(|e| !(e.is_finite() && *e > 0.0 && *e < 1.0)) {
+            return Err(t.bad("light_error", e, "must lie in (0, 1): a relative error, e.g. 0.002 for 0.2 %"));
+        }
         if matches!(self.source.as_str(), "builtin:sky" | "builtin:studio") {
             let w = u64::from(self.resolution);
             t.spend("resolution", self.resolution, "baking the map", budget::map_bytes(w * (w / 2)), spent, budget)?;

@@ -85,6 +85,10 @@ pub struct EnvironmentDesc {
     pub sun_to_zenith: f32,
     /// Clamp NaN/Inf/negative texels instead of refusing the file.
     pub clamp_invalid: bool,
+    /// The target error of the light's brightest leaves left in the cuts (`vcut_shade::sun`):
+    /// a relative L2 error in (0, 1); unset, the renderer's default.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub light_error: Option<f32>,
 }
 
 impl Default for EnvironmentDesc {
@@ -101,6 +105,7 @@ impl Default for EnvironmentDesc {
             sun_diameter_deg: sky.sun_diameter_deg,
             sun_to_zenith: sky.sun_to_zenith,
             clamp_invalid: false,
+            light_error: None,
         }
     }
 }
@@ -254,7 +259,7 @@ impl SceneDesc {
                 fov_y_deg: c.fov_y_deg,
             })
             .collect();
-        Ok(Scene { objects, environment, cameras })
+        Ok(Scene { objects, environment, cameras, light_error: self.environment.light_error.map(f64::from) })
     }
 }
 

@@ -104,6 +104,9 @@ pub struct Scene {
     pub environment: EnvMap,
     /// Cameras (the first is the default view).
     pub cameras: Vec<Camera>,
+    /// `[environment] light_error`: the target error of the light's brightest leaves left in the
+    /// cuts, when the scene file sets one.
+    pub light_error: Option<f64>,
 }
 
 /// Why a scene could not be loaded. Every variant names the file involved.

@@ -36,6 +36,7 @@ pub mod reference;
 pub mod sun;
 
 pub use frame::{
-    CutFailure, FIELD_REACH, Frame, FrameCaches, FrameError, FrameMemory, FrameObject, MergeAlgorithm, MoveTiming,
+    CutFailure, FIELD_REACH, Frame, FrameCaches, FrameError, FrameMemory, FrameObject, LightChoice, MergeAlgorithm,
+    MoveTiming,
 };
 pub use sun::SunRays;

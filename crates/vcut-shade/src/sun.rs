@@ -7,20 +7,37 @@
 //! reference at the paper preset — the ground's vertices on the sun's shadow edges — and denser
 //! fields buy it back only as the square root of their spacing (README, "Where the rest is").
 //!
-//! With sun rays (the default), the few leaves of the light tree that hold a sun — each at least
-//! [`SunRays::min_ratio`] times the mean leaf's luminance, the brightest [`SunRays::max_leaves`]
-//! of them — leave the cuts' light: the shading lists sum the light tree without them, and each
-//! vertex adds `Σ_s V(x, ω_s) max(0, n·ω_s) f_r(ω_s, ω_o) L_s` over the sun's leaves, V cast at
+//! With sun rays (the default), the leaves of the light tree whose error through the cuts is
+//! largest leave the cuts' light: the shading lists sum the light tree without them, and each
+//! vertex adds `Σ_s V(x, ω_s) max(0, n·ω_s) f_r(ω_s, ω_o) L_s` over the cast leaves, V cast at
 //! run time against every object at its current translation from the point the SVCs cast from
-//! (offset along the normal). That is the exact reference's own term for those leaves, so the
-//! sun's share of the error is gone; the sky's stays the cuts'.
+//! (offset along the normal). That is the exact reference's own term for those leaves, so their
+//! share of the error is gone; the rest stays the cuts'.
+//!
+//! **Which leaves: by the error they would add.** On every lighting change the frame estimates,
+//! for the [`CANDIDATES`] brightest leaves of at least [`CANDIDATE_RATIO`] times the mean, the
+//! error each adds through the cuts
+//! (`crate::frame` `choice`): at [`SAMPLES`] vertices spread over the objects it merges the
+//! cut (as a move would), reads the weight its shading list gives the leaf's node, and casts the
+//! leaf's ray; the leaf's error at the vertex is `(w − V·max(0, n·ω)) · Y_leaf` (Y: luminance),
+//! the diffuse light the cuts give the leaf less the exact. The estimate for a set of leaves
+//! left in the cuts is the relative L2 of the sum of their errors over the sampled vertices
+//! against the cuts' diffuse light there (errors of leaves in one shadow edge add up; errors
+//! that cancel count as cancelled). Leaves are cast greedily — the one whose casting lowers
+//! the estimate most, while it lowers it — until it is at most [`SunRays::target`] or
+//! [`SunRays::max_leaves`] are cast. A smaller target casts the same leaves and more (the order
+//! does not depend on the target). A sun is one to three leaves with errors of 1–10 % each at
+//! its shadow edges; a constant or dim map has no candidate worth a ray; several suns or a
+//! window get their brightest leaves, up to the cap. What the estimate leaves out — the error
+//! of the leaves below the candidates, the cuts' coarseness under diffuse light — is the
+//! floor no ray removes (docs/benchmarks.md, "Accuracy under any light").
 //!
 //! Each object keeps a bounding volume hierarchy of its mesh at rest, and each vertex one mask
-//! of the sun leaves each object blocks. A move casts only what it changes: rays from the moved
+//! of the cast leaves each object blocks. A move casts only what it changes: rays from the moved
 //! object's vertices against the other objects, and from the other objects' vertices against
 //! the moved one (translations are rigid, so an object's shadow on itself never changes). A
-//! lighting change that moves the sun casts them all again. An environment without leaves that
-//! bright leaves everything as without sun rays, bit for bit.
+//! lighting change chooses the leaves again and casts them all. A light with no leaf cast
+//! leaves everything as without sun rays, bit for bit.
 
 use crate::brdf;
 use glam::Vec3;
@@ -29,41 +46,58 @@ use vcut_lighttree::LightTree;
 use vcut_rays::Occluder;
 use vcut_scene::{Material, Mesh};
 
-/// Which leaves are the sun's (see the module documentation).
+/// Which leaves leave the cuts (see the module documentation): the target error and the cost cap.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct SunRays {
-    /// A leaf is the sun's when its luminance is at least this many times the mean leaf's.
-    pub min_ratio: f64,
-    /// At most this many leaves, the brightest (at most 64).
+    /// The target: the estimated relative L2 error that the brightest leaves, left in the cuts,
+    /// add to the diffuse light at the frame's sampled vertices. Leaves are cast, the one whose
+    /// casting lowers the estimate most first, until it is at most this (or the cap is reached).
+    pub target: f64,
+    /// The cost cap: at most this many leaves (at most [`MAX_SUN_LEAVES`]).
     pub max_leaves: usize,
 }
 
 impl Default for SunRays {
-    /// Leaves 100× the mean, at most 16: under the procedural sky the sun's 1–3 leaves at
-    /// 32,768 directions (10⁴–10⁵× the mean) and nothing of the sky around it.
+    /// [`DEFAULT_TARGET`], at most [`DEFAULT_MAX_LEAVES`] leaves.
     fn default() -> SunRays {
-        SunRays { min_ratio: 100.0, max_leaves: 16 }
+        SunRays { target: DEFAULT_TARGET, max_leaves: DEFAULT_MAX_LEAVES }
     }
 }
 
+/// The default target error (0.2 %): see the module documentation for what it costs.
+pub const DEFAULT_TARGET: f64 = 0.002;
+/// The default cost cap in leaves.
+pub const DEFAULT_MAX_LEAVES: usize = 32;
 /// Most sun leaves (one bit each in a vertex's masks).
 pub const MAX_SUN_LEAVES: usize = 64;
+/// Leaves whose error is estimated: the brightest this many of at least [`CANDIDATE_RATIO`]
+/// times the mean leaf.
+pub const CANDIDATES: usize = 256;
+/// A leaf within this factor of the mean leaf's luminance is sky, not a source: its error
+/// through the cuts is the cuts' error under diffuse light, shared with the thousands of leaves
+/// like it, which no affordable number of rays removes. So a constant map has no candidate.
+pub const CANDIDATE_RATIO: f64 = 4.0;
+/// Vertices at which the leaves' errors are estimated (spread over the objects by their vertex
+/// counts).
+pub const SAMPLES: usize = 1024;
 
-/// Rec. 709 luminance, by which the shading table weights a node's leaf directions and the sun's
-/// leaves are chosen.
+/// Rec. 709 luminance, by which the shading table weights a node's leaf directions and the
+/// leaves are ranked.
 pub(crate) fn luminance(l: [f64; 3]) -> f64 {
     0.2126 * l[0] + 0.7152 * l[1] + 0.0722 * l[2]
 }
 
-/// The sun's leaves of `light` under `rays`, brightest first.
-pub fn sun_leaves(light: &LightTree, rays: &SunRays) -> Vec<u32> {
+/// The leaves of `light` whose error through the cuts is estimated: the brightest `count` of at
+/// least [`CANDIDATE_RATIO`] times the mean leaf's luminance, brightest first (ties by index).
+/// None of a constant or a black light.
+pub fn candidates(light: &LightTree, count: usize) -> Vec<u32> {
     let leaves = light.leaves();
     let total: f64 = leaves.iter().map(|&l| luminance(l).max(0.0)).sum();
-    let floor = rays.min_ratio * total / leaves.len().max(1) as f64;
+    let floor = CANDIDATE_RATIO * total / leaves.len().max(1) as f64;
     let mut bright: Vec<u32> =
         (0..leaves.len() as u32).filter(|&l| total > 0.0 && luminance(leaves[l as usize]) >= floor).collect();
     bright.sort_by(|&a, &b| luminance(leaves[b as usize]).total_cmp(&luminance(leaves[a as usize])).then(a.cmp(&b)));
-    bright.truncate(rays.max_leaves.min(MAX_SUN_LEAVES));
+    bright.truncate(count);
     bright
 }
 
@@ -98,7 +132,6 @@ pub fn without(light: &LightTree, sun: &[u32]) -> LightTree {
 pub(crate) struct Sun {
     dirs: Vec<Vec3>,
     light: Vec<Vec3>,
-    occluders: Vec<Occluder>,
     /// Per object: ray origin offset along the normal (the SVCs').
     offsets: Vec<f32>,
     /// Per object, `vertices × objects` masks: `blocked[o][v·J + j]` holds bit s when object j
@@ -106,6 +139,17 @@ pub(crate) struct Sun {
     blocked: Vec<Vec<u64>>,
     /// The translations the masks were cast at.
     at: Vec<Vec3>,
+}
+
+/// Every object's hierarchy at rest, for the sun's rays (built once per frame: translations
+/// move the rays, not the hierarchies).
+pub(crate) fn occluders(objects: &[Placed<'_>]) -> Vec<Occluder> {
+    objects.par_iter().map(|p| Occluder::new(&[p.mesh])).collect()
+}
+
+/// Whether any of `objects` (`occluders`: their hierarchies) blocks direction `d` from `origin`.
+pub(crate) fn blocked(objects: &[Placed<'_>], occluders: &[Occluder], origin: Vec3, d: Vec3) -> bool {
+    objects.iter().zip(occluders).any(|(p, h)| h.occluded(origin - p.translation, d, f32::INFINITY))
 }
 
 /// An object as the sun sees it: mesh at rest and translation.
@@ -116,21 +160,17 @@ pub(crate) struct Placed<'a> {
 
 impl Sun {
     /// The sun of `light`'s leaves `leaves` (directions `tree_dirs` of the tree's leaves) over
-    /// `objects`, every mask cast. `origin_offset`: the SVCs', a fraction of each object's
-    /// bounding radius. `old`: the sun of an earlier light over the same objects, whose
-    /// hierarchies serve again.
+    /// `objects` (`occluders`: their hierarchies at rest, [`occluders`]), every mask cast.
+    /// `origin_offset`: the SVCs', a fraction of each object's bounding radius. Returns it and
+    /// the rays cast.
     pub(crate) fn new(
         light: &LightTree,
         leaves: &[u32],
         tree_dirs: &[Vec3],
         objects: &[Placed<'_>],
+        occluders: &[Occluder],
         origin_offset: f32,
-        old: Option<Sun>,
-    ) -> Sun {
-        let occluders = match old {
-            Some(old) => old.occluders,
-            None => objects.par_iter().map(|p| Occluder::new(&[p.mesh])).collect(),
-        };
+    ) -> (Sun, u64) {
         let mut sun = Sun {
             dirs: leaves.iter().map(|&l| tree_dirs[l as usize]).collect(),
             light: leaves
@@ -140,13 +180,12 @@ impl Sun {
                     Vec3::new(c[0] as f32, c[1] as f32, c[2] as f32)
                 })
                 .collect(),
-            occluders,
             offsets: objects.iter().map(|p| vcut_rays::origin_offset(origin_offset, p.mesh)).collect(),
             blocked: objects.iter().map(|p| vec![0; p.mesh.vertex_count() * objects.len()]).collect(),
             at: objects.iter().map(|p| p.translation).collect(),
         };
-        sun.cast(objects, |_, _| true);
-        sun
+        let rays = sun.cast(objects, occluders, |_, _| true);
+        (sun, rays)
     }
 
     /// Sun leaves.
@@ -155,15 +194,20 @@ impl Sun {
     }
 
     /// Casts again what the objects' new translations change; returns the rays cast.
-    pub(crate) fn update(&mut self, objects: &[Placed<'_>]) -> u64 {
+    pub(crate) fn update(&mut self, objects: &[Placed<'_>], occluders: &[Occluder]) -> u64 {
         let new: Vec<Vec3> = objects.iter().map(|p| p.translation).collect();
         let old = std::mem::replace(&mut self.at, new.clone());
         // A pair's shadows change with the two objects' offset from each other.
-        self.cast(objects, |o, j| o != j && new[o] - new[j] != old[o] - old[j])
+        self.cast(objects, occluders, |o, j| o != j && new[o] - new[j] != old[o] - old[j])
     }
 
     /// Casts the masks of the pairs (receiver o, occluder j) that `stale` names.
-    fn cast(&mut self, objects: &[Placed<'_>], stale: impl Fn(usize, usize) -> bool + Sync) -> u64 {
+    fn cast(
+        &mut self,
+        objects: &[Placed<'_>],
+        occluders: &[Occluder],
+        stale: impl Fn(usize, usize) -> bool + Sync,
+    ) -> u64 {
         let count = objects.len();
         let mut rays = 0;
         for (o, p) in objects.iter().enumerate() {
@@ -171,7 +215,7 @@ impl Sun {
             if pairs.is_empty() || self.dirs.is_empty() {
                 continue;
             }
-            let (dirs, occluders, offset) = (&self.dirs, &self.occluders, self.offsets[o]);
+            let (dirs, offset) = (&self.dirs, self.offsets[o]);
             let positions = p.mesh.positions();
             let normals = p.mesh.normals();
             rays += self.blocked[o]
@@ -223,28 +267,28 @@ mod tests {
     use super::*;
 
     #[test]
-    fn the_sun_is_the_few_leaves_far_above_the_mean() {
-        // 1,024 leaves: a sky of 1 with one leaf at 1e5 and one at 50, under the 100× floor
-        // once the sun lifts the mean to ~99.
+    fn candidates_are_the_leaves_above_the_mean_brightest_first() {
+        // 1,024 leaves: a sky of 1 with one leaf at 1e5 and one at 50; the sun lifts the mean
+        // to ~99, so only it is 4× above.
         let mut leaves = vec![[1.0f64; 3]; 1024];
         leaves[5] = [1e5; 3];
         leaves[9] = [50.0; 3];
         let light = LightTree::from_leaves(10, &leaves);
-        assert_eq!(sun_leaves(&light, &SunRays::default()), vec![5]);
-        // A lower floor takes both, brightest first; the cap keeps the brightest.
-        let low = SunRays { min_ratio: 0.05, max_leaves: 16 };
-        assert_eq!(sun_leaves(&light, &low), vec![5, 9]);
-        assert_eq!(sun_leaves(&light, &SunRays { min_ratio: 0.05, max_leaves: 1 }), vec![5]);
-        // A constant sky has no sun; nor has a black one.
-        assert!(sun_leaves(&LightTree::from_leaves(10, &[[1.0; 3]; 1024]), &SunRays::default()).is_empty());
-        assert!(sun_leaves(&LightTree::from_leaves(10, &[[0.0; 3]; 1024]), &SunRays::default()).is_empty());
+        assert_eq!(candidates(&light, 256), vec![5]);
+        leaves[5] = [30.0; 3];
+        let light = LightTree::from_leaves(10, &leaves);
+        assert_eq!(candidates(&light, 256), vec![9, 5]);
+        assert_eq!(candidates(&light, 1), vec![9]);
+        // A constant sky has none; nor has a black one.
+        assert!(candidates(&LightTree::from_leaves(10, &[[1.0; 3]; 1024]), 256).is_empty());
+        assert!(candidates(&LightTree::from_leaves(10, &[[0.0; 3]; 1024]), 256).is_empty());
         let even = LightTree::from_leaves(10, &[[1.0; 3]; 1024]);
         assert!((concentration(&even, &[]) - 1.0 / 32.0).abs() < 1e-12);
-        assert!(concentration(&light, &[]) > concentration(&light, &[5]));
+        assert!(concentration(&light, &[]) > concentration(&light, &[9]));
         assert_eq!(concentration(&LightTree::from_leaves(10, &[[0.0; 3]; 1024]), &[]), 0.0);
         // Without it the tree keeps the rest.
-        let sky = without(&light, &[5]);
-        assert_eq!(sky.leaves()[5], [0.0; 3]);
-        assert_eq!(sky.root()[0], light.root()[0] - 1e5);
+        let sky = without(&light, &[9]);
+        assert_eq!(sky.leaves()[9], [0.0; 3]);
+        assert_eq!(sky.root()[0], light.root()[0] - 50.0);
     }
 }

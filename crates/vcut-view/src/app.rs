@@ -312,13 +312,25 @@ fn panel(
                 actions.changed = true;
             }
             let mut sun_rays = session.sun_rays();
-            let label = format!("sun by rays ({} leaves)", session.frame().sun_leaves());
-            if ui
-                .checkbox(&mut sun_rays, label)
-                .on_hover_text("the sun's leaves cast at run time, the sky from the cuts")
-                .changed()
-            {
+            let choice = session.frame().light_choice();
+            let label = format!(
+                "sun by rays ({} leaves, {:.1} rays/vertex)",
+                session.frame().sun_leaves(),
+                choice.rays_per_vertex()
+            );
+            let hover = format!(
+                "the light's brightest leaves cast at run time, the rest from the cuts; estimated error {:.2} % (all in the cuts: {:.2} %)",
+                100.0 * choice.estimate,
+                100.0 * choice.estimate_cuts
+            );
+            if ui.checkbox(&mut sun_rays, label).on_hover_text(hover).changed() {
                 session.set_sun_rays(sun_rays);
+                actions.changed = true;
+            }
+            let mut target = 100.0 * session.light_error();
+            let slider = egui::Slider::new(&mut target, 0.02..=5.0).logarithmic(true).text("light error target %");
+            if ui.add_enabled(sun_rays, slider).changed() {
+                session.set_light_error(target / 100.0);
                 actions.changed = true;
             }
             let mut auto = session.exposure.is_none();

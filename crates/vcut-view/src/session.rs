@@ -135,6 +135,8 @@ pub struct Session {
     env: EnvMap,
     env_name: String,
     env_rotation_deg: f32,
+    /// What "sun by rays" casts ([`Session::set_light_error`]).
+    sun_rays: vcut_shade::SunRays,
     env_version: u64,
     /// Display exposure (a factor before tone mapping); `None`: automatic.
     pub exposure: Option<f32>,
@@ -163,9 +165,11 @@ impl Session {
     /// surface, as `Precomputed::svc_origin_offset`), lit by `env` called `env_name`.
     pub fn new(frame: Frame, env: EnvMap, env_name: &str, origin_offset: f32, camera: OrbitCamera) -> Session {
         let selected = (0..frame.object_count()).find(|&o| frame.object(o).motion == Motion::Movable);
+        let frame_rays = frame.sun_rays().unwrap_or_default();
         let mut s = Session {
             frame,
             env_rotation_deg: 0.0,
+            sun_rays: frame_rays,
             env,
             env_name: env_name.into(),
             env_version: 0,
@@ -317,15 +321,35 @@ impl Session {
         self.frame.sun_rays().is_some()
     }
 
-    /// Casts the sun's leaves by rays at run time (`on`, the frame's default) or carries all
-    /// light through the cuts, as the paper (no merge either way).
+    /// Casts the light's brightest leaves by rays at run time (`on`, the frame's default) or
+    /// carries all light through the cuts, as the paper (no merge either way).
     pub fn set_sun_rays(&mut self, on: bool) {
         if on != self.sun_rays() {
             let start = Instant::now();
-            self.frame.set_sun_rays(on.then(vcut_shade::SunRays::default));
+            self.frame.set_sun_rays(on.then_some(self.sun_rays));
             self.timings.light_ms = start.elapsed().as_secs_f64() * 1e3;
             self.invalidate_shading();
             self.update();
+        }
+    }
+
+    /// The target error of the light left in the cuts (`vcut_shade::SunRays::target`).
+    pub fn light_error(&self) -> f64 {
+        self.sun_rays.target
+    }
+
+    /// Sets the target error of the light left in the cuts and, with sun rays on, chooses and
+    /// casts the leaves again (no merge). Values outside (0, 1) are ignored.
+    pub fn set_light_error(&mut self, target: f64) {
+        if target.is_finite() && target > 0.0 && target < 1.0 && target != self.sun_rays.target {
+            self.sun_rays.target = target;
+            if self.sun_rays() {
+                let start = Instant::now();
+                self.frame.set_sun_rays(Some(self.sun_rays));
+                self.timings.light_ms = start.elapsed().as_secs_f64() * 1e3;
+                self.invalidate_shading();
+                self.update();
+            }
         }
     }
 

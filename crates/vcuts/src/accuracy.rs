@@ -60,6 +60,48 @@ pub struct AccuracyRow {
     pub rays_share_move: f64,
     /// Rays a move step casts (mean).
     pub rays_per_move: f64,
+    /// The target error the leaves were chosen for (`SunRays::target`).
+    #[serde(default)]
+    pub light_target: f64,
+    /// The choice's estimate of the error the candidate leaves add through the cuts, none cast.
+    #[serde(default)]
+    pub light_estimate_cuts: f64,
+    /// The same with the chosen leaves cast.
+    #[serde(default)]
+    pub light_estimate: f64,
+    /// Milliseconds the estimate took (on a lighting change).
+    #[serde(default)]
+    pub estimate_ms: f64,
+    /// Rays per vertex of the full cast (a lighting change).
+    #[serde(default)]
+    pub rays_per_vertex: f64,
+    /// Microseconds per vertex of the full cast.
+    #[serde(default)]
+    pub cast_us_per_vertex: f64,
+}
+
+/// One point of the target-error sweep: the frame at rest under one map with the leaves chosen
+/// for `target`.
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+pub struct KnobRow {
+    /// Scene.
+    pub scene: String,
+    /// Preset.
+    pub preset: String,
+    /// Map.
+    pub map: String,
+    /// The target error.
+    pub target: f64,
+    /// Leaves cast.
+    pub leaves: usize,
+    /// The choice's estimate with them cast.
+    pub estimate: f64,
+    /// Relative L2 error against the exact reference.
+    pub rel_l2_exact: f64,
+    /// Rays per vertex of the full cast.
+    pub rays_per_vertex: f64,
+    /// Milliseconds of the estimate and of the full cast (a lighting change's extra cost).
+    pub choice_ms: f64,
 }
 
 /// The section.
@@ -69,6 +111,10 @@ pub struct AccuracySection {
     pub rows: Vec<AccuracyRow>,
     /// Maps or scenes not measured, and why.
     pub skipped: Vec<String>,
+    /// The target-error sweep, per scene and preset under the map whose bright leaves err most
+    /// through the cuts.
+    #[serde(default)]
+    pub knob: Vec<KnobRow>,
 }
 
 impl AccuracySection {
@@ -85,20 +131,18 @@ impl AccuracySection {
              |---|---|---|---|---:|---:|---:|---:|---:|---:|\n",
         );
         for r in &self.rows {
-            md.push_str(&format!(
-                "| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} / {} |\n",
-                r.scene,
-                r.preset,
-                r.map,
-                r.pose,
-                r.sun_leaves,
+            md.push_str(&crate::report::md_row([
+                r.scene.clone(),
+                r.preset.clone(),
+                r.map.clone(),
+                r.pose.clone(),
+                r.sun_leaves.to_string(),
                 pct(r.rel_l2_exact),
                 pct(r.max_err_exact),
                 r.rel_l2_mc.map_or("—".into(), pct),
                 pct(r.rel_l2_exact_cuts_only),
-                pct(r.rays_share_edit),
-                pct(r.rays_share_move)
-            ));
+                format!("{} / {}", pct(r.rays_share_edit), pct(r.rays_share_move)),
+            ]));
         }
         let mut presets: Vec<&str> = self.rows.iter().map(|r| r.preset.as_str()).collect();
         presets.dedup();
@@ -111,6 +155,26 @@ impl AccuracySection {
                     w.pose,
                     pct(w.rel_l2_exact)
                 ));
+            }
+        }
+        if !self.knob.is_empty() {
+            md.push_str(
+                "\nThe target error (`--light-error`) under the map whose bright leaves err most through the cuts (per scene and preset), at rest:\n\n\
+                 | scene | preset | map | target % | leaves cast | estimate % | rel. L2 exact % | rays per vertex | choice ms |\n\
+                 |---|---|---|---:|---:|---:|---:|---:|---:|\n",
+            );
+            for k in &self.knob {
+                md.push_str(&crate::report::md_row([
+                    k.scene.clone(),
+                    k.preset.clone(),
+                    k.map.clone(),
+                    pct(k.target),
+                    k.leaves.to_string(),
+                    pct(k.estimate),
+                    pct(k.rel_l2_exact),
+                    format!("{:.1}", k.rays_per_vertex),
+                    format!("{:.1}", k.choice_ms),
+                ]));
             }
         }
         for s in &self.skipped {
@@ -181,10 +245,11 @@ pub fn measure_map(
     mut mc: Option<(&mut McCache, &MonteCarloParams)>,
 ) -> Result<Vec<AccuracyRow>> {
     frame.set_environment(env);
+    let rays = frame.sun_rays().unwrap_or_default();
     let mut rows = Vec::new();
     let moved = path_step(frame, s.movable) * 4.0;
     for (pose, at) in [("rest", Vec3::ZERO), ("moved", moved)] {
-        frame.set_sun_rays(Some(SunRays::default()));
+        frame.set_sun_rays(Some(rays));
         frame.translate(s.movable, at).context("placing the movable object")?;
         frame.set_deferred_merges(false).context("merging every vertex")?;
         let shaded = frame.shade(s.eye);
@@ -201,9 +266,9 @@ pub fn measure_map(
             None => (None, None),
         };
         let sun_leaves = frame.sun_leaves();
-        let cast = vcut_shade::sun::sun_leaves(frame.light(), &SunRays::default());
+        let choice = frame.light_choice().clone();
         let light_concentration = vcut_shade::sun::concentration(frame.light(), &[]);
-        let light_concentration_left = vcut_shade::sun::concentration(frame.light(), &cast);
+        let light_concentration_left = vcut_shade::sun::concentration(frame.light(), &choice.cast);
         let edit = edit_ms(frame, s.movable, s.eye, 11);
         let path = move_path(frame, s.movable, s.eye, MergeAlgorithm::Counter, 4)?;
         let steps = path.steps.len().max(1) as f64;
@@ -215,7 +280,7 @@ pub fn measure_map(
         let (rel_l2_exact_cuts_only, _) = errors(&frame.shade(s.eye), &exact);
         let edit_cuts = edit_ms(frame, s.movable, s.eye, 11);
         let mv_cuts = move_path(frame, s.movable, s.eye, MergeAlgorithm::Counter, 4)?.move_ms;
-        frame.set_sun_rays(Some(SunRays::default()));
+        frame.set_sun_rays(Some(rays));
         frame.set_deferred_merges(true)?;
         let share = |part: f64, whole: f64| (part / whole.max(1e-9)).clamp(0.0, 1.0);
         rows.push(AccuracyRow {
@@ -238,16 +303,64 @@ pub fn measure_map(
             rays_share_edit: share(edit - edit_cuts, edit),
             rays_share_move: share(sun_ms, mv),
             rays_per_move,
+            light_target: choice.target,
+            light_estimate_cuts: choice.estimate_cuts,
+            light_estimate: choice.estimate,
+            estimate_ms: choice.estimate_s * 1e3,
+            rays_per_vertex: choice.rays_per_vertex(),
+            cast_us_per_vertex: choice.cast_us_per_vertex(),
         });
         println!(
-            "{} {} {map} {pose}: {sun_leaves} leaves by rays, rel L2 exact {:.4} (cuts only {:.4}), mc {}",
+            "{} {} {map} {pose}: {sun_leaves} leaves by rays (estimate {:.4} -> {:.4}), rel L2 exact {:.4} (cuts only {:.4}), mc {}",
             s.scene,
             s.preset,
+            choice.estimate_cuts,
+            choice.estimate,
             rel_l2_exact,
             rel_l2_exact_cuts_only,
             rel_l2_mc.map_or("-".into(), |x| format!("{x:.4}"))
         );
     }
     frame.translate(s.movable, Vec3::ZERO)?;
+    Ok(rows)
+}
+
+/// Targets of the sweep, loosest first.
+pub const KNOB_TARGETS: [f64; 5] = [0.02, 0.005, 0.002, 0.001, 0.0005];
+
+/// The target-error sweep of `frame` under `env` (named `map`) at rest: one row per target of
+/// [`KNOB_TARGETS`]; leaves the frame at its setting before.
+pub fn measure_knob(frame: &mut Frame, s: &Subject<'_>, map: &str, env: &EnvMap) -> Result<Vec<KnobRow>> {
+    let before = frame.sun_rays();
+    frame.set_environment(env);
+    frame.translate(s.movable, Vec3::ZERO).context("placing the movable object")?;
+    frame.set_deferred_merges(false).context("merging every vertex")?;
+    let exact = exact_direction(frame, s.eye, s.offset);
+    let mut rows = Vec::new();
+    for target in KNOB_TARGETS {
+        frame.set_sun_rays(Some(SunRays { target, ..before.unwrap_or_default() }));
+        let (rel_l2_exact, _) = errors(&frame.shade(s.eye), &exact);
+        let c = frame.light_choice();
+        rows.push(KnobRow {
+            scene: s.scene.into(),
+            preset: s.preset.into(),
+            map: map.into(),
+            target,
+            leaves: c.cast.len(),
+            estimate: c.estimate,
+            rel_l2_exact,
+            rays_per_vertex: c.rays_per_vertex(),
+            choice_ms: (c.estimate_s + c.cast_s) * 1e3,
+        });
+        println!(
+            "{} {} {map} target {target}: {} leaves, estimate {:.4}, rel L2 exact {rel_l2_exact:.4}",
+            s.scene,
+            s.preset,
+            c.cast.len(),
+            c.estimate
+        );
+    }
+    frame.set_sun_rays(before);
+    frame.set_deferred_merges(true)?;
     Ok(rows)
 }

@@ -11,6 +11,7 @@
 //! Job, for a cluster with a shared volume; written, not run here.
 
 use crate::precompute::{PrecomputeArgs, resolve};
+use crate::report::write_atomic;
 use anyhow::{Context, Result, bail};
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -163,10 +164,6 @@ impl Farm {
     }
 }
 
-fn write(path: &Path, text: &str) -> Result<()> {
-    crate::report::write_atomic(path, text.as_bytes())
-}
-
 fn slurm(a: &EngineArgs) -> Result<()> {
     let farm = Farm::new(a, std::env::current_exe().context("this program's path")?)?;
     let logs = farm.dir.join("logs");
@@ -207,8 +204,8 @@ fn slurm(a: &EngineArgs) -> Result<()> {
     );
     gather.push_str(&farm.gather_command());
     let (shards_path, gather_path) = (farm.dir.join("shards.sbatch"), farm.dir.join("gather.sbatch"));
-    write(&shards_path, &shards)?;
-    write(&gather_path, &gather)?;
+    write_atomic(&shards_path, shards.as_bytes())?;
+    write_atomic(&gather_path, gather.as_bytes())?;
     println!("slurm_shards_script={}", shards_path.display());
     println!("slurm_gather_script={}", gather_path.display());
     println!("slurm_logs={}", logs.display());
@@ -332,8 +329,8 @@ fn kubernetes(a: &EngineArgs) -> Result<()> {
         out = json(&farm.output.display().to_string()),
     );
     let (job_path, gather_path) = (farm.dir.join("indexed-job.yaml"), farm.dir.join("gather.yaml"));
-    write(&job_path, &job)?;
-    write(&gather_path, &gather)?;
+    write_atomic(&job_path, job.as_bytes())?;
+    write_atomic(&gather_path, gather.as_bytes())?;
     println!("kubernetes_job={}", job_path.display());
     println!("kubernetes_gather={}", gather_path.display());
     Ok(())

@@ -346,10 +346,17 @@ mod tests {
             rays_share_edit: 0.0,
             rays_share_move: 0.0,
             rays_per_move: 0.0,
+            light_target: 0.002,
+            light_estimate_cuts: 0.01,
+            light_estimate: 0.001,
+            estimate_ms: 1.0,
+            rays_per_vertex: 1.0,
+            cast_us_per_vertex: 1.0,
         };
         let acc = AccuracySection {
             rows: vec![row("sky-30", "fast", 0.02), row("studio", "fast", 0.03), row("sky-30", "paper", 0.004)],
             skipped: Vec::new(),
+            knob: Vec::new(),
         };
         accuracy(&acc, &dir.join("accuracy.png")).unwrap();
         assert!(is_png(&dir.join("accuracy.png")));

@@ -12,7 +12,7 @@ use vcut_scene::{Camera, Scene};
 use vcut_shade::brdf::parse_spec;
 use vcut_shade::image::{auto_exposure, pixel_errors, rasterize, write_exr, write_ply, write_png};
 use vcut_shade::reference::{MonteCarloParams, errors, exact_direction, monte_carlo};
-use vcut_shade::{Frame, FrameCaches};
+use vcut_shade::{Frame, FrameCaches, SunRays};
 
 use crate::ssdo::ScreenMode;
 
@@ -125,11 +125,17 @@ pub struct RenderArgs {
     /// or `dropped` (their weight given to the others); see `vcut_data::InsideSamples`.
     #[arg(long, value_enum, default_value_t = Inside::Occluded)]
     pub inside_samples: Inside,
-    /// Carry the sun through the cuts too, as the paper does. By default the sun's leaves of the
-    /// light (each ≥ 100× the mean leaf, at most 16) are cast by rays at run time: exact sun
-    /// shadows, the sky from the cuts (`vcut_shade::sun`).
-    #[arg(long)]
+    /// Carry the sun through the cuts too, as the paper does. By default the leaves of the
+    /// light whose error through the cuts is largest are cast by rays at run time, until the
+    /// estimated error is within `--light-error` (`vcut_shade::sun`).
+    #[arg(long, conflicts_with = "light_error")]
     pub no_sun_rays: bool,
+    /// The target error of the light left in the cuts: a relative L2 error in (0, 1), default
+    /// 0.002 (or the scene file's `[environment] light_error`). Smaller casts more of the
+    /// brightest leaves by rays (at most 32): `light_error_estimate`, `sun_leaves` and
+    /// `sun_rays_per_vertex` report the choice and its cost.
+    #[arg(long, value_name = "REL")]
+    pub light_error: Option<f64>,
     /// Multiply every field within reach into a vertex's cut, as the paper does. By default a
     /// field whose object lies wholly below the vertex's horizon is left out
     /// (`Frame::set_horizon_culling`).
@@ -177,6 +183,7 @@ impl RenderArgs {
             mode: RenderMode::Cuts,
             inside_samples: Inside::Occluded,
             no_sun_rays: false,
+            light_error: None,
             no_horizon_culling: false,
             field_reach: None,
             eager_merges: false,
@@ -315,6 +322,19 @@ pub fn apply_edits(frame: &mut Frame, brdfs: &[String], moves: &[String]) -> Res
     Ok((move_ms, moved))
 }
 
+/// The target error for the light left in the cuts: `--light-error` when given (refused
+/// outside (0, 1)), else the scene file's `[environment] light_error`, else `None` (the
+/// frame's default).
+pub fn light_error(flag: Option<f64>, scene: Option<f64>) -> Result<Option<f64>> {
+    match flag {
+        Some(e) if !(e.is_finite() && e > 0.0 && e < 1.0) => {
+            bail!("--light-error {e}: must lie in (0, 1): a relative error, e.g. 0.002 for 0.2 %")
+        }
+        Some(e) => Ok(Some(e)),
+        None => Ok(scene),
+    }
+}
+
 /// The camera called `name` of `scene`, else the scene's first, else one framing every object.
 pub fn camera(scene: Option<&Scene>, name: Option<&str>, frame: &Frame) -> Result<Camera> {
     Ok(match (scene, name) {
@@ -390,9 +410,20 @@ pub fn run(args: &RenderArgs) -> Result<RenderOutcome> {
     }
     if args.no_sun_rays {
         frame.set_sun_rays(None);
+    } else if let Some(target) = light_error(args.light_error, scene.as_ref().and_then(|s| s.light_error))? {
+        frame.set_sun_rays(Some(SunRays { target, ..SunRays::default() }));
     }
     out.sun_leaves = frame.sun_leaves();
     out.emit("sun_leaves", format!("{}", out.sun_leaves));
+    let choice = frame.light_choice();
+    if frame.sun_rays().is_some() {
+        out.emit("light_error_target", format!("{}", choice.target));
+        out.emit("light_error_estimate_cuts", format!("{:.5}", choice.estimate_cuts));
+        out.emit("light_error_estimate", format!("{:.5}", choice.estimate));
+        out.emit("light_choice_ms", format!("{:.2}", choice.estimate_s * 1e3));
+        out.emit("sun_rays_per_vertex", format!("{:.2}", choice.rays_per_vertex()));
+        out.emit("sun_cast_us_per_vertex", format!("{:.3}", choice.cast_us_per_vertex()));
+    }
     frame.set_deferred_merges(!args.eager_merges)?;
     // The moves build the shading lists of the vertices facing the camera (a framing camera
     // may shift with the moves: then shading builds the few others it needs).

@@ -275,6 +275,12 @@ impl LeafGoals {
         LeafGoals { rle_ratio_min: 8.0, decode_ms_100k_max: 2.0, shade_ms_100k_max: 28.0, shade_ms_500k_max: 100.0 };
 }
 
+/// One row of a Markdown table: its cells between pipes, with a newline.
+pub fn md_row<I: IntoIterator<Item = String>>(cells: I) -> String {
+    let cells: Vec<String> = cells.into_iter().collect();
+    format!("| {} |\n", cells.join(" | "))
+}
+
 /// Writes `value` as pretty JSON to `path` whole (a temporary file renamed into place).
 pub fn write_json(path: &Path, value: &impl Serialize) -> Result<()> {
     write_atomic(path, serde_json::to_string_pretty(value)?.as_bytes())

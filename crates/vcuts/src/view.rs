@@ -55,9 +55,13 @@ pub struct ViewArgs {
     #[arg(long, default_value_t = 120.0)]
     pub live_move_ms: f64,
     /// Start with the sun through the cuts too, as the paper (the panel's "sun by rays" box
-    /// unticked); by default the sun's leaves are cast by rays at run time.
+    /// unticked); by default the light's brightest leaves are cast by rays at run time.
     #[arg(long)]
     pub no_sun_rays: bool,
+    /// The target error of the light left in the cuts, as `render --light-error` (the panel's
+    /// slider).
+    #[arg(long, value_name = "REL")]
+    pub light_error: Option<f64>,
     /// The plant-leaf viewer instead (`vcut-leaf`: the plant precomputed first, then the sun,
     /// method, level of detail and leaf panel); the plant options below apply.
     #[arg(long, conflicts_with_all = ["input", "scene"])]
@@ -218,6 +222,9 @@ pub fn run(args: &ViewArgs) -> Result<()> {
     let offset = data.svc_origin_offset();
     let mut session = Session::new(frame, env.clone(), &env_name, offset, OrbitCamera::from_camera(&camera));
     session.exposure = args.exposure;
+    if let Some(target) = crate::render::light_error(args.light_error, scene.as_ref().and_then(|s| s.light_error))? {
+        session.set_light_error(target);
+    }
     if args.no_sun_rays {
         session.set_sun_rays(false);
     }

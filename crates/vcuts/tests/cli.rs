@@ -74,6 +74,16 @@ fn precompute_logs_progress_without_a_terminal_and_render_works_from_another_fol
     assert!(o.status.success(), "{}", text(&o));
     let png = std::fs::read(elsewhere.join("frame.png")).expect("frame.png written where the command ran");
     assert!(png.starts_with(b"\x89PNG"), "not a PNG");
+    // The light-error target reaches the frame, and one out of range is refused by name.
+    let small = ["render", file.to_str().unwrap(), "-o", "t.png", "--width", "16", "--height", "12"];
+    let o = vcuts(&elsewhere, &[&small[..], &["--light-error", "0.01"]].concat());
+    assert!(o.status.success(), "{}", text(&o));
+    for key in ["light_error_target=0.01", "light_error_estimate=", "sun_rays_per_vertex="] {
+        assert!(String::from_utf8_lossy(&o.stdout).contains(key), "no {key}: {}", text(&o));
+    }
+    let o = vcuts(&elsewhere, &[&small[..], &["--light-error", "2"]].concat());
+    assert_eq!(o.status.code(), Some(1), "{}", text(&o));
+    assert!(text(&o).contains("--light-error 2: must lie in (0, 1)"), "{}", text(&o));
     // -q: results on stdout as before, nothing about progress on stderr.
     let o = vcuts(
         &work,

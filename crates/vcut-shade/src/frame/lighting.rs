@@ -6,6 +6,7 @@ use super::lists::{shade_nodes, specular_nodes};
 use super::object::placed;
 use crate::brdf;
 use crate::sun::{self, Sun, SunRays};
+use std::time::Instant;
 use vcut_envmap::EnvMap;
 use vcut_scene::Material;
 
@@ -39,7 +40,8 @@ impl Frame {
         self.sun_rays
     }
 
-    /// Leaves of the light cast as the sun by rays (0 with sun rays off, or no sun).
+    /// Leaves of the light cast by rays (0 with sun rays off, or none chosen):
+    /// [`Frame::light_choice`] has which and why.
     pub fn sun_leaves(&self) -> usize {
         self.sun.as_ref().map_or(0, Sun::len)
     }
@@ -50,19 +52,27 @@ impl Frame {
         self.relist_all();
     }
 
-    /// The sun and the shading table for the current light and sun setting.
+    /// The leaves cast by rays (chosen by their estimated error, [`crate::sun`]), their masks,
+    /// and the shading table of the light the cuts carry, for the current light and setting.
     pub(super) fn light_state(&mut self) {
-        let leaves = self.sun_rays.map(|r| sun::sun_leaves(&self.light, &r)).unwrap_or_default();
-        // The objects' hierarchies outlive a lighting change.
-        let old = self.sun.take();
-        if leaves.is_empty() {
+        let mut choice = match self.sun_rays {
+            Some(rays) => self.choose(&rays),
+            None => super::LightChoice::default(),
+        };
+        self.sun = None;
+        if choice.cast.is_empty() {
             self.nodes = shade_nodes(&self.tree, &self.light);
         } else {
+            let start = Instant::now();
             let (dirs, offset) = (self.tree.leaf_directions(), self.origin_offset);
-            self.sun = Some(Sun::new(&self.light, &leaves, dirs, &placed(&self.objects), offset, old));
-            self.nodes = shade_nodes(&self.tree, &sun::without(&self.light, &leaves));
+            let objects = placed(&self.objects);
+            let (sun, rays) = Sun::new(&self.light, &choice.cast, dirs, &objects, &self.occluders, offset);
+            (choice.cast_rays, choice.cast_s) = (rays, start.elapsed().as_secs_f64());
+            self.sun = Some(sun);
+            self.nodes = shade_nodes(&self.tree, &sun::without(&self.light, &choice.cast));
         }
         self.specular = specular_nodes(&self.nodes);
+        self.choice = choice;
     }
 
     /// Rebuilds the shading lists after a lighting change: those of the vertices facing the

@@ -410,7 +410,7 @@ impl Frame {
         }
         if let Some(sun) = self.sun.as_mut() {
             let start = Instant::now();
-            timing.sun_rays = sun.update(&placed(&self.objects));
+            timing.sun_rays = sun.update(&placed(&self.objects), &self.occluders);
             timing.sun_s = start.elapsed().as_secs_f64();
         }
         self.merges += total as u64;

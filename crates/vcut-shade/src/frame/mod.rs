@@ -100,6 +100,7 @@
 //! (`move_path` with `NO_CELL_CACHE=1 NO_SVC_CACHE=1` too; [`Frame::fit_memory`] drops
 //! caches to fit a budget; `vcuts render --memory-budget`).
 
+mod choice;
 mod deferral;
 mod keys;
 mod lighting;
@@ -113,6 +114,7 @@ mod tests;
 
 use crate::brdf;
 use crate::sun::{Sun, SunRays};
+pub use choice::LightChoice;
 use glam::Vec3;
 use keys::FieldKey;
 use lists::{ShadeList, ShadeNode, SpecularNode};
@@ -243,6 +245,11 @@ pub struct Frame {
     /// The sun by rays, when asked for and the light has one ([`crate::sun`]).
     sun_rays: Option<SunRays>,
     sun: Option<Sun>,
+    /// Why the sun's leaves are those ([`Frame::light_choice`]).
+    choice: LightChoice,
+    /// Every object's hierarchy at rest, for the sun's rays (built at the first choice that
+    /// has a candidate leaf).
+    occluders: Vec<vcut_rays::Occluder>,
     /// Where the SVCs' rays start: this fraction of an object's bounding radius along the normal.
     origin_offset: f32,
     /// Per tree node (level order): what shading needs (under the light less the sun's leaves
@@ -349,6 +356,8 @@ impl Frame {
             light,
             sun_rays: Some(SunRays::default()),
             sun: None,
+            choice: LightChoice::default(),
+            occluders: Vec::new(),
             origin_offset: data.svc_origin_offset(),
             // Built by `light_state` below, with the sun's leaves out when they are cast.
             specular: Vec::new(),
