@@ -24,8 +24,9 @@
 //! left in the cuts is the relative L2 of the sum of their errors over the sampled vertices
 //! against the cuts' diffuse light there (errors of leaves in one shadow edge add up; errors
 //! that cancel count as cancelled). Leaves are cast greedily — the one whose casting lowers
-//! the estimate most, while it lowers it — until it is at most [`SunRays::target`] or
-//! [`SunRays::max_leaves`] are cast. A smaller target casts the same leaves and more (the order
+//! the estimate most — until it is at most [`SunRays::target`], [`SunRays::max_leaves`] are
+//! cast, or the best leaf lowers the squared estimate by less than target² / max_leaves (not
+//! worth its rays). A smaller target casts the same leaves and more (the order
 //! does not depend on the target). A sun is one to three leaves with errors of 1–10 % each at
 //! its shadow edges; a constant or dim map has no candidate worth a ray; several suns or a
 //! window get their brightest leaves, up to the cap. What the estimate leaves out — the error

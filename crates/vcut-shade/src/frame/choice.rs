@@ -49,6 +49,15 @@ impl LightChoice {
     }
 }
 
+/// What every sample of one choice reads: the shading table under the whole light, the objects
+/// as the rays see them, each object's ray origin offset, the level-order index of leaf 0.
+struct Sampling<'a> {
+    table: Vec<ShadeNode>,
+    objects: Vec<crate::sun::Placed<'a>>,
+    offsets: Vec<f32>,
+    first_leaf: usize,
+}
+
 impl Frame {
     /// What the last lighting change chose: the leaves cast by rays, the error estimate and its
     /// cost, the cast's cost.
@@ -71,9 +80,14 @@ impl Frame {
             self.occluders = sun::occluders(&placed(&self.objects));
         }
         let samples = self.samples();
-        let table = shade_nodes(&self.tree, &self.light);
+        let at = Sampling {
+            table: shade_nodes(&self.tree, &self.light),
+            objects: placed(&self.objects),
+            offsets: (0..self.objects.len()).map(|o| self.sun_origin_offset(o)).collect(),
+            first_leaf: self.tree.node_count() - self.tree.leaf_directions().len(),
+        };
         let errors: Vec<(f64, Vec<f32>)> =
-            samples.par_iter().filter_map(|&(o, v)| self.sample_errors(o, v, &candidates, &table)).collect();
+            samples.par_iter().filter_map(|&(o, v)| self.sample_errors(o, v, &candidates, &at)).collect();
         let norm = errors.iter().map(|(r, _)| r * r).sum::<f64>().sqrt();
         let columns: Vec<&[f32]> = errors.iter().map(|(_, e)| e.as_slice()).collect();
         let cap = rays.max_leaves.min(sun::MAX_SUN_LEAVES);
@@ -107,7 +121,7 @@ impl Frame {
     /// light (`table`), and each candidate leaf's error through the cuts, `(w − V·max(0, n·ω))·Y`
     /// (w: the weight the vertex's shading list gives the node holding the leaf). `None` when the
     /// vertex's cut does not merge (the setup's merge then fails too).
-    fn sample_errors(&self, o: usize, v: usize, candidates: &[u32], table: &[ShadeNode]) -> Option<(f64, Vec<f32>)> {
+    fn sample_errors(&self, o: usize, v: usize, candidates: &[u32], at: &Sampling<'_>) -> Option<(f64, Vec<f32>)> {
         let s = &self.objects[o];
         // The kept cut where it is current (a lighting change), else merged here (the setup's
         // choice, before its merges; the merged cache off; a merge that waits).
@@ -120,12 +134,11 @@ impl Frame {
             }
         };
         let n = s.mesh.normals()[v];
-        let list = ShadeList::new(cut, n, table, s.svc_ends(v).as_deref());
+        let list = ShadeList::new(cut, n, &at.table, s.svc_ends(v).as_deref());
         let mut weights: Vec<(usize, f32)> = list.entries.iter().map(|&e| unpack(e)).collect();
         weights.sort_unstable_by_key(|&(k, _)| k);
-        let first_leaf = self.tree.node_count() - self.tree.leaf_directions().len();
         let weight = |leaf: u32| {
-            let mut k = first_leaf + leaf as usize;
+            let mut k = at.first_leaf + leaf as usize;
             loop {
                 if let Ok(i) = weights.binary_search_by_key(&k, |&(node, _)| node) {
                     return weights[i].1;
@@ -136,8 +149,7 @@ impl Frame {
                 k = (k - 1) / 2;
             }
         };
-        let objects = placed(&self.objects);
-        let origin = vcut_rays::origin(s.mesh.positions()[v] + s.translation, n, self.sun_origin_offset(o));
+        let origin = vcut_rays::origin(s.mesh.positions()[v] + s.translation, n, at.offsets[o]);
         let dirs = self.tree.leaf_directions();
         let leaves = self.light.leaves();
         let errors = candidates
@@ -145,7 +157,7 @@ impl Frame {
             .map(|&l| {
                 let d = dirs[l as usize];
                 let c = n.dot(d);
-                let exact = if c > 0.0 && !sun::blocked(&objects, &self.occluders, origin, d) { c } else { 0.0 };
+                let exact = if c > 0.0 && !sun::blocked(&at.objects, &self.occluders, origin, d) { c } else { 0.0 };
                 (weight(l) - exact) * sun::luminance(leaves[l as usize]) as f32
             })
             .collect();
