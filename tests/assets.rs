@@ -55,6 +55,22 @@ fn gltf_engine_keeps_its_hierarchy() {
 }
 
 #[test]
+fn the_engines_gltf_camera_is_the_default_view_and_sees_the_engine() {
+    let Some(a) = assets_or_skip("the_engines_gltf_camera_is_the_default_view_and_sees_the_engine") else { return };
+    let scene = vcut_scene::Scene::open(a.join("gltf/2CylinderEngine.glb").to_str().unwrap()).unwrap();
+    let c = scene.cameras.first().expect("the file's camera");
+    // The file: node 81, yfov 0.31435 rad, at (1005.99, 766.32, 953.35) looking down its −Z.
+    assert!((c.fov_y_deg - 0.314_346_37f32.to_degrees()).abs() < 1e-3, "{}", c.fov_y_deg);
+    assert!(c.position.distance(glam::Vec3::new(1005.987, 766.317, 953.346)) < 1e-2, "{}", c.position);
+    // The engine's centre lies within the view cone, and the target on its axis ahead.
+    let b = scene.bounds();
+    let centre = 0.5 * (b.min + b.max);
+    let (axis, to) = ((c.target - c.position).normalize(), (centre - c.position).normalize());
+    assert!(axis.dot(to).acos().to_degrees() < 0.5 * c.fov_y_deg, "the engine is outside the view");
+    assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
+}
+
+#[test]
 fn envmaps_load_with_finite_power() {
     let Some(a) = assets_or_skip("envmaps_load_with_finite_power") else { return };
     // memorial.exr is a photograph, not an environment map, but it must load all the same.

@@ -1,5 +1,6 @@
 //! A hand-written glTF with nested, scaled, rotated and mirrored nodes lands in the right world
-//! positions, with faces still facing out after the mirror.
+//! positions, with faces still facing out after the mirror; its perspective camera is read in
+//! world space and its orthographic one reported as not read.
 
 use glam::Vec3;
 use std::path::Path;
@@ -12,13 +13,18 @@ fn gltf_text() -> String {
     let uri = format!("data:application/octet-stream;base64,{}", vcut_tests::base64(&positions));
     let s = std::f32::consts::FRAC_1_SQRT_2;
     // parent: T(1,0,0) · R_y(90°) · S(2); child: T(0,1,0) with the mesh;
-    // mirror: a child of parent given as a column-major matrix, scale (−1, 1, 1) then T(0,0,5).
+    // mirror: a child of parent given as a column-major matrix, scale (−1, 1, 1) then T(0,0,5);
+    // cam: a child of parent at T(0,0,3) with a perspective camera; ortho: a root orthographic one.
     format!(
-        r#"{{"asset":{{"version":"2.0"}},"scene":0,"scenes":[{{"nodes":[0]}}],
+        r#"{{"asset":{{"version":"2.0"}},"scene":0,"scenes":[{{"nodes":[0,4]}}],
+"cameras":[{{"name":"view","type":"perspective","perspective":{{"yfov":0.5,"znear":0.1}}}},
+ {{"type":"orthographic","orthographic":{{"xmag":1,"ymag":1,"znear":0.1,"zfar":10}}}}],
 "nodes":[
- {{"name":"parent","translation":[1,0,0],"rotation":[0,{s},0,{s}],"scale":[2,2,2],"children":[1,2]}},
+ {{"name":"parent","translation":[1,0,0],"rotation":[0,{s},0,{s}],"scale":[2,2,2],"children":[1,2,3]}},
  {{"name":"child","translation":[0,1,0],"mesh":0}},
- {{"name":"mirror","matrix":[-1,0,0,0, 0,1,0,0, 0,0,1,0, 0,0,5,1],"mesh":0}}],
+ {{"name":"mirror","matrix":[-1,0,0,0, 0,1,0,0, 0,0,1,0, 0,0,5,1],"mesh":0}},
+ {{"name":"cam","translation":[0,0,3],"camera":0}},
+ {{"name":"ortho","camera":1}}],
 "meshes":[{{"name":"tri","primitives":[{{"attributes":{{"POSITION":0}}}}]}}],
 "accessors":[{{"bufferView":0,"componentType":5126,"count":3,"type":"VEC3","min":[0,0,0],"max":[1,0,1]}}],
 "bufferViews":[{{"buffer":0,"byteLength":36}}],
@@ -85,4 +91,22 @@ fn top_level_grouping_merges_children() {
     assert_eq!(out.objects.len(), 1);
     assert_eq!(out.objects[0].name, "parent");
     assert_eq!(out.objects[0].mesh.triangle_count(), 2);
+}
+
+#[test]
+fn the_perspective_camera_is_read_in_world_space_and_the_orthographic_one_reported() {
+    let text = gltf_text();
+    let path = Path::new("nested.gltf");
+    let out = load_gltf_bytes(text.as_bytes(), None, path, GltfObjects::MeshNodes, MeshOptions::default())
+        .unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(out.cameras.len(), 1, "{:?}", out.cameras);
+    let c = &out.cameras[0];
+    assert_eq!(c.name, "view");
+    // (0,0,3) → ×2 → R_y(90°) → +(1,0,0) = (7,0,0); its −Z turns to −X; up stays +Y.
+    assert!(close(c.position, Vec3::new(7.0, 0.0, 0.0)), "{}", c.position);
+    assert!(close((c.target - c.position).normalize(), -Vec3::X), "{}", c.target);
+    assert!(close(c.up, Vec3::Y), "{}", c.up);
+    assert!((c.fov_y_deg - 0.5f32.to_degrees()).abs() < 1e-4, "{}", c.fov_y_deg);
+    assert_eq!(out.ignored.len(), 1, "{:?}", out.ignored);
+    assert!(out.ignored[0].contains("nested.gltf") && out.ignored[0].contains("orthographic"), "{}", out.ignored[0]);
 }

@@ -116,7 +116,7 @@ const ESTIMATE_SAMPLE_S: f64 = 1.0;
 fn estimate(args: &BenchArgs, data_dir: &Path) -> Result<()> {
     let mut rows: Vec<(String, f64, u64, u64)> = Vec::new();
     for name in &args.scenes {
-        let preset = scene_preset(args.quick, name);
+        let preset = scene_preset(args.quick);
         let file = data_dir.join(format!("{name}-{preset}.vcuts"));
         if args.reuse && file.exists() && file.with_extension("summary.json").exists() {
             continue;
@@ -159,13 +159,9 @@ fn estimate(args: &BenchArgs, data_dir: &Path) -> Result<()> {
     vcuts::resources::check("the bench", peak, (data_dir, bytes), args.force)
 }
 
-/// The preset a scene is benched at.
-fn scene_preset(quick: bool, name: &str) -> &'static str {
-    match (quick, name) {
-        (false, _) => "paper",
-        (true, "teapot") => "balanced",
-        (true, _) => "fast",
-    }
+/// The preset a scene is benched at: the paper's, or with `--quick` the fastest.
+fn scene_preset(quick: bool) -> &'static str {
+    if quick { "fast" } else { "paper" }
 }
 
 /// Rays/s of the precompute's ray stages and the raw figure over the same rays.
@@ -437,7 +433,7 @@ pub fn run(args: &BenchArgs) -> Result<()> {
 
     let mut scenes = BTreeMap::new();
     for name in &args.scenes {
-        let preset = scene_preset(args.quick, name);
+        let preset = scene_preset(args.quick);
         let mut figures = bench_scene(name, preset, &data_dir, args.no_mc, args.reuse)?;
         figures.bound(bandwidth);
         scenes.insert(name.clone(), figures);

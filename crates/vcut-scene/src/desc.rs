@@ -235,9 +235,12 @@ impl SceneDesc {
     pub fn instantiate_within(&self, base: &Path, file: &Path, budget: &Budget) -> Result<Scene, SceneError> {
         self.check(file, budget)?;
         let environment = self.environment.load(base, file)?;
-        let mut objects = Vec::new();
+        let (mut objects, mut file_cameras, mut warnings) = (Vec::new(), Vec::new(), Vec::new());
         for (i, o) in self.objects.iter().enumerate() {
-            objects.extend(o.load_within(base, file, i, budget)?);
+            let (objs, cams, warns) = o.load_within(base, file, i, budget)?;
+            objects.extend(objs);
+            file_cameras.extend(cams);
+            warnings.extend(warns);
         }
         let mut seen = std::collections::HashSet::new();
         for o in &objects {
@@ -258,8 +261,10 @@ impl SceneDesc {
                 up: Vec3::from(c.up),
                 fov_y_deg: c.fov_y_deg,
             })
+            .chain(file_cameras)
             .collect();
-        Ok(Scene { objects, environment, cameras, light_error: self.environment.light_error.map(f64::from) })
+        let light_error = self.environment.light_error.map(f64::from);
+        Ok(Scene { objects, environment, cameras, warnings, light_error })
     }
 }
 
@@ -310,18 +315,13 @@ impl ObjectDesc {
     /// Builds or loads the object(s) this entry names, transformed to world space, within the
     /// memory available now.
     pub fn load(&self, base: &Path, file: &Path, index: usize) -> Result<Vec<SceneObject>, SceneError> {
-        self.load_within(base, file, index, &Budget::available())
+        Ok(self.load_within(base, file, index, &Budget::available())?.0)
     }
 
     /// [`ObjectDesc::load`] with the memory its built-in shapes and its `instances` copies
-    /// take held to `budget`.
-    fn load_within(
-        &self,
-        base: &Path,
-        file: &Path,
-        index: usize,
-        budget: &Budget,
-    ) -> Result<Vec<SceneObject>, SceneError> {
+    /// take held to `budget`; also the file's cameras, transformed as its objects are (not
+    /// copied per instance), and what the file holds that is not read.
+    fn load_within(&self, base: &Path, file: &Path, index: usize, budget: &Budget) -> Result<Loaded, SceneError> {
         self.check(file, index, budget, &mut 0)?;
         let bad =
             |reason: String| SceneError::SceneFile { path: file.into(), reason: format!("object {index}: {reason}") };
@@ -330,6 +330,7 @@ impl ObjectDesc {
         let shape = |r: Result<Mesh, crate::mesh::MeshError>| {
             r.map_err(|source| SceneError::Mesh { path: file.into(), object: self.source.clone(), source })
         };
+        let (mut cameras, mut ignored) = (Vec::new(), Vec::new());
         let mut parts: Vec<(String, Mesh, Option<Material>)> =
             match (Builtin::named(&self.source), self.source.as_str()) {
                 (Some(b), _) => {
@@ -358,6 +359,7 @@ impl ObjectDesc {
                     };
                     let weld = self.weld.map_or(Weld::None, Weld::Within);
                     let out = crate::loaders::load_file(&path, g, o, MeshOptions { weld, ..Default::default() })?;
+                    (cameras, ignored) = (out.cameras, out.ignored);
                     let mut parts: Vec<_> =
                         out.objects.into_iter().map(|o| (o.name, o.mesh, Some(o.material))).collect();
                     if self.split == Some(Split::File) && parts.len() > 1 {
@@ -378,6 +380,7 @@ impl ObjectDesc {
             for p in &mut parts {
                 p.1.transform(m);
             }
+            transform_cameras(&mut cameras, m);
         }
         let r = self.rotation_deg.map(f32::to_radians);
         let xf = Mat4::from_scale_rotation_translation(
@@ -388,6 +391,7 @@ impl ObjectDesc {
         if !xf.is_finite() {
             return Err(bad("non-finite transform".into()));
         }
+        transform_cameras(&mut cameras, xf);
         if self.instances.len() > 1 {
             // The copies of a loaded mesh (a built-in's were counted by `check`).
             let one: u64 =
@@ -420,7 +424,7 @@ impl ObjectDesc {
             }
         });
         if self.instances.is_empty() {
-            return Ok(objects.collect());
+            return Ok((objects.collect(), cameras, ignored));
         }
         let mut out = Vec::with_capacity(self.instances.len());
         for o in objects {
@@ -430,6 +434,19 @@ impl ObjectDesc {
                 out.push(SceneObject { name: format!("{}/{k}", o.name), mesh, material: o.material, motion: o.motion });
             }
         }
-        Ok(out)
+        Ok((out, cameras, ignored))
+    }
+}
+
+/// An object entry's objects, its file's cameras and what its file holds that is not read.
+type Loaded = (Vec<SceneObject>, Vec<Camera>, Vec<String>);
+
+/// Moves cameras with their file's objects: positions and targets as points, up as a direction
+/// (a uniform scale and a rotation keep the field of view).
+fn transform_cameras(cameras: &mut [Camera], m: Mat4) {
+    for c in cameras {
+        c.position = m.transform_point3(c.position);
+        c.target = m.transform_point3(c.target);
+        c.up = m.transform_vector3(c.up).normalize_or(Vec3::Y);
     }
 }

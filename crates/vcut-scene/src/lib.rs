@@ -102,8 +102,12 @@ pub struct Scene {
     pub objects: Vec<SceneObject>,
     /// Distant lighting.
     pub environment: EnvMap,
-    /// Cameras (the first is the default view).
+    /// Cameras (the first is the default view): the scene file's, then those of its glTF files
+    /// (perspective cameras, in the order the files and their node trees list them).
     pub cameras: Vec<Camera>,
+    /// What the scene's files hold that is not read (e.g. a glTF's orthographic cameras), one
+    /// line each naming the file and the feature; commands print them as warnings.
+    pub warnings: Vec<String>,
     /// `[environment] light_error`: the target error of the light's brightest leaves left in the
     /// cuts, when the scene file sets one.
     pub light_error: Option<f64>,

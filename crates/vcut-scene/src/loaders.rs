@@ -5,7 +5,9 @@
 //! mesh an object; [`GltfObjects::TopLevelNodes`] merges everything under each root node into one
 //! object. Triangle lists, strips and fans are read; points and lines are skipped and counted.
 //! Each object takes the material of its first primitive (one BRDF per object, see
-//! [`crate::material`]).
+//! [`crate::material`]). Perspective cameras become [`Camera`]s (glTF's view axis is the
+//! node's −Z, its up +Y; the target is placed on that axis nearest the objects' centre);
+//! orthographic ones are reported in [`LoadOutput::ignored`].
 //!
 //! OBJ: [`ObjObjects::File`] makes the whole file one object, [`ObjObjects::Groups`] one object
 //! per `o`/`g` group. Polygons are triangulated; `.mtl` files are not read.
@@ -13,9 +15,9 @@
 //! Every error names the file; accessors are bounds-checked before they are read, so malformed
 //! files give errors, not panics (the `fuzz/` target `scene_files` checks this).
 
-use crate::SceneError;
 use crate::material::Material;
 use crate::mesh::{Mesh, MeshOptions, MeshReport};
+use crate::{Camera, SceneError};
 use glam::{Mat3, Mat4, Vec3};
 use std::path::Path;
 
@@ -66,6 +68,11 @@ pub struct LoadOutput {
     pub file_vertices: usize,
     /// Triangles as the file counts them (after triangulating polygons; glTF per mesh as above).
     pub file_triangles: usize,
+    /// glTF perspective cameras in world space, each aimed (its `target`) at the point of its
+    /// view axis nearest the objects' bounding-box centre.
+    pub cameras: Vec<Camera>,
+    /// What the file holds that is not read, one line per feature naming the file.
+    pub ignored: Vec<String>,
 }
 
 impl LoadOutput {
@@ -183,7 +190,33 @@ pub fn load_gltf_bytes(
         }
     }
     out.dedupe_names();
+    let orthographic =
+        doc.cameras().filter(|c| matches!(c.projection(), gltf::camera::Projection::Orthographic(_))).count();
+    if orthographic > 0 {
+        out.ignored.push(format!(
+            "{}: {orthographic} orthographic camera(s) not read (perspective cameras only)",
+            name.display()
+        ));
+    }
+    aim(&mut out);
     Ok(out)
+}
+
+/// Aims each camera at the point of its view axis nearest the centre of the objects' bounds
+/// (a glTF camera has a direction, not a target, and the viewer orbits about the target), at
+/// least a hundredth of the bounds' diagonal ahead.
+fn aim(out: &mut LoadOutput) {
+    let b = crate::mesh::Bounds::of_points(out.objects.iter().flat_map(|o| o.mesh.positions().iter().copied()));
+    let (centre, diagonal) = if b.min.is_finite() && b.max.is_finite() {
+        (0.5 * (b.min + b.max), (b.max - b.min).length())
+    } else {
+        (Vec3::ZERO, 1.0)
+    };
+    for c in &mut out.cameras {
+        let forward = c.target - c.position;
+        let ahead = (centre - c.position).dot(forward).max(0.01 * diagonal).max(1e-3);
+        c.target = c.position + forward * ahead;
+    }
 }
 
 /// Loads every buffer: the GLB blob, `data:` URIs (base64) or files relative to `base`. Our own
@@ -326,6 +359,25 @@ impl GltfCtx<'_> {
         let world = parent * local;
         if !world.is_finite() {
             return Err(self.err(format!("node {} has a non-finite transform", node.index())));
+        }
+        if let Some(camera) = node.camera()
+            && let gltf::camera::Projection::Perspective(p) = camera.projection()
+        {
+            let position = world.transform_point3(Vec3::ZERO);
+            let forward = world.transform_vector3(Vec3::NEG_Z).normalize_or_zero();
+            let up = world.transform_vector3(Vec3::Y).normalize_or_zero();
+            let fov_y_deg = p.yfov().to_degrees();
+            let name = camera.name().or(node.name()).map_or_else(|| format!("camera{}", camera.index()), str::to_owned);
+            if forward == Vec3::ZERO || up == Vec3::ZERO || !(fov_y_deg > 0.0 && fov_y_deg < 180.0) {
+                self.out.ignored.push(format!(
+                    "{}: camera {name} (node {}) not read: a degenerate transform or a field of view of {fov_y_deg} degrees",
+                    self.name.display(),
+                    node.index()
+                ));
+            } else {
+                // One unit ahead for now: aimed once the objects are known.
+                self.out.cameras.push(Camera { name, position, target: position + forward, up, fov_y_deg });
+            }
         }
         if let Some(mesh) = node.mesh() {
             match self.grouping {

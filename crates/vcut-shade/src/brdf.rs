@@ -10,6 +10,29 @@ use glam::Vec3;
 use std::f32::consts::PI;
 use vcut_scene::{BrdfModel, Material};
 
+/// sin 1°: how far above its tangent plane a silhouette vertex is viewed ([`view_direction`]).
+pub const GRAZING: f32 = 0.017_452_406;
+
+/// The direction ω_o a vertex at `x` with unit normal `n` is shaded toward for an eye at `eye`:
+/// the eye's direction where the normal faces it at least 1° above the tangent plane; below that
+/// (a vertex of a visible triangle whose smooth normal turns away, along every silhouette of a
+/// curved mesh) the eye's direction bent onto the tangent plane and raised to 1° above it, so the
+/// shading runs on continuously across the silhouette instead of dropping to black; an eye
+/// straight behind the vertex views it along its normal. The frame and every reference use it.
+#[inline]
+pub fn view_direction(n: Vec3, x: Vec3, eye: Vec3) -> Vec3 {
+    let wo = (eye - x).normalize_or_zero();
+    let c = n.dot(wo);
+    if c >= GRAZING {
+        return wo;
+    }
+    let t = (wo - c * n).normalize_or_zero();
+    if t == Vec3::ZERO {
+        return n;
+    }
+    (t * (1.0 - GRAZING * GRAZING).sqrt() + n * GRAZING).normalize()
+}
+
 /// f_r(ω_i, ω_o) for unit normal `n`, unit `wi` (towards the light) and `wo` (towards the eye).
 #[inline]
 pub fn eval(m: &Material, n: Vec3, wi: Vec3, wo: Vec3) -> Vec3 {
@@ -267,6 +290,29 @@ pub fn parse_spec(base: Material, spec: &str) -> Result<Material, SpecError> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Above 1° the eye's own direction; below it bent to 1° above the tangent plane, in the
+    /// eye's azimuth, continuous at 1°; straight behind, the normal.
+    #[test]
+    fn view_direction_bends_below_grazing_only() {
+        let n = Vec3::Z;
+        let x = Vec3::new(0.3, -0.2, 0.1);
+        for deg in [90.0f32, 30.0, 1.5, 1.0, 0.5, 0.0, -10.0, -60.0, -89.0] {
+            let (s, c) = deg.to_radians().sin_cos();
+            let eye = x + 5.0 * Vec3::new(c * 0.6, c * 0.8, s);
+            let wo = view_direction(n, x, eye);
+            assert!((wo.length() - 1.0).abs() < 1e-5, "{deg}°: not unit");
+            assert!(n.dot(wo) >= GRAZING - 1e-5, "{deg}°: below 1°");
+            if deg >= 1.0 {
+                assert!((wo - (eye - x).normalize()).length() < 1e-5, "{deg}°: bent above 1°");
+            } else {
+                assert!((n.dot(wo) - GRAZING).abs() < 1e-5, "{deg}°: not at 1°");
+                let az = Vec3::new(wo.x, wo.y, 0.0).normalize();
+                assert!((az - Vec3::new(0.6, 0.8, 0.0)).length() < 1e-4, "{deg}°: azimuth turned");
+            }
+        }
+        assert_eq!(view_direction(n, x, x - 3.0 * n), n);
+    }
 
     /// ∫ f_r cos dω_i over the hemisphere by a fine midpoint rule.
     fn albedo(m: &Material, wo: Vec3) -> Vec3 {

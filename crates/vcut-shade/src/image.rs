@@ -128,7 +128,9 @@ pub fn write_exr(image: &Image, path: &Path) -> Result<(), ImageError> {
 }
 
 /// Writes the whole scene at its current positions as one binary PLY mesh: per vertex
-/// `x y z nx ny nz r g b` (floats; r g b the outgoing radiance toward the camera), then faces.
+/// `x y z nx ny nz red green blue` (floats, linear outgoing radiance; give it
+/// [`Frame::shade_all`]'s radiance, so every vertex is shaded: toward the camera where it can be
+/// seen, else toward its own normal), then faces.
 pub fn write_ply(frame: &Frame, radiance: &[Vec<Vec3>], path: &Path) -> Result<(), ImageError> {
     let mut body = Vec::new();
     let mut nv = 0usize;
@@ -144,9 +146,9 @@ pub fn write_ply(frame: &Frame, radiance: &[Vec<Vec3>], path: &Path) -> Result<(
         nv += mesh.vertex_count();
     }
     let header = format!(
-        "ply\nformat binary_little_endian 1.0\ncomment vcuts: outgoing radiance toward the camera, linear RGB\n\
+        "ply\nformat binary_little_endian 1.0\ncomment vcuts: linear outgoing radiance, toward the camera where seen, else along the normal\n\
          element vertex {nv}\nproperty float x\nproperty float y\nproperty float z\nproperty float nx\n\
-         property float ny\nproperty float nz\nproperty float r\nproperty float g\nproperty float b\n\
+         property float ny\nproperty float nz\nproperty float red\nproperty float green\nproperty float blue\n\
          element face {}\nproperty list uchar int vertex_indices\nend_header\n",
         faces.len()
     );

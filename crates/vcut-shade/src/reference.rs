@@ -63,9 +63,12 @@ impl ExactReference {
         let crate::FrameObject { mesh, material, .. } = frame.object(o);
         let offset = origin_offset(self.origin_offset, mesh);
         let n = mesh.normals()[v];
+        if !frame.seen(o, v, eye) {
+            return Vec3::ZERO;
+        }
         let leaves = frame.tree().leaf_directions();
         let light = frame.light().leaves();
-        let wo = (eye - x).normalize_or_zero();
+        let wo = brdf::view_direction(n, x, eye);
         let origin = origin(x, n, offset);
         let mut b = Vec3::ZERO;
         for (l, &d) in leaves.iter().enumerate() {
@@ -168,7 +171,10 @@ pub fn monte_carlo(
                 .into_par_iter()
                 .map(|v| {
                     let (x, n) = (positions[v], mesh.normals()[v]);
-                    let wo = (eye - x).normalize_or_zero();
+                    if !frame.seen(o, v, eye) {
+                        return (Vec3::ZERO, 0, false);
+                    }
+                    let wo = brdf::view_direction(n, x, eye);
                     let origin = vcut_rays::origin(x, n, offset);
                     let mut rng = SplitMix64::new(params.seed ^ ((o as u64) << 40) ^ v as u64);
                     let (mut sum, mut lum, mut lum2, mut count) = (glam::DVec3::ZERO, 0.0f64, 0.0f64, 0u64);

@@ -138,6 +138,15 @@ fn print_scene(scene: &Scene, load_s: f64) {
     println!("bounds_min={:.4},{:.4},{:.4}", b.min.x, b.min.y, b.min.z);
     println!("bounds_max={:.4},{:.4},{:.4}", b.max.x, b.max.y, b.max.z);
     println!("load_s={load_s:.3}");
+    println!("cameras={}", scene.cameras.len());
+    for c in &scene.cameras {
+        let (p, t) = (c.position, c.target);
+        println!(
+            "camera {}: position {:.3},{:.3},{:.3} target {:.3},{:.3},{:.3} fov_y {:.2} deg",
+            c.name, p.x, p.y, p.z, t.x, t.y, t.z, c.fov_y_deg
+        );
+    }
+    crate::warn_ignored(scene);
     println!(
         "{:<24} {:>7} {:>9} {:>9} {:>11}  {:<28} {:<28} {:<30}",
         "object",

@@ -135,6 +135,13 @@ pub fn run(command: Command) -> Result<()> {
     }
 }
 
+/// Prints, as warnings, what the scene's files hold that is not read (each naming its file).
+pub fn warn_ignored(scene: &vcut_scene::Scene) {
+    for w in &scene.warnings {
+        log::warn!("{w}");
+    }
+}
+
 /// `vcuts … | head` closes stdout early, and `println!` then panics ("failed printing to
 /// stdout: Broken pipe"). Exit quietly instead, as command-line tools do on SIGPIPE (status 141,
 /// 128 + SIGPIPE); any other panic is reported as before.

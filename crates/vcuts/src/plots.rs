@@ -31,10 +31,70 @@ pub fn font() -> bool {
     false
 }
 
+/// A plotting error as an `anyhow` error.
+fn err(e: impl std::fmt::Display) -> anyhow::Error {
+    anyhow::anyhow!("{e}")
+}
+
+type Area<'a> = DrawingArea<BitMapBackend<'a>, plotters::coord::Shift>;
+
+/// A PNG of `size` pixels at `path`: `draw` paints it on a white area (told whether text can be
+/// drawn); written beside the path and renamed, so a failed plot leaves nothing behind.
+fn chart_png(path: &Path, size: (u32, u32), draw: impl FnOnce(&Area<'_>, bool) -> Result<()>) -> Result<()> {
+    let text = font();
+    let tmp = path.with_extension("partial.png");
+    let drawn = (|| {
+        let root = BitMapBackend::new(&tmp, size).into_drawing_area();
+        root.fill(&WHITE).map_err(err)?;
+        draw(&root, text)?;
+        root.present().map_err(err)
+    })();
+    match drawn {
+        Ok(()) => std::fs::rename(&tmp, path).with_context(|| format!("writing {}", path.display())),
+        Err(e) => {
+            let _ = std::fs::remove_file(&tmp);
+            Err(e.context(format!("plotting {}", path.display())))
+        }
+    }
+}
+
+/// A chart's frame: margins and, when text is drawn, the caption and the axes' label areas.
+fn frame<'a, 'b>(
+    root: &'a Area<'b>,
+    text: bool,
+    caption: &str,
+    x_label_area: u32,
+) -> ChartBuilder<'a, 'b, BitMapBackend<'b>> {
+    let mut builder = ChartBuilder::on(root);
+    builder.margin(20);
+    if text {
+        builder.caption(caption, ("sans-serif", 22));
+        builder.x_label_area_size(x_label_area).y_label_area_size(70);
+    }
+    builder
+}
+
+/// The series' legend at `position` on a white box of opacity `opacity`.
+fn legend<'a, DB: DrawingBackend + 'a, CT: CoordTranslate>(
+    chart: &mut ChartContext<'a, DB, CT>,
+    position: SeriesLabelPosition,
+    opacity: f64,
+) -> Result<()>
+where
+    DB::ErrorType: 'static,
+{
+    chart
+        .configure_series_labels()
+        .position(position)
+        .background_style(WHITE.mix(opacity))
+        .border_style(BLACK)
+        .draw()
+        .map_err(err)
+}
+
 /// Error against data size or move time (`x_key`), one colour per sweep and each point labelled
 /// with its value, the Pareto front joined: `path` (PNG).
 pub fn tradeoff(points: &[Point], x_key: &'static str, x_label: &str, path: &Path) -> Result<()> {
-    let text = font();
     let scale = if x_key == "data_bytes" { 1e-6 } else { 1.0 };
     let xy: Vec<(f64, f64)> = points.iter().map(|p| (p.figures[x_key] * scale, p.figures["rel_l2_exact"])).collect();
     let finite: Vec<&(f64, f64)> =
@@ -44,18 +104,10 @@ pub fn tradeoff(points: &[Point], x_key: &'static str, x_label: &str, path: &Pat
     }
     let x1 = finite.iter().fold(f64::MIN, |a, p| a.max(p.0));
     let y1 = finite.iter().fold(f64::MIN, |a, p| a.max(p.1));
-    let tmp = path.with_extension("partial.png");
-    {
-        let root = BitMapBackend::new(&tmp, (900, 600)).into_drawing_area();
-        root.fill(&WHITE).map_err(|e| anyhow::anyhow!("{e}"))?;
-        let mut builder = ChartBuilder::on(&root);
-        builder.margin(20);
-        if text {
-            builder.caption(format!("relative L2 vs exact reference against {x_label}"), ("sans-serif", 22));
-            builder.x_label_area_size(45).y_label_area_size(70);
-        }
+    chart_png(path, (900, 600), |root, text| {
+        let caption = format!("relative L2 vs exact reference against {x_label}");
         let mut chart =
-            builder.build_cartesian_2d(0.0..x1 * 1.3, 0.0..y1 * 1.15).map_err(|e| anyhow::anyhow!("{e}"))?;
+            frame(root, text, &caption, 45).build_cartesian_2d(0.0..x1 * 1.3, 0.0..y1 * 1.15).map_err(err)?;
         if text {
             chart
                 .configure_mesh()
@@ -65,7 +117,7 @@ pub fn tradeoff(points: &[Point], x_key: &'static str, x_label: &str, path: &Pat
                 .y_labels(12)
                 .y_label_formatter(&|y| format!("{y:.3}"))
                 .draw()
-                .map_err(|e| anyhow::anyhow!("{e}"))?;
+                .map_err(err)?;
         }
         let sweeps: Vec<String> = points.iter().map(|p| p.sweep.clone()).fold(Vec::new(), |mut v, s| {
             if !v.contains(&s) {
@@ -87,7 +139,7 @@ pub fn tradeoff(points: &[Point], x_key: &'static str, x_label: &str, path: &Pat
                         + Circle::new((0, 0), 6, colour.filled())
                         + Text::new(label, (8, -14), ("sans-serif", 13))
                 }))
-                .map_err(|e| anyhow::anyhow!("{e}"))?;
+                .map_err(err)?;
             if text {
                 drawn.label(sweep.as_str()).legend(move |(x, y)| Circle::new((x, y), 5, colour.filled()));
             }
@@ -95,19 +147,12 @@ pub fn tradeoff(points: &[Point], x_key: &'static str, x_label: &str, path: &Pat
         let on_front = |p: &Point| if x_key == "data_bytes" { p.pareto_size } else { p.pareto_move };
         let mut front: Vec<(f64, f64)> = points.iter().zip(&xy).filter(|(p, _)| on_front(p)).map(|(_, &q)| q).collect();
         front.sort_by(|a, b| a.0.total_cmp(&b.0));
-        chart.draw_series(LineSeries::new(front, BLACK.stroke_width(2))).map_err(|e| anyhow::anyhow!("{e}"))?;
+        chart.draw_series(LineSeries::new(front, BLACK.stroke_width(2))).map_err(err)?;
         if text {
-            chart
-                .configure_series_labels()
-                .position(SeriesLabelPosition::LowerRight)
-                .background_style(WHITE.mix(0.8))
-                .border_style(BLACK)
-                .draw()
-                .map_err(|e| anyhow::anyhow!("{e}"))?;
+            legend(&mut chart, SeriesLabelPosition::LowerRight, 0.8)?;
         }
-        root.present().map_err(|e| anyhow::anyhow!("{e}"))?;
-    }
-    std::fs::rename(&tmp, path).with_context(|| format!("writing {}", path.display()))
+        Ok(())
+    })
 }
 
 /// The figures drawn, their labels and the unit each is scaled to.
@@ -149,46 +194,27 @@ pub fn scaling(section: &ScalingSection, sweep: &str, x_label: &str, path: &Path
     }
     let (x0, x1) = all.iter().fold((f64::MAX, f64::MIN), |a, p| (a.0.min(p.0), a.1.max(p.0)));
     let (y0, y1) = all.iter().fold((f64::MAX, f64::MIN), |a, p| (a.0.min(p.1), a.1.max(p.1)));
-    let text = font();
-    let tmp = path.with_extension("partial.png");
-    {
-        let root = BitMapBackend::new(&tmp, (1000, 650)).into_drawing_area();
-        root.fill(&WHITE).map_err(|e| anyhow::anyhow!("{e}"))?;
-        let mut builder = ChartBuilder::on(&root);
-        builder.margin(20);
-        if text {
-            builder.caption(format!("how the costs grow with {x_label} (log–log)"), ("sans-serif", 22));
-            builder.x_label_area_size(45).y_label_area_size(70);
-        }
-        let mut chart = builder
+    chart_png(path, (1000, 650), |root, text| {
+        let caption = format!("how the costs grow with {x_label} (log–log)");
+        let mut chart = frame(root, text, &caption, 45)
             .build_cartesian_2d((x0 / 1.3..x1 * 1.3).log_scale(), (y0 / 2.0..y1 * 4.0).log_scale())
-            .map_err(|e| anyhow::anyhow!("{e}"))?;
+            .map_err(err)?;
         if text {
-            chart.configure_mesh().x_desc(x_label).draw().map_err(|e| anyhow::anyhow!("{e}"))?;
+            chart.configure_mesh().x_desc(x_label).draw().map_err(err)?;
         }
         for (k, (label, xy)) in series.into_iter().enumerate() {
             let colour = Palette99::pick(k).to_rgba();
-            chart
-                .draw_series(xy.iter().map(|&p| Circle::new(p, 4, colour.filled())))
-                .map_err(|e| anyhow::anyhow!("{e}"))?;
-            let line =
-                chart.draw_series(LineSeries::new(xy, colour.stroke_width(2))).map_err(|e| anyhow::anyhow!("{e}"))?;
+            chart.draw_series(xy.iter().map(|&p| Circle::new(p, 4, colour.filled()))).map_err(err)?;
+            let line = chart.draw_series(LineSeries::new(xy, colour.stroke_width(2))).map_err(err)?;
             if text {
                 line.label(label).legend(move |(x, y)| PathElement::new([(x, y), (x + 18, y)], colour.stroke_width(2)));
             }
         }
         if text {
-            chart
-                .configure_series_labels()
-                .position(SeriesLabelPosition::UpperLeft)
-                .background_style(WHITE.mix(0.85))
-                .border_style(BLACK)
-                .draw()
-                .map_err(|e| anyhow::anyhow!("{e}"))?;
+            legend(&mut chart, SeriesLabelPosition::UpperLeft, 0.85)?;
         }
-        root.present().map_err(|e| anyhow::anyhow!("{e}"))?;
-    }
-    std::fs::rename(&tmp, path).with_context(|| format!("writing {}", path.display()))
+        Ok(())
+    })
 }
 
 /// The accuracy section at rest: per scene and preset, the error against the exact reference
@@ -212,20 +238,11 @@ pub fn accuracy(section: &AccuracySection, path: &Path) -> Result<()> {
     }
     let y0 = rest.iter().map(|r| r.rel_l2_exact * 100.0).fold(0.5f64, f64::min) / 2.0;
     let y1 = rest.iter().map(|r| r.rel_l2_exact * 100.0).fold(1.0f64, f64::max) * 2.0;
-    let text = font();
-    let tmp = path.with_extension("partial.png");
-    {
-        let root = BitMapBackend::new(&tmp, (1000, 600)).into_drawing_area();
-        root.fill(&WHITE).map_err(|e| anyhow::anyhow!("{e}"))?;
-        let mut builder = ChartBuilder::on(&root);
-        builder.margin(20);
-        if text {
-            builder.caption("error against the exact reference per map, at rest", ("sans-serif", 22));
-            builder.x_label_area_size(60).y_label_area_size(70);
-        }
+    chart_png(path, (1000, 600), |root, text| {
+        let caption = "error against the exact reference per map, at rest";
         let n = maps.len() as f64;
         let mut chart =
-            builder.build_cartesian_2d(-0.5..n - 0.5, (y0..y1).log_scale()).map_err(|e| anyhow::anyhow!("{e}"))?;
+            frame(root, text, caption, 60).build_cartesian_2d(-0.5..n - 0.5, (y0..y1).log_scale()).map_err(err)?;
         if text {
             let names = maps.clone();
             chart
@@ -241,12 +258,12 @@ pub fn accuracy(section: &AccuracySection, path: &Path) -> Result<()> {
                 })
                 .y_desc("rel. L2 %")
                 .draw()
-                .map_err(|e| anyhow::anyhow!("{e}"))?;
+                .map_err(err)?;
         }
         for (goal, label) in [(1.0, "goal at balanced: 1 %"), (0.5, "goal at paper: 0.5 %")] {
             let line = chart
                 .draw_series(LineSeries::new([(-0.5, goal), (n - 0.5, goal)], BLACK.mix(0.5).stroke_width(1)))
-                .map_err(|e| anyhow::anyhow!("{e}"))?;
+                .map_err(err)?;
             if text {
                 line.label(label).legend(move |(x, y)| PathElement::new([(x, y), (x + 18, y)], BLACK.mix(0.5)));
             }
@@ -258,28 +275,18 @@ pub fn accuracy(section: &AccuracySection, path: &Path) -> Result<()> {
                 .filter(|r| r.scene == scene && r.preset == preset)
                 .filter_map(|r| maps.iter().position(|m| *m == r.map).map(|x| (x as f64, r.rel_l2_exact * 100.0)))
                 .collect();
-            chart
-                .draw_series(xy.iter().map(|&p| Circle::new(p, 5, colour.filled())))
-                .map_err(|e| anyhow::anyhow!("{e}"))?;
-            let line =
-                chart.draw_series(LineSeries::new(xy, colour.stroke_width(2))).map_err(|e| anyhow::anyhow!("{e}"))?;
+            chart.draw_series(xy.iter().map(|&p| Circle::new(p, 5, colour.filled()))).map_err(err)?;
+            let line = chart.draw_series(LineSeries::new(xy, colour.stroke_width(2))).map_err(err)?;
             if text {
                 line.label(format!("{scene}, {preset}"))
                     .legend(move |(x, y)| PathElement::new([(x, y), (x + 18, y)], colour.stroke_width(2)));
             }
         }
         if text {
-            chart
-                .configure_series_labels()
-                .position(SeriesLabelPosition::UpperRight)
-                .background_style(WHITE.mix(0.85))
-                .border_style(BLACK)
-                .draw()
-                .map_err(|e| anyhow::anyhow!("{e}"))?;
+            legend(&mut chart, SeriesLabelPosition::UpperRight, 0.85)?;
         }
-        root.present().map_err(|e| anyhow::anyhow!("{e}"))?;
-    }
-    std::fs::rename(&tmp, path).with_context(|| format!("writing {}", path.display()))
+        Ok(())
+    })
 }
 
 #[cfg(test)]

@@ -240,6 +240,7 @@ pub(crate) fn resolve(args: &PrecomputeArgs) -> Result<Resolved> {
     let params = resolve_params(args, desc.as_ref())?;
     let t = Instant::now();
     let scene = Scene::open(&args.scene)?;
+    crate::warn_ignored(&scene);
     let load_s = t.elapsed().as_secs_f64();
     let environment = match &args.env {
         Some(e) => {

@@ -108,7 +108,9 @@ pub struct RenderArgs {
     /// Also write the linear image as EXR.
     #[arg(long)]
     pub exr: Option<PathBuf>,
-    /// Also write the scene at its current positions as a PLY mesh with outgoing radiance.
+    /// Also write the scene at its current positions as a PLY mesh: per vertex position,
+    /// normal and linear outgoing radiance as float `red green blue`, toward the camera where
+    /// the camera can see it, else along its normal (so every vertex is shaded).
     #[arg(long)]
     pub export_ply: Option<PathBuf>,
     /// What to draw: `cuts` (the precomputed visibility cuts) or a screen-space method on the
@@ -484,7 +486,9 @@ pub fn run(args: &RenderArgs) -> Result<RenderOutcome> {
         out.emit("exr", format!("{}", p.display()));
     }
     if let Some(p) = &args.export_ply {
-        write_ply(&frame, &radiance, p)?;
+        // Every vertex: those the camera cannot see toward their own normals.
+        let all = frame.shade_all(camera.position);
+        write_ply(&frame, &all, p)?;
         out.emit("ply", format!("{}", p.display()));
     }
     let compare = args.compare;

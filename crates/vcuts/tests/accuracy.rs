@@ -14,14 +14,7 @@ use common::{Scratch, scratch};
 
 /// The test scene at 1,024 directions, precomputed in `s`.
 fn precomputed(s: &Scratch) -> Precomputed {
-    let mut args = vcuts::precompute::PrecomputeArgs::new(s.0.join("scene.toml").to_str().unwrap(), "fast");
-    args.set = vec!["directions=1024".into()];
-    args.output = Some(s.0.join("a.vcuts"));
-    args.cache_dir = s.0.join("cache");
-    args.estimate.seconds = 0.1;
-    args.preset = None;
-    let (file, _) = vcuts::precompute::run(&args).unwrap();
-    Precomputed::open(&file).unwrap()
+    common::precomputed(s, "scene.toml", &["directions=1024"])
 }
 
 #[test]

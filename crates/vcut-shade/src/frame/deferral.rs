@@ -50,12 +50,12 @@ impl Frame {
     /// move left some: [`Frame::set_deferred_merges`]); returns how many.
     pub fn set_eye(&mut self, eye: Vec3) -> Result<usize, FrameError> {
         self.eye = Some(eye);
-        let waiting = self.objects.iter().any(|s| s.pending.iter().enumerate().any(|(v, &p)| p && s.faces(v, eye)));
+        let waiting = self.objects.iter().any(|s| s.pending.iter().enumerate().any(|(v, &p)| p && s.seen(v, eye)));
         let mut merged = if waiting { self.rekey(Changed::Nothing, false)? } else { 0 };
         for o in 0..self.objects.len() {
             let s = &self.objects[o];
             let which: Vec<bool> =
-                s.lists.iter().enumerate().map(|(v, l)| l.stale && !s.pending[v] && s.faces(v, eye)).collect();
+                s.lists.iter().enumerate().map(|(v, l)| l.stale && !s.pending[v] && s.seen(v, eye)).collect();
             if which.contains(&true) {
                 merged += self.relist(o, &which)?;
             }

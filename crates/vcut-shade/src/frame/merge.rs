@@ -175,7 +175,7 @@ impl Frame {
         let me = &self.objects[o];
         let normals = &me.mesh.normals()[offset..];
         let eye = self.eye();
-        let facing = |v: usize| eye.is_none_or(|e| me.faces(offset + v, e));
+        let facing = |v: usize| eye.is_none_or(|e| me.seen(offset + v, e));
         let table = &self.nodes;
         let old = std::mem::take(cache);
         let start = Instant::now();
@@ -326,7 +326,7 @@ impl Frame {
         if self.merged_cache {
             let (state, nodes) = (&*state, &self.nodes);
             lists.par_iter_mut().enumerate().filter(|(v, _)| which[*v]).for_each_init(Vec::new, |below, (v, list)| {
-                if eye.is_none_or(|e| state.faces(v, e)) {
+                if eye.is_none_or(|e| state.seen(v, e)) {
                     state.relist(v, nodes, list, below);
                 } else {
                     list.mark_stale();
@@ -365,8 +365,7 @@ impl Frame {
             let fresh: Vec<Option<Vec<FieldKey>>> =
                 (0..n).into_par_iter().map(|v| self.changed_keys(k, v, changed)).collect();
             let state = &self.objects[k];
-            let merge: Vec<bool> =
-                (0..n).map(|v| fresh[v].is_some() && eye.is_none_or(|e| state.faces(v, e))).collect();
+            let merge: Vec<bool> = (0..n).map(|v| fresh[v].is_some() && eye.is_none_or(|e| state.seen(v, e))).collect();
             timing.keys_s += start.elapsed().as_secs_f64();
             // A waiting vertex keeps the keys of its merged cut (the next move compares with
             // them) and no list; one whose inputs are back to its cut's waits no more.

@@ -119,7 +119,7 @@ use glam::Vec3;
 use keys::FieldKey;
 use lists::{ShadeList, ShadeNode, SpecularNode};
 use merge::FieldCache;
-use object::ObjectState;
+use object::{ObjectState, ViewCone};
 use rayon::prelude::*;
 pub use stats::FrameMemory;
 use vcut_cut::Cut;
@@ -327,6 +327,7 @@ impl Frame {
             for a in &svc {
                 svc_starts.push(svc_starts.last().copied().unwrap_or(0) + a.len());
             }
+            let field = data.field_arrays(o)?;
             let stored = &data.objects[o];
             objects.push(ObjectState {
                 name: stored.name.clone(),
@@ -338,13 +339,14 @@ impl Frame {
                 svc,
                 svc_starts,
                 layout: data.layouts[o],
-                field: data.field_arrays(o)?,
+                field,
                 merged: Vec::new(),
                 lists: Vec::new(),
                 keys: Vec::new(),
                 decoded: FieldCache::default(),
                 svc_refined: Vec::new(),
                 pending: Vec::new(),
+                cones: ViewCone::of(&stored.mesh),
             });
         }
         let mut builder = LightTreeBuilder::new(&tree);
@@ -575,6 +577,14 @@ impl Frame {
     pub fn positions(&self, o: usize) -> Vec<Vec3> {
         let s = &self.objects[o];
         s.mesh.positions().iter().map(|&p| p + s.translation).collect()
+    }
+
+    /// Whether vertex `v` of object `o` may be seen from `eye`, and so is shaded toward it: its
+    /// normal faces the eye, or one of its triangles may (a silhouette vertex of a visible
+    /// triangle, shaded toward [`brdf::view_direction`]). What is not seen shades black in
+    /// [`Frame::shade`] and its merges may wait.
+    pub fn seen(&self, o: usize, v: usize, eye: Vec3) -> bool {
+        self.objects[o].seen(v, eye)
     }
 
     /// The eye that merges build shading lists for.

@@ -39,12 +39,72 @@ pub(super) struct ObjectState {
     /// Vertices whose merge waits ([`Frame::set_deferred_merges`]): their field inputs changed
     /// while they faced away from the eye; `merged` and `keys` are still the last merge's.
     pub(super) pending: Vec<bool>,
+    /// Per vertex, a cone holding the normals of its triangles ([`ViewCone`]).
+    pub(super) cones: Vec<ViewCone>,
+}
+
+/// The normals of a vertex's triangles, bounded by a cone (unit axis, sine of its half-angle):
+/// some triangle of the vertex may face a point seen in direction `d` only if `axis·d > −sin`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(super) struct ViewCone {
+    axis: Vec3,
+    sin: f32,
+}
+
+impl ViewCone {
+    /// Every vertex's cone over `mesh`'s triangles (degenerate triangles left out; a vertex with
+    /// no proper triangle, or whose triangles' normals cancel, gets the whole sphere).
+    pub(super) fn of(mesh: &Mesh) -> Vec<ViewCone> {
+        let p = mesh.positions();
+        let normals: Vec<Vec3> = mesh
+            .triangles()
+            .iter()
+            .map(|t| {
+                (p[t[1] as usize] - p[t[0] as usize]).cross(p[t[2] as usize] - p[t[0] as usize]).normalize_or_zero()
+            })
+            .collect();
+        let mut sum = vec![Vec3::ZERO; p.len()];
+        for (t, n) in mesh.triangles().iter().zip(&normals) {
+            for &i in t {
+                sum[i as usize] += *n;
+            }
+        }
+        let mut cones: Vec<ViewCone> =
+            sum.iter().map(|s| ViewCone { axis: s.normalize_or_zero(), sin: -1.0 }).collect();
+        for (t, n) in mesh.triangles().iter().zip(&normals) {
+            if *n == Vec3::ZERO {
+                continue;
+            }
+            for &i in t {
+                let c = &mut cones[i as usize];
+                // sin of the angle between the axis and this normal, or past 90°: 1 + (1 − cos).
+                let cos = c.axis.dot(*n);
+                let sin = if cos >= 0.0 { (1.0 - cos * cos).max(0.0).sqrt() } else { 2.0 - cos };
+                c.sin = c.sin.max(sin);
+            }
+        }
+        for c in &mut cones {
+            if c.axis == Vec3::ZERO || c.sin < 0.0 {
+                *c = ViewCone { axis: Vec3::ZERO, sin: 2.0 };
+            }
+        }
+        cones
+    }
+
+    /// Whether some triangle of the vertex may face direction `d` (unit).
+    #[inline]
+    pub(super) fn may_face(&self, d: Vec3) -> bool {
+        self.axis.dot(d) > -self.sin
+    }
 }
 
 impl ObjectState {
-    /// Whether vertex `v` at the current translation faces `eye`.
-    pub(super) fn faces(&self, v: usize, eye: Vec3) -> bool {
-        faces(self.mesh.normals()[v], self.mesh.positions()[v] + self.translation, eye)
+    /// Whether vertex `v` at the current translation may be seen from `eye`: its normal faces
+    /// the eye, or one of its triangles may ([`ViewCone`]); else it reflects nothing toward it.
+    /// The one test of what is shaded, merged at once and listed for an eye.
+    pub(super) fn seen(&self, v: usize, eye: Vec3) -> bool {
+        let x = self.mesh.positions()[v] + self.translation;
+        faces(self.mesh.normals()[v], x, eye) || self.cones[v].may_face((eye - x).normalize_or_zero())
     }
 
     /// Builds vertex `v`'s shading list from its kept merged cut into `list`.

@@ -3,7 +3,7 @@
 //! sun's leaves by rays; stale lists and waiting merges done on the spot.
 
 use super::Frame;
-use super::lists::{ShadeList, blinn_phong_argument, faces, phong_argument};
+use super::lists::{ShadeList, blinn_phong_argument, phong_argument};
 use crate::brdf;
 use glam::Vec3;
 use rayon::prelude::*;
@@ -32,10 +32,10 @@ impl Frame {
         let s = &self.objects[o];
         let x = s.mesh.positions()[v] + s.translation;
         let n = s.mesh.normals()[v];
-        if !faces(n, x, eye) {
+        if !s.seen(v, eye) {
             return Vec3::ZERO;
         }
-        let wo = (eye - x).normalize_or_zero();
+        let wo = brdf::view_direction(n, x, eye);
         let diffuse = Vec3::from(s.material.kd) / std::f32::consts::PI * list.diffuse;
         let pow = s.pow.as_ref().map_or(brdf::Pow::Exact(s.material.exponent), brdf::Pow::Table);
         let lobe = brdf::Lobe::with_pow(&s.material, n, wo, pow);
@@ -58,14 +58,26 @@ impl Frame {
 
     /// Outgoing radiance toward `eye` of every vertex of every object: B = Σ_k v_k f_r l_k over
     /// its merged cut, with the light-weighted node directions and cosines of the module
-    /// documentation (plus the sun's leaves by rays, with [`Frame::set_sun_rays`]).
+    /// documentation (plus the sun's leaves by rays, with [`Frame::set_sun_rays`]). Vertices the
+    /// eye cannot see ([`Frame::seen`]) are black; silhouette vertices are shaded toward
+    /// [`brdf::view_direction`].
     ///
     /// Vertices whose list is stale build it on the spot without keeping it ([`Frame::set_eye`]
     /// keeps them; without the merged cache they merge again for it), and so do vertices
-    /// facing `eye` whose merge waits with their cut (a read error there, which setup's
+    /// seen from `eye` whose merge waits with their cut (a read error there, which setup's
     /// decoding of the same file makes unlikely, shades the vertex black; [`Frame::set_eye`]
     /// reports it). `eye` becomes the eye later merges build lists for.
     pub fn shade(&mut self, eye: Vec3) -> Vec<Vec<Vec3>> {
+        self.shade_vertices(eye, false)
+    }
+
+    /// [`Frame::shade`] for every vertex, for exports: those seen from `eye` as there, each
+    /// other one toward its own normal (as seen head-on from outside; its waiting merge done).
+    pub fn shade_all(&mut self, eye: Vec3) -> Vec<Vec<Vec3>> {
+        self.shade_vertices(eye, true)
+    }
+
+    fn shade_vertices(&mut self, eye: Vec3, all: bool) -> Vec<Vec<Vec3>> {
         self.eye = Some(eye);
         let this = &*self;
         let (radiance, spot): (Vec<Vec<Vec3>>, Vec<u64>) = this
@@ -80,8 +92,15 @@ impl Frame {
                     .map_init(
                         || (ShadeList::default(), Vec::new(), MergedCut::default()),
                         |(built, below, cut), (v, list)| {
-                            let pending = s.pending[v] && s.faces(v, eye);
-                            if pending || (list.stale && !this.merged_cache && s.faces(v, eye)) {
+                            let seen = s.seen(v, eye);
+                            if !seen && !all {
+                                return (Vec3::ZERO, false);
+                            }
+                            // Unseen (in `all`): viewed along its normal.
+                            let eye =
+                                if seen { eye } else { s.mesh.positions()[v] + s.translation + s.mesh.normals()[v] };
+                            let pending = s.pending[v];
+                            if pending || (list.stale && !this.merged_cache) {
                                 // At its current inputs if waiting, else at its kept ones.
                                 let keys =
                                     if pending { Cow::Owned(this.keys(o, v)) } else { Cow::Borrowed(&s.keys[v]) };
@@ -91,7 +110,7 @@ impl Frame {
                                 let ends = s.svc_ends(v);
                                 built.rebuild(cut, s.mesh.normals()[v], &this.nodes, ends.as_deref(), below);
                                 (this.shade_vertex(o, v, built, eye), true)
-                            } else if list.stale && s.faces(v, eye) {
+                            } else if list.stale {
                                 s.relist(v, &this.nodes, built, below);
                                 (this.shade_vertex(o, v, built, eye), false)
                             } else {

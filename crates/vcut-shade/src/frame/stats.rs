@@ -78,7 +78,9 @@ impl Frame {
         let vec = size_of::<Vec<u8>>();
         for s in &self.objects {
             m.stored += s.svc.iter().chain(&s.field).map(|a| a.bytes()).sum::<usize>();
-            m.meshes += s.mesh.vertex_count() * 2 * size_of::<Vec3>() + s.mesh.triangle_count() * 3 * size_of::<u32>();
+            m.meshes += s.mesh.vertex_count() * 2 * size_of::<Vec3>()
+                + s.mesh.triangle_count() * 3 * size_of::<u32>()
+                + s.cones.len() * size_of::<super::object::ViewCone>();
             m.merged += s
                 .merged
                 .iter()

@@ -52,3 +52,16 @@ pub fn scratch(name: &str) -> Scratch {
     std::fs::write(d.join("scene.toml"), SCENE).unwrap();
     Scratch(d)
 }
+
+/// Scene file `scene` in `s` precomputed at `fast` with the extra settings `set` (e.g.
+/// `directions=1024`) and opened.
+pub fn precomputed(s: &Scratch, scene: &str, set: &[&str]) -> vcut_data::Precomputed {
+    let mut args = vcuts::precompute::PrecomputeArgs::new(s.0.join(scene).to_str().unwrap(), "fast");
+    args.set = set.iter().map(|x| x.to_string()).collect();
+    args.output = Some(s.0.join(scene).with_extension("vcuts"));
+    args.cache_dir = s.0.join("cache");
+    args.estimate.seconds = 0.1;
+    args.preset = None;
+    let (file, _) = vcuts::precompute::run(&args).unwrap();
+    vcut_data::Precomputed::open(&file).unwrap()
+}
