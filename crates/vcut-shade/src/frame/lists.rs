@@ -132,12 +132,6 @@ pub(super) fn unpack(e: u32) -> (usize, f32) {
     ((e >> WEIGHT_BITS) as usize, f32::from_bits((e & ((1 << WEIGHT_BITS) - 1)) << 13) * FROM_HALF)
 }
 
-/// Whether a vertex at `x` with normal `n` faces `eye` (else it reflects nothing toward it).
-#[inline]
-pub(super) fn faces(n: Vec3, x: Vec3, eye: Vec3) -> bool {
-    n.dot((eye - x).normalize_or_zero()) > 0.0
-}
-
 impl ShadeList {
     /// The list of merged cut `cut` at normal `n` (`svc`: see [`ShadeList::rebuild`]).
     pub(super) fn new(cut: &MergedCut, n: Vec3, table: &[ShadeNode], svc: Option<&[u32]>) -> ShadeList {

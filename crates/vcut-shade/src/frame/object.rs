@@ -3,7 +3,7 @@
 //! cuts and refined cells kept for the next move, which merges wait).
 
 use super::keys::FieldKey;
-use super::lists::{ShadeList, ShadeNode, faces};
+use super::lists::{ShadeList, ShadeNode};
 use super::merge::FieldCache;
 use crate::brdf;
 use crate::sun::Placed;
@@ -103,8 +103,8 @@ impl ObjectState {
     /// the eye, or one of its triangles may ([`ViewCone`]); else it reflects nothing toward it.
     /// The one test of what is shaded, merged at once and listed for an eye.
     pub(super) fn seen(&self, v: usize, eye: Vec3) -> bool {
-        let x = self.mesh.positions()[v] + self.translation;
-        faces(self.mesh.normals()[v], x, eye) || self.cones[v].may_face((eye - x).normalize_or_zero())
+        let d = (eye - (self.mesh.positions()[v] + self.translation)).normalize_or_zero();
+        self.mesh.normals()[v].dot(d) > 0.0 || self.cones[v].may_face(d)
     }
 
     /// Builds vertex `v`'s shading list from its kept merged cut into `list`.

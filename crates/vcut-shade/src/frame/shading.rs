@@ -16,6 +16,9 @@ impl Frame {
     /// for measuring what other cuts would give.
     pub fn shade_cut(&self, o: usize, v: usize, cut: &MergedCut, eye: Vec3) -> Vec3 {
         let s = &self.objects[o];
+        if !s.seen(v, eye) {
+            return Vec3::ZERO;
+        }
         let list = ShadeList::new(cut, s.mesh.normals()[v], &self.nodes, s.svc_ends(v).as_deref());
         self.shade_vertex(o, v, &list, eye)
     }
@@ -24,17 +27,19 @@ impl Frame {
     /// V·max(0, n·ω) (not a product with the SVC).
     pub fn shade_cut_means(&self, o: usize, v: usize, cut: &MergedCut, eye: Vec3) -> Vec3 {
         let s = &self.objects[o];
+        if !s.seen(v, eye) {
+            return Vec3::ZERO;
+        }
         let list = ShadeList::new(cut, s.mesh.normals()[v], &self.nodes, None);
         self.shade_vertex(o, v, &list, eye)
     }
 
+    /// Vertex `v`'s radiance toward `eye` through `list`; its callers have checked that `eye`
+    /// sees it ([`Frame::seen`]).
     fn shade_vertex(&self, o: usize, v: usize, list: &ShadeList, eye: Vec3) -> Vec3 {
         let s = &self.objects[o];
         let x = s.mesh.positions()[v] + s.translation;
         let n = s.mesh.normals()[v];
-        if !s.seen(v, eye) {
-            return Vec3::ZERO;
-        }
         let wo = brdf::view_direction(n, x, eye);
         let diffuse = Vec3::from(s.material.kd) / std::f32::consts::PI * list.diffuse;
         let pow = s.pow.as_ref().map_or(brdf::Pow::Exact(s.material.exponent), brdf::Pow::Table);
