@@ -1,5 +1,6 @@
 //! Fuzz target: a `.vcuts` file of arbitrary bytes — the container (header, offset table,
-//! section checksums), every section payload parser behind it and a shard file's plan — gives errors, never a panic.
+//! section checksums), every section payload parser behind it (the view's TOML and the embedded
+//! map included) and a shard file's plan — gives errors, never a panic.
 #![no_main]
 
 use libfuzzer_sys::fuzz_target;
@@ -11,7 +12,7 @@ use vcut_data::shard::ShardPlan;
 
 fuzz_target!(|data: &[u8]| {
     let Some((&mode, rest)) = data.split_first() else { return };
-    match mode % 6 {
+    match mode % 8 {
         // Payload parsers directly, so the fuzzer need not forge CRCs to reach them.
         0 => {
             if let Ok(a) = sections::CutArray::parse(rest.to_vec()) {
@@ -35,6 +36,19 @@ fuzz_target!(|data: &[u8]| {
         5 => {
             if let Ok((index, plan)) = ShardPlan::decode(rest) {
                 assert!(index < plan.shards() && plan.sections().iter().all(|s| s.owner < plan.shards()));
+            }
+        }
+        6 => {
+            if let Ok(text) = std::str::from_utf8(rest) {
+                let _ = vcut_data::View::parse(text);
+            }
+        }
+        7 => {
+            if let Ok(map) = vcut_envmap::embed::decode(rest, "fuzz") {
+                assert_eq!(
+                    vcut_envmap::embed::decode(&vcut_envmap::embed::encode(&map), "fuzz").unwrap().texels(),
+                    map.texels()
+                );
             }
         }
         // The container: open, then read every section it lists and parse the cut arrays.

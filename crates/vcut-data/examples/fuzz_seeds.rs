@@ -27,6 +27,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             SectionKind::FieldLayout => 3,
             SectionKind::Svc | SectionKind::Field => 0,
             SectionKind::Shard => 5,
+            SectionKind::View => 6,
+            SectionKind::Environment => 7,
             SectionKind::Params => continue,
         };
         if seen.contains(&id.kind) {

@@ -28,11 +28,15 @@ pub enum SectionKind {
     /// Only in a shard file of a sharded precompute: the shard's index and the plan
     /// ([`crate::shard`]). A whole file never holds one.
     Shard = 7,
+    /// The scene's cameras and light-error target, as TOML text ([`crate::view::View`]).
+    View = 8,
+    /// The environment map the precompute was given, embedded ([`vcut_envmap::embed`]).
+    Environment = 9,
 }
 
 impl SectionKind {
     /// Every kind, in number order.
-    pub const ALL: [SectionKind; 7] = [
+    pub const ALL: [SectionKind; 9] = [
         SectionKind::Params,
         SectionKind::Directions,
         SectionKind::Mesh,
@@ -40,6 +44,8 @@ impl SectionKind {
         SectionKind::Svc,
         SectionKind::Field,
         SectionKind::Shard,
+        SectionKind::View,
+        SectionKind::Environment,
     ];
 
     /// Lower-case name.
@@ -52,6 +58,8 @@ impl SectionKind {
             SectionKind::Svc => "svc",
             SectionKind::Field => "field",
             SectionKind::Shard => "shard",
+            SectionKind::View => "view",
+            SectionKind::Environment => "environment",
         }
     }
 }
@@ -69,7 +77,11 @@ impl Kind for SectionKind {
 
     fn describe(self, a: u32, b: u32) -> String {
         match self {
-            SectionKind::Params | SectionKind::Directions | SectionKind::Shard => self.name().into(),
+            SectionKind::Params
+            | SectionKind::Directions
+            | SectionKind::Shard
+            | SectionKind::View
+            | SectionKind::Environment => self.name().into(),
             SectionKind::Mesh | SectionKind::FieldLayout => format!("{} (object {a})", self.name()),
             SectionKind::Svc => format!("svc (object {a}, chunk {b})"),
             SectionKind::Field => format!("field (object {a}, sphere {b})"),
@@ -95,7 +107,7 @@ mod tests {
         for k in SectionKind::ALL {
             assert_eq!(SectionKind::from_code(k.code()), Some(k));
         }
-        assert_eq!(SectionKind::from_code(8), None);
+        assert_eq!(SectionKind::from_code(10), None);
         assert_eq!(SectionId::new(SectionKind::Svc, 0, 3).to_string(), "svc (object 0, chunk 3)");
         assert_eq!(SectionId::new(SectionKind::Field, 1, 2).to_string(), "field (object 1, sphere 2)");
         assert_eq!(SectionId::new(SectionKind::Mesh, 4, 0).to_string(), "mesh (object 4)");

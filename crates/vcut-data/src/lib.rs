@@ -35,8 +35,10 @@ pub mod params;
 pub mod precomputed;
 pub mod sections;
 pub mod shard;
+pub mod view;
 
 pub use field::{FieldLayout, FieldSample, InsideSamples, RadialSpacing};
 pub use file::{FileError, Reader, SectionId, SectionKind, Writer};
 pub use params::{ParamError, PrecomputeParams};
 pub use precomputed::{Precomputed, Record, RecordError};
+pub use view::{View, ViewError};

@@ -5,9 +5,11 @@ use crate::field::FieldLayout;
 use crate::file::{FileError, Reader, SectionId, SectionKind};
 use crate::params::PrecomputeParams;
 use crate::sections::{self, CutArray, StoredObject};
+use crate::view::View;
 use glam::Vec3;
 use vcut_cut::Cut;
 use vcut_dirtree::DirectionTree;
+use vcut_envmap::EnvMap;
 
 /// What a `.vcuts` file records of how it was made: its `params` section, typed.
 #[derive(Debug, Clone, PartialEq)]
@@ -118,6 +120,9 @@ pub struct Precomputed {
     pub objects: Vec<StoredObject>,
     /// Per object, its field layout if it has a field.
     pub layouts: Vec<Option<FieldLayout>>,
+    /// The scene's cameras and light-error target (its `view` section); `None` in a file
+    /// written before the section existed, whose renderer re-opens the scene for them.
+    pub view: Option<View>,
 }
 
 impl Precomputed {
@@ -159,7 +164,25 @@ impl Precomputed {
                 None
             });
         }
-        Ok(Precomputed { reader, record, directions, cell_areas, leaf_order, objects, layouts })
+        let id = SectionId::new(SectionKind::View, 0, 0);
+        let view = if reader.has(id) {
+            let text = String::from_utf8(reader.section(id)?).map_err(|_| reader.section_error(id, "not UTF-8"))?;
+            Some(View::parse(&text).map_err(|e| reader.section_error(id, e))?)
+        } else {
+            None
+        };
+        Ok(Precomputed { reader, record, directions, cell_areas, leaf_order, objects, layouts, view })
+    }
+
+    /// The environment map the precompute was given, embedded in the file (its `environment`
+    /// section); `None` in a file written before the section existed.
+    pub fn environment(&mut self) -> Result<Option<EnvMap>, FileError> {
+        let id = SectionId::new(SectionKind::Environment, 0, 0);
+        if !self.reader.has(id) {
+            return Ok(None);
+        }
+        let bytes = self.reader.section(id)?;
+        vcut_envmap::embed::decode(&bytes, "the embedded map").map(Some).map_err(|e| self.reader.section_error(id, e))
     }
 
     /// The SVC rays' origin offset along the normal, as a fraction of each object's bounding

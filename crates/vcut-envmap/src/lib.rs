@@ -36,6 +36,7 @@
 //! assert!(up.x >= 0.0);
 //! ```
 
+pub mod embed;
 pub mod io;
 pub mod layout;
 pub mod procedural;

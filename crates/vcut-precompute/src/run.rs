@@ -402,6 +402,9 @@ fn run_sections<'a>(
             writer.put(SectionId::new(SectionKind::FieldLayout, i as u32, 0), &sections::encode_field_layout(l))?;
         }
     }
+    // What a renderer needs besides the objects, so the file renders without its scene file.
+    writer.put(SectionId::new(SectionKind::View, 0, 0), vcut_data::View::of(scene).text().as_bytes())?;
+    writer.put(SectionId::new(SectionKind::Environment, 0, 0), &vcut_envmap::embed::encode(&scene.environment))?;
     let sections = crate::plan::cut_sections(scene, p, &setup.layouts);
     let mut owned: Option<HashSet<SectionId>> = None;
     if let Some((index, plan)) = shard {

@@ -88,7 +88,7 @@ pub struct EnvironmentDesc {
     /// The target error of the light's brightest leaves left in the cuts (`vcut_shade::sun`):
     /// a relative L2 error in (0, 1); unset, the renderer's default.
     #[serde(skip_serializing_if = "Option::is_none")]
-    pub light_error: Option<f32>,
+    pub light_error: Option<f64>,
 }
 
 impl Default for EnvironmentDesc {
@@ -263,7 +263,7 @@ impl SceneDesc {
             })
             .chain(file_cameras)
             .collect();
-        let light_error = self.environment.light_error.map(f64::from);
+        let light_error = self.environment.light_error;
         Ok(Scene { objects, environment, cameras, warnings, light_error })
     }
 }

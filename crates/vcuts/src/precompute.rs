@@ -239,12 +239,13 @@ pub(crate) fn resolve(args: &PrecomputeArgs) -> Result<Resolved> {
     let desc = if args.scene.ends_with(".toml") { Some(SceneDesc::read(Path::new(&args.scene))?) } else { None };
     let params = resolve_params(args, desc.as_ref())?;
     let t = Instant::now();
-    let scene = Scene::open(&args.scene)?;
+    let mut scene = Scene::open(&args.scene)?;
     crate::warn_ignored(&scene);
     let load_s = t.elapsed().as_secs_f64();
+    // The map the file embeds for its renderer: `--env`'s, else the scene's.
     let environment = match &args.env {
         Some(e) => {
-            crate::inspect::load_envmap(e).with_context(|| format!("--env {e}"))?;
+            scene.environment = crate::inspect::load_envmap(e).with_context(|| format!("--env {e}"))?;
             e.clone()
         }
         None => "scene".into(),

@@ -6,6 +6,7 @@ use anyhow::{Context, Result, bail};
 use glam::Vec3;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
+use vcut_data::View;
 use vcut_data::{InsideSamples, Precomputed};
 use vcut_envmap::EnvMap;
 use vcut_scene::{Camera, Scene};
@@ -258,8 +259,9 @@ pub struct Opened {
     pub env: EnvMap,
     /// The environment's name (a spec `--env` takes, or "scene").
     pub env_name: String,
-    /// The scene it was precomputed from, when that opens here (for its cameras).
-    pub scene: Option<Scene>,
+    /// The scene's cameras and light-error target: the file's own record of them, or (a file
+    /// written before it held them) the scene re-opened by its recorded source, when it opens.
+    pub view: Option<View>,
     /// Seconds to read the data and merge every vertex.
     pub setup_s: f64,
 }
@@ -272,13 +274,34 @@ pub fn open(input: &Path, env: Option<&str>) -> Result<Opened> {
 /// [`open`] with a frame that keeps `caches` ([`Frame::with_caches`]).
 pub fn open_with(input: &Path, env: Option<&str>, caches: FrameCaches) -> Result<Opened> {
     let mut data = Precomputed::open(input)?;
-    let scene = Scene::open(&data.record.scene).ok();
-    let recorded = Some(data.record.environment.clone()).filter(|e| e != "scene");
-    let env_spec = env.map(str::to_string).or(recorded);
-    let (env, env_name): (EnvMap, String) = match (&env_spec, &scene) {
-        (Some(e), _) => (crate::inspect::load_envmap(e).with_context(|| format!("--env {e}"))?, e.clone()),
-        (None, Some(s)) => (s.environment.clone(), "scene".into()),
-        (None, None) => {
+    let embedded = data.environment()?;
+    // A file without its own record of the scene's view and light: the scene, re-opened.
+    let needs_scene = embedded.is_none() && env.is_none() && data.record.environment == "scene";
+    let scene = if data.view.is_none() || needs_scene {
+        match Scene::open(&data.record.scene) {
+            Ok(s) => Some(s),
+            Err(e) => {
+                log::warn!(
+                    "{}: written before .vcuts files held their cameras and map, and its scene does not open here \
+                     ({e}): the cameras are framed from the objects",
+                    input.display()
+                );
+                None
+            }
+        }
+    } else {
+        None
+    };
+    let view = data.view.clone().or_else(|| scene.as_ref().map(View::of));
+    let (env, env_name): (EnvMap, String) = match (env, embedded, &scene) {
+        (Some(e), _, _) => (crate::inspect::load_envmap(e).with_context(|| format!("--env {e}"))?, e.to_string()),
+        (None, Some(map), _) => (map, data.record.environment.clone()),
+        (None, None, Some(s)) if data.record.environment == "scene" => (s.environment.clone(), "scene".into()),
+        (None, None, _) if data.record.environment != "scene" => {
+            let e = data.record.environment.clone();
+            (crate::inspect::load_envmap(&e).with_context(|| format!("{}: its environment {e}", input.display()))?, e)
+        }
+        (None, None, _) => {
             bail!(
                 "{}: its scene '{}' does not open here; name an environment with --env",
                 input.display(),
@@ -288,7 +311,7 @@ pub fn open_with(input: &Path, env: Option<&str>, caches: FrameCaches) -> Result
     };
     let t = Instant::now();
     let frame = Frame::with_caches(&mut data, &env, caches)?;
-    Ok(Opened { data, frame, env, env_name, scene, setup_s: t.elapsed().as_secs_f64() })
+    Ok(Opened { data, frame, env, env_name, view, setup_s: t.elapsed().as_secs_f64() })
 }
 
 /// Applies `--brdf NAME=SPEC` and `--move NAME=DX,DY,DZ` edits; returns the moves' merge
@@ -337,15 +360,16 @@ pub fn light_error(flag: Option<f64>, scene: Option<f64>) -> Result<Option<f64>>
     }
 }
 
-/// The camera called `name` of `scene`, else the scene's first, else one framing every object.
-pub fn camera(scene: Option<&Scene>, name: Option<&str>, frame: &Frame) -> Result<Camera> {
-    Ok(match (scene, name) {
-        (Some(s), Some(name)) => {
-            s.cameras.iter().find(|c| c.name == name).cloned().with_context(|| format!("no camera '{name}'"))?
-        }
-        (Some(s), None) if !s.cameras.is_empty() => s.cameras[0].clone(),
-        (None, Some(name)) => bail!("no camera '{name}': the data's scene does not open here"),
-        _ => auto_camera(vcut_scene::Bounds::of_points((0..frame.object_count()).flat_map(|o| frame.positions(o)))),
+/// The camera called `name` of `view`, else its first, else one framing every object.
+pub fn camera(view: Option<&View>, name: Option<&str>, frame: &Frame) -> Result<Camera> {
+    let cameras = view.map_or(&[][..], |v| v.cameras.as_slice());
+    Ok(match name {
+        Some(name) => cameras.iter().find(|c| c.name == name).cloned().with_context(|| {
+            let names: Vec<&str> = cameras.iter().map(|c| c.name.as_str()).collect();
+            format!("no camera '{name}' (cameras: {})", if names.is_empty() { "none".into() } else { names.join(", ") })
+        })?,
+        None if !cameras.is_empty() => cameras[0].clone(),
+        None => auto_camera(vcut_scene::Bounds::of_points((0..frame.object_count()).flat_map(|o| frame.positions(o)))),
     })
 }
 
@@ -379,7 +403,7 @@ pub fn run(args: &RenderArgs) -> Result<RenderOutcome> {
         Some(_) => FrameCaches { svc: true, cells: false, merged: false },
         None => FrameCaches { merged: !args.no_merged_cache, ..FrameCaches::default() },
     };
-    let Opened { data, mut frame, env, scene, setup_s, .. } = open_with(&args.input, args.env.as_deref(), caches)?;
+    let Opened { data, mut frame, env, view, setup_s, .. } = open_with(&args.input, args.env.as_deref(), caches)?;
     if let Some(budget) = budget {
         frame.fit_memory(budget)?;
         let need = frame.memory().total();
@@ -412,7 +436,7 @@ pub fn run(args: &RenderArgs) -> Result<RenderOutcome> {
     }
     if args.no_sun_rays {
         frame.set_sun_rays(None);
-    } else if let Some(target) = light_error(args.light_error, scene.as_ref().and_then(|s| s.light_error))? {
+    } else if let Some(target) = light_error(args.light_error, view.as_ref().and_then(|v| v.light_error))? {
         frame.set_sun_rays(Some(SunRays { target, ..SunRays::default() }));
     }
     out.sun_leaves = frame.sun_leaves();
@@ -429,7 +453,7 @@ pub fn run(args: &RenderArgs) -> Result<RenderOutcome> {
     frame.set_deferred_merges(!args.eager_merges)?;
     // The moves build the shading lists of the vertices facing the camera (a framing camera
     // may shift with the moves: then shading builds the few others it needs).
-    if let Ok(c) = camera(scene.as_ref(), args.camera.as_deref(), &frame) {
+    if let Ok(c) = camera(view.as_ref(), args.camera.as_deref(), &frame) {
         frame.set_eye(c.position)?;
     }
     let (move_ms, moved) = apply_edits(&mut frame, &args.brdfs, &args.moves)?;
@@ -449,7 +473,7 @@ pub fn run(args: &RenderArgs) -> Result<RenderOutcome> {
         out.emit("move_deferred_vertices", format!("{}", t.deferred));
         out.emit("move_fields_per_vertex", format!("{:.2}", t.fields as f64 / t.vertices.max(1) as f64));
     }
-    let camera = camera(scene.as_ref(), args.camera.as_deref(), &frame)?;
+    let camera = camera(view.as_ref(), args.camera.as_deref(), &frame)?;
     // A framing camera may have shifted with the moves: the vertices now facing it that a
     // move left are merged here.
     let t = Instant::now();

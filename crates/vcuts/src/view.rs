@@ -201,9 +201,9 @@ pub fn run(args: &ViewArgs) -> Result<()> {
         (None, scene) => crate::precompute::cached_or_run(scene.as_deref().unwrap_or("builtin:teapot"), &args.preset)?,
     };
     let opened = crate::render::open(&input, args.env.as_deref())?;
-    let crate::render::Opened { data, mut frame, env, env_name, scene, setup_s } = opened;
+    let crate::render::Opened { data, mut frame, env, env_name, view, setup_s } = opened;
     crate::render::apply_edits(&mut frame, &args.brdfs, &args.moves)?;
-    let camera = crate::render::camera(scene.as_ref(), args.camera.as_deref(), &frame)?;
+    let camera = crate::render::camera(view.as_ref(), args.camera.as_deref(), &frame)?;
     let summary = vec![
         ("file".to_string(), input.display().to_string()),
         ("preset".into(), data.record.params.preset.clone()),
@@ -222,7 +222,7 @@ pub fn run(args: &ViewArgs) -> Result<()> {
     let offset = data.svc_origin_offset();
     let mut session = Session::new(frame, env.clone(), &env_name, offset, OrbitCamera::from_camera(&camera));
     session.exposure = args.exposure;
-    if let Some(target) = crate::render::light_error(args.light_error, scene.as_ref().and_then(|s| s.light_error))? {
+    if let Some(target) = crate::render::light_error(args.light_error, view.as_ref().and_then(|v| v.light_error))? {
         session.set_light_error(target);
     }
     if args.no_sun_rays {

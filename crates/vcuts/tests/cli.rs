@@ -115,3 +115,56 @@ fn bad_global_options_are_refused_by_name() {
     assert_eq!(o.status.code(), Some(2), "{}", text(&o));
     assert!(text(&o).contains("ssdo-peeled"), "the choices are listed: {}", text(&o));
 }
+
+/// A `.vcuts` file holds its scene's cameras, light-error target and map: it renders the same
+/// image from another folder after the scene file and the map file are gone.
+#[test]
+fn a_vcuts_file_renders_the_same_after_its_scene_and_map_are_gone() {
+    let s = scratch("cli-travel");
+    let work = s.0.join("work");
+    let elsewhere = s.0.join("elsewhere");
+    std::fs::create_dir_all(&work).unwrap();
+    std::fs::create_dir_all(&elsewhere).unwrap();
+    // A 32x16 map with a bright patch, and a camera of the scene's own.
+    let texels: Vec<[f32; 3]> = (0..32 * 16)
+        .map(|i| if (i % 32, i / 32) == (9, 4) { [400.0, 380.0, 300.0] } else { [0.4, 0.5, 0.7] })
+        .collect();
+    vcut_envmap::io::write_exr(&work.join("probe.exr"), 32, 16, &texels).unwrap();
+    let scene_text = format!(
+        "{}\n[environment]\nsource = \"probe.exr\"\nlight_error = 0.01\n\n[[camera]]\nname = \"side\"\n\
+         position = [3.0, 1.5, 0.5]\ntarget = [0.0, 0.5, 0.0]\nfov_y_deg = 35.0\n",
+        common::SCENE
+    );
+    std::fs::write(work.join("travel.toml"), scene_text).unwrap();
+    let o = vcuts(
+        &work,
+        &[
+            "-q",
+            "precompute",
+            "--scene",
+            "travel.toml",
+            "--estimate-seconds",
+            "0.1",
+            "--cache-dir",
+            "cache",
+            "-o",
+            "t.vcuts",
+        ],
+    );
+    assert!(o.status.success(), "{}", text(&o));
+    let render = |cwd: &Path, file: &str, exr: &str, more: &[&str]| {
+        let args = ["render", file, "--camera", "side", "--width", "64", "--height", "48", "-o", "f.png", "--exr", exr];
+        let o = vcuts(cwd, &[&args[..], more].concat());
+        assert!(o.status.success(), "{}", text(&o));
+        assert!(String::from_utf8_lossy(&o.stdout).contains("light_error_target=0.01"), "{}", text(&o));
+        std::fs::read(cwd.join(exr)).unwrap()
+    };
+    let here = render(&work, "t.vcuts", "here.exr", &[]);
+    // The embedded map is the file's, texel for texel.
+    assert!(here == render(&work, "t.vcuts", "file.exr", &["--env", "probe.exr"]), "the embedded map differs");
+    std::fs::rename(work.join("travel.toml"), s.0.join("moved.toml")).unwrap();
+    std::fs::remove_file(work.join("probe.exr")).unwrap();
+    let file = work.join("t.vcuts");
+    let there = render(&elsewhere, file.to_str().unwrap(), "there.exr", &[]);
+    assert!(here == there, "the image changed once the scene and map were gone");
+}

@@ -1,0 +1,120 @@
+//! The `view` section: what a renderer needs of the scene besides its objects — its cameras and
+//! its light-error target — so that a `.vcuts` file renders from any folder and on another
+//! machine without its scene file (the environment travels in the `environment` section).
+//!
+//! TOML text: `light_error = REL` when the scene set one, then one `[[camera]]` table per camera
+//! with the scene file's keys (`name`, `position`, `target`, `up`, `fov_y_deg`), checked on
+//! reading as a scene file's are.
+
+use glam::Vec3;
+use serde::{Deserialize, Serialize};
+use std::path::Path;
+use vcut_scene::desc::CameraDesc;
+use vcut_scene::{Camera, Scene};
+
+/// The scene's cameras and light-error target.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct View {
+    /// The cameras, the default view first.
+    pub cameras: Vec<Camera>,
+    /// `[environment] light_error`, when the scene set one.
+    pub light_error: Option<f64>,
+}
+
+/// Why a `view` section could not be read.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum ViewError {
+    /// Not the TOML this module writes.
+    #[error("{0}")]
+    Toml(String),
+    /// A value out of range (the message names the camera and key, as a scene file's would).
+    #[error("{0}")]
+    Value(String),
+}
+
+#[derive(Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct Text {
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    light_error: Option<f64>,
+    #[serde(default)]
+    camera: Vec<CameraDesc>,
+}
+
+impl View {
+    /// The view of `scene`.
+    pub fn of(scene: &Scene) -> View {
+        View { cameras: scene.cameras.clone(), light_error: scene.light_error }
+    }
+
+    /// The section's text.
+    pub fn text(&self) -> String {
+        let camera = self
+            .cameras
+            .iter()
+            .map(|c| CameraDesc {
+                name: c.name.clone(),
+                position: c.position.to_array(),
+                target: c.target.to_array(),
+                up: c.up.to_array(),
+                fov_y_deg: c.fov_y_deg,
+            })
+            .collect();
+        toml::to_string(&Text { light_error: self.light_error, camera }).unwrap_or_default()
+    }
+
+    /// Reads what [`View::text`] wrote, checking every value.
+    pub fn parse(text: &str) -> Result<View, ViewError> {
+        let t: Text = toml::from_str(text).map_err(|e| ViewError::Toml(e.message().to_string()))?;
+        let here = Path::new("view");
+        for (i, c) in t.camera.iter().enumerate() {
+            c.check(here, i).map_err(|e| ViewError::Value(e.to_string()))?;
+        }
+        if let Some(e) = t.light_error.filter(|e| !(e.is_finite() && *e > 0.0 && *e < 1.0)) {
+            return Err(ViewError::Value(format!("light_error = {e}: must lie in (0, 1)")));
+        }
+        let cameras = t
+            .camera
+            .into_iter()
+            .map(|c| Camera {
+                name: c.name,
+                position: Vec3::from(c.position),
+                target: Vec3::from(c.target),
+                up: Vec3::from(c.up),
+                fov_y_deg: c.fov_y_deg,
+            })
+            .collect();
+        Ok(View { cameras, light_error: t.light_error })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn views_round_trip_and_bad_values_are_refused_by_key() {
+        let view = View {
+            cameras: vec![
+                Camera {
+                    name: "main \"quoted\"".into(),
+                    position: Vec3::new(1.0, 2.5, -3.25),
+                    target: Vec3::new(0.1, 0.2, 0.3),
+                    up: Vec3::Y,
+                    fov_y_deg: 18.0123,
+                },
+                Camera { name: "b".into(), position: Vec3::Z, target: Vec3::ZERO, up: Vec3::Y, fov_y_deg: 40.0 },
+            ],
+            light_error: Some(0.002),
+        };
+        assert_eq!(View::parse(&view.text()).unwrap(), view);
+        assert_eq!(View::parse(&View::default().text()).unwrap(), View::default());
+        let bad = view.text().replace("fov_y_deg = 40.0", "fov_y_deg = 400.0");
+        let e = View::parse(&bad).unwrap_err().to_string();
+        assert!(e.contains("camera 1 ('b')") && e.contains("fov_y_deg"), "{e}");
+        let e = View::parse("light_error = 3.0\n").unwrap_err().to_string();
+        assert!(e.contains("light_error"), "{e}");
+        assert!(View::parse("colour = 1\n").is_err());
+    }
+}
