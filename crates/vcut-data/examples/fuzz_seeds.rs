@@ -1,6 +1,7 @@
 //! Writes the `vcuts` fuzz target's seeds from a `.vcuts` file: `file.seed` (mode byte 4, the
 //! whole container) and `section-K.seed` (mode byte + payload, K the section kind) for the first
-//! directions, mesh, field layout, SVC and field sections.
+//! directions, mesh, field layout, SVC, field and view sections; and, when the file embeds no map
+//! (its scene's is built in), `section-9.seed` from a 16×8 studio map.
 //!
 //! Regenerate after a format change:
 //! `cargo xtask precompute --scene fuzz/seeds/vcuts-src/tiny.toml --preset fast --directions 64
@@ -37,6 +38,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         seen.push(id.kind);
         let payload = reader.section(id)?;
         std::fs::write(out.join(format!("section-{}.seed", id.kind as u32)), [&[mode][..], &payload].concat())?;
+    }
+    if !seen.contains(&SectionKind::Environment) {
+        let map = vcut_envmap::procedural::Studio::default().bake(16);
+        let seed = [&[7u8][..], &vcut_envmap::embed::encode(&map)].concat();
+        std::fs::write(out.join(format!("section-{}.seed", SectionKind::Environment as u32)), seed)?;
     }
     Ok(())
 }

@@ -28,9 +28,11 @@ pub enum SectionKind {
     /// Only in a shard file of a sharded precompute: the shard's index and the plan
     /// ([`crate::shard`]). A whole file never holds one.
     Shard = 7,
-    /// The scene's cameras and light-error target, as TOML text ([`crate::view::View`]).
+    /// The scene's cameras, light-error target and a built-in map's description, as TOML text
+    /// ([`crate::view::View`]).
     View = 8,
-    /// The environment map the precompute was given, embedded ([`vcut_envmap::embed`]).
+    /// The environment map the precompute was given when it came from a file, embedded
+    /// ([`vcut_envmap::embed`]).
     Environment = 9,
 }
 

@@ -174,15 +174,22 @@ impl Precomputed {
         Ok(Precomputed { reader, record, directions, cell_areas, leaf_order, objects, layouts, view })
     }
 
-    /// The environment map the precompute was given, embedded in the file (its `environment`
-    /// section); `None` in a file written before the section existed.
+    /// The environment map the precompute was given: embedded in the file (its `environment`
+    /// section) when it came from a file, baked again from its description (the `view`
+    /// section's `[environment]`) when built in; `None` in a file written before either existed.
     pub fn environment(&mut self) -> Result<Option<EnvMap>, FileError> {
         let id = SectionId::new(SectionKind::Environment, 0, 0);
-        if !self.reader.has(id) {
-            return Ok(None);
+        if self.reader.has(id) {
+            let bytes = self.reader.section(id)?;
+            let map = vcut_envmap::embed::decode(&bytes, "the embedded map").map_err(|e| self.reader.section_error(id, e))?;
+            return Ok(Some(map));
         }
-        let bytes = self.reader.section(id)?;
-        vcut_envmap::embed::decode(&bytes, "the embedded map").map(Some).map_err(|e| self.reader.section_error(id, e))
+        let Some(recipe) = self.view.as_ref().and_then(|v| v.environment.as_ref()) else {
+            return Ok(None);
+        };
+        let view = SectionId::new(SectionKind::View, 0, 0);
+        let here = std::path::Path::new("view");
+        recipe.load(here, here).map(Some).map_err(|e| self.reader.section_error(view, e))
     }
 
     /// The SVC rays' origin offset along the normal, as a fraction of each object's bounding

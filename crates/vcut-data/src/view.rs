@@ -1,24 +1,31 @@
 //! The `view` section: what a renderer needs of the scene besides its objects — its cameras and
 //! its light-error target — so that a `.vcuts` file renders from any folder and on another
-//! machine without its scene file (the environment travels in the `environment` section).
+//! machine without its scene file. A built-in map travels here as the description that bakes it
+//! again (a few hundred bytes instead of megabytes of texels); a map from a file travels
+//! embedded in the `environment` section.
 //!
-//! TOML text: `light_error = REL` when the scene set one, then one `[[camera]]` table per camera
-//! with the scene file's keys (`name`, `position`, `target`, `up`, `fov_y_deg`), checked on
-//! reading as a scene file's are.
+//! TOML text: `light_error = REL` when the scene set one; an `[environment]` table with the
+//! scene file's keys when the map is built in; then one `[[camera]]` table per camera with the
+//! scene file's keys (`name`, `position`, `target`, `up`, `fov_y_deg`). Every value is checked
+//! on reading as a scene file's is.
 
+use crate::file::{SectionId, SectionKind};
 use glam::Vec3;
 use serde::{Deserialize, Serialize};
 use std::path::Path;
-use vcut_scene::desc::CameraDesc;
-use vcut_scene::{Camera, Scene};
+use vcut_scene::desc::{CameraDesc, EnvironmentDesc};
+use vcut_scene::{Budget, Camera, Scene};
 
-/// The scene's cameras and light-error target.
+/// The scene's cameras, light-error target and, when built in, its map's description.
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct View {
     /// The cameras, the default view first.
     pub cameras: Vec<Camera>,
     /// `[environment] light_error`, when the scene set one.
     pub light_error: Option<f64>,
+    /// The built-in map's description ([`Scene::environment_recipe`]); `None` when the map
+    /// came from a file (then embedded in the `environment` section).
+    pub environment: Option<EnvironmentDesc>,
 }
 
 /// Why a `view` section could not be read.
@@ -38,14 +45,32 @@ pub enum ViewError {
 struct Text {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     light_error: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    environment: Option<EnvironmentDesc>,
     #[serde(default)]
     camera: Vec<CameraDesc>,
+}
+
+/// The sections a precompute writes of `scene` besides its objects, so its file renders without
+/// the scene file: the `view` (cameras, light-error target, a built-in map's description) and,
+/// for a map from a file, the map itself (`environment`).
+pub fn scene_sections(scene: &Scene) -> Vec<(SectionId, Vec<u8>)> {
+    let view = View::of(scene);
+    let mut out = vec![(SectionId::new(SectionKind::View, 0, 0), view.text().into_bytes())];
+    if view.environment.is_none() {
+        out.push((SectionId::new(SectionKind::Environment, 0, 0), vcut_envmap::embed::encode(&scene.environment)));
+    }
+    out
 }
 
 impl View {
     /// The view of `scene`.
     pub fn of(scene: &Scene) -> View {
-        View { cameras: scene.cameras.clone(), light_error: scene.light_error }
+        View {
+            cameras: scene.cameras.clone(),
+            light_error: scene.light_error,
+            environment: scene.environment_recipe.clone(),
+        }
     }
 
     /// The section's text.
@@ -61,7 +86,8 @@ impl View {
                 fov_y_deg: c.fov_y_deg,
             })
             .collect();
-        toml::to_string(&Text { light_error: self.light_error, camera }).unwrap_or_default()
+        let environment = self.environment.clone();
+        toml::to_string(&Text { light_error: self.light_error, environment, camera }).unwrap_or_default()
     }
 
     /// Reads what [`View::text`] wrote, checking every value.
@@ -74,6 +100,16 @@ impl View {
         if let Some(e) = t.light_error.filter(|e| !(e.is_finite() && *e > 0.0 && *e < 1.0)) {
             return Err(ViewError::Value(format!("light_error = {e}: must lie in (0, 1)")));
         }
+        if let Some(env) = &t.environment {
+            if !env.source.starts_with("builtin:") {
+                return Err(ViewError::Value(format!(
+                    "[environment] source = '{}': only a built-in map is recorded by its description",
+                    env.source
+                )));
+            }
+            // Checked against every byte (not the memory free now): baking is the reader's step.
+            env.check(here, &Budget::bytes(u64::MAX), &mut 0).map_err(|e| ViewError::Value(e.to_string()))?;
+        }
         let cameras = t
             .camera
             .into_iter()
@@ -85,7 +121,7 @@ impl View {
                 fov_y_deg: c.fov_y_deg,
             })
             .collect();
-        Ok(View { cameras, light_error: t.light_error })
+        Ok(View { cameras, light_error: t.light_error, environment: t.environment })
     }
 }
 
@@ -107,6 +143,11 @@ mod tests {
                 Camera { name: "b".into(), position: Vec3::Z, target: Vec3::ZERO, up: Vec3::Y, fov_y_deg: 40.0 },
             ],
             light_error: Some(0.002),
+            environment: Some(EnvironmentDesc {
+                sun_elevation_deg: 12.5,
+                resolution: 256,
+                ..EnvironmentDesc::builtin("builtin:sky").unwrap()
+            }),
         };
         assert_eq!(View::parse(&view.text()).unwrap(), view);
         assert_eq!(View::parse(&View::default().text()).unwrap(), View::default());
@@ -116,5 +157,9 @@ mod tests {
         let e = View::parse("light_error = 3.0\n").unwrap_err().to_string();
         assert!(e.contains("light_error"), "{e}");
         assert!(View::parse("colour = 1\n").is_err());
+        let e = View::parse(&view.text().replace("turbidity = 3.0", "turbidity = 30.0")).unwrap_err().to_string();
+        assert!(e.contains("turbidity"), "{e}");
+        let e = View::parse("[environment]\nsource = \"sky.exr\"\n").unwrap_err().to_string();
+        assert!(e.contains("built-in"), "{e}");
     }
 }

@@ -174,6 +174,9 @@ pub fn estimate<'a>(job: &'a Job<'a>, budget: Duration) -> Result<(Estimate, Set
     for o in &scene.objects {
         bytes += sections::encode_mesh(&o.name, o.motion, &o.material, &o.mesh).len() as u64 + SECTION_OVERHEAD;
     }
+    for (_, s) in vcut_data::view::scene_sections(scene) {
+        bytes += s.len() as u64 + SECTION_OVERHEAD;
+    }
     let mut largest_section = 0u64;
     let chunk = u64::from(p.svc_chunk.max(1));
     let svc_cut_bytes = mean(&svc, |u| u.0 as f64);

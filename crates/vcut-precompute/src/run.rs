@@ -403,8 +403,9 @@ fn run_sections<'a>(
         }
     }
     // What a renderer needs besides the objects, so the file renders without its scene file.
-    writer.put(SectionId::new(SectionKind::View, 0, 0), vcut_data::View::of(scene).text().as_bytes())?;
-    writer.put(SectionId::new(SectionKind::Environment, 0, 0), &vcut_envmap::embed::encode(&scene.environment))?;
+    for (id, bytes) in vcut_data::view::scene_sections(scene) {
+        writer.put(id, &bytes)?;
+    }
     let sections = crate::plan::cut_sections(scene, p, &setup.layouts);
     let mut owned: Option<HashSet<SectionId>> = None;
     if let Some((index, plan)) = shard {

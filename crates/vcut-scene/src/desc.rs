@@ -264,7 +264,8 @@ impl SceneDesc {
             .chain(file_cameras)
             .collect();
         let light_error = self.environment.light_error;
-        Ok(Scene { objects, environment, cameras, warnings, light_error })
+        let environment_recipe = self.environment.recipe();
+        Ok(Scene { objects, environment, environment_recipe, cameras, warnings, light_error })
     }
 }
 
@@ -282,6 +283,18 @@ fn resolve(source: &str, base: &Path, file: &Path) -> Result<PathBuf, SceneError
 }
 
 impl EnvironmentDesc {
+    /// The default description of the built-in map `spec` names (`builtin:sky` …); `None`
+    /// for any other spec (a file).
+    pub fn builtin(spec: &str) -> Option<EnvironmentDesc> {
+        spec.starts_with("builtin:").then(|| EnvironmentDesc { source: spec.into(), ..EnvironmentDesc::default() })
+    }
+
+    /// This description without its `light_error` when it names a built-in map: what bakes
+    /// the same map again; `None` for a file.
+    pub fn recipe(&self) -> Option<EnvironmentDesc> {
+        self.source.starts_with("builtin:").then(|| EnvironmentDesc { light_error: None, ..self.clone() })
+    }
+
     /// Loads or bakes the map, then applies rotation and intensity.
     pub fn load(&self, base: &Path, file: &Path) -> Result<EnvMap, SceneError> {
         self.check(file, &Budget::available(), &mut 0)?;

@@ -102,6 +102,9 @@ pub struct Scene {
     pub objects: Vec<SceneObject>,
     /// Distant lighting.
     pub environment: EnvMap,
+    /// When the map is built in, the description that bakes it again (its `light_error` unset):
+    /// what a `.vcuts` file records instead of the map's texels.
+    pub environment_recipe: Option<desc::EnvironmentDesc>,
     /// Cameras (the first is the default view): the scene file's, then those of its glTF files
     /// (perspective cameras, in the order the files and their node trees list them).
     pub cameras: Vec<Camera>,

@@ -3,8 +3,8 @@
 use anyhow::{Context, Result};
 use std::path::Path;
 use std::time::Instant;
-use vcut_envmap::{EnvMap, InvalidTexels, procedural};
-use vcut_scene::desc::{ObjectDesc, SceneDesc, Split};
+use vcut_envmap::{EnvMap, InvalidTexels};
+use vcut_scene::desc::{EnvironmentDesc, ObjectDesc, SceneDesc, Split};
 use vcut_scene::{Motion, Scene};
 
 /// Arguments of `inspect`.
@@ -42,12 +42,12 @@ fn is_envmap(t: &str) -> bool {
 }
 
 /// Loads an environment map from a file, a cube folder, or `builtin:sky|studio|constant`.
+/// A built-in is baked from the scene file's defaults for `[environment]`
+/// ([`EnvironmentDesc::builtin`]), so a `.vcuts` file can record it by that description.
 pub fn load_envmap(spec: &str) -> Result<EnvMap> {
-    Ok(match spec {
-        "builtin:sky" => procedural::PreethamSky::default().bake(1024),
-        "builtin:studio" => procedural::Studio::default().bake(1024),
-        "builtin:constant" => EnvMap::constant([1.0; 3]),
-        _ => vcut_envmap::load(Path::new(spec), InvalidTexels::Reject)?.0,
+    Ok(match EnvironmentDesc::builtin(spec) {
+        Some(desc) => desc.load(Path::new("."), Path::new(spec))?,
+        None => vcut_envmap::load(Path::new(spec), InvalidTexels::Reject)?.0,
     })
 }
 
@@ -57,8 +57,7 @@ pub fn run(args: &InspectArgs) -> Result<()> {
     if is_envmap(t) {
         let start = Instant::now();
         let map = match t {
-            "builtin:sky" => procedural::PreethamSky::default().bake(1024),
-            "builtin:studio" => procedural::Studio::default().bake(1024),
+            "builtin:sky" | "builtin:studio" => load_envmap(t)?,
             _ => {
                 let invalid = if args.clamp_invalid { InvalidTexels::Clamp } else { InvalidTexels::Reject };
                 let (map, report) = vcut_envmap::load(Path::new(t), invalid)?;

@@ -246,6 +246,7 @@ pub(crate) fn resolve(args: &PrecomputeArgs) -> Result<Resolved> {
     let environment = match &args.env {
         Some(e) => {
             scene.environment = crate::inspect::load_envmap(e).with_context(|| format!("--env {e}"))?;
+            scene.environment_recipe = vcut_scene::desc::EnvironmentDesc::builtin(e);
             e.clone()
         }
         None => "scene".into(),

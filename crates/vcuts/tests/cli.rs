@@ -168,3 +168,36 @@ fn a_vcuts_file_renders_the_same_after_its_scene_and_map_are_gone() {
     let there = render(&elsewhere, file.to_str().unwrap(), "there.exr", &[]);
     assert!(here == there, "the image changed once the scene and map were gone");
 }
+
+/// A built-in map travels as its description, not its texels: the file holds no `environment`
+/// section, bakes the scene's own sky again (its sun, size and rotation) and renders the same
+/// image once the scene file is gone.
+#[test]
+fn a_built_in_map_travels_as_its_description() {
+    let s = scratch("cli-recipe");
+    let scene_text = format!(
+        "{}\n[environment]\nsource = \"builtin:sky\"\nsun_elevation_deg = 14.0\nsun_azimuth_deg = -60.0\n\
+         resolution = 128\nrotation_deg = 25.0\n",
+        common::SCENE
+    );
+    std::fs::write(s.0.join("sky.toml"), scene_text).unwrap();
+    let mut data = common::precomputed(&s, "sky.toml", &[]);
+    let recipe = data.view.as_ref().and_then(|v| v.environment.clone()).expect("the view records the sky");
+    assert_eq!((recipe.sun_elevation_deg, recipe.resolution, recipe.rotation_deg), (14.0, 128, 25.0));
+    let baked = data.environment().unwrap().expect("the file bakes its map");
+    let scene = vcut_scene::Scene::open(s.0.join("sky.toml").to_str().unwrap()).unwrap();
+    assert!(baked.texels() == scene.environment.texels(), "the re-baked sky differs from the scene's");
+    assert_eq!(baked.rotation(), scene.environment.rotation());
+    let embedded = vcut_data::file::SectionId::new(vcut_data::file::SectionKind::Environment, 0, 0);
+    assert!(!data.reader().has(embedded), "the texels were embedded");
+    let file = s.0.join("sky.vcuts");
+    let render = |exr: &str| {
+        let args = ["render", file.to_str().unwrap(), "--width", "48", "--height", "32", "-o", "f.png", "--exr", exr];
+        let o = vcuts(&s.0, &args);
+        assert!(o.status.success(), "{}", text(&o));
+        std::fs::read(s.0.join(exr)).unwrap()
+    };
+    let before = render("before.exr");
+    std::fs::remove_file(s.0.join("sky.toml")).unwrap();
+    assert!(before == render("after.exr"), "the image changed once the scene file was gone");
+}
