@@ -181,7 +181,8 @@ impl Precomputed {
         let id = SectionId::new(SectionKind::Environment, 0, 0);
         if self.reader.has(id) {
             let bytes = self.reader.section(id)?;
-            let map = vcut_envmap::embed::decode(&bytes, "the embedded map").map_err(|e| self.reader.section_error(id, e))?;
+            let map =
+                vcut_envmap::embed::decode(&bytes, "the embedded map").map_err(|e| self.reader.section_error(id, e))?;
             return Ok(Some(map));
         }
         let Some(recipe) = self.view.as_ref().and_then(|v| v.environment.as_ref()) else {

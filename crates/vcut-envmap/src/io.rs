@@ -343,17 +343,38 @@ fn texel_location(layout: Layout, i: usize) -> String {
 /// Writes a linear RGB float image as a single-layer OpenEXR file (f32 channels), atomically:
 /// to a temporary name in the same folder, then renamed.
 pub fn write_exr(path: &Path, width: u32, height: u32, rgb: &[[f32; 3]]) -> Result<(), EnvMapError> {
+    let channel = |c: usize| rgb.iter().map(|t| t[c]).collect::<Vec<f32>>();
+    let channels = ["R", "G", "B"].iter().enumerate().map(|(c, n)| (n.to_string(), channel(c))).collect();
+    write_exr_channels(path, width, height, channels)
+}
+
+/// Writes named f32 channels of `width × height` samples each (row-major from the top) as a
+/// single-part OpenEXR file (lossless RLE), atomically. Names follow OpenEXR's layer
+/// convention, which Blender, Nuke and OpenImageIO read: `R G B A` for the image,
+/// `albedo.R`, `normal.X`, `depth.Z` … for its passes.
+pub fn write_exr_channels(
+    path: &Path,
+    width: u32,
+    height: u32,
+    channels: Vec<(String, Vec<f32>)>,
+) -> Result<(), EnvMapError> {
+    use exr::prelude::*;
     let werr = |reason: String| EnvMapError::Write { path: path.into(), reason };
-    if rgb.len() != width as usize * height as usize {
-        return Err(werr(format!("{} texels for a {width}x{height} image", rgb.len())));
+    let n = width as usize * height as usize;
+    if let Some((name, c)) = channels.iter().find(|(_, c)| c.len() != n) {
+        return Err(werr(format!("channel {name}: {} samples for a {width}x{height} image", c.len())));
     }
+    let list: SmallVec<[AnyChannel<FlatSamples>; 4]> =
+        channels.into_iter().map(|(name, c)| AnyChannel::new(name.as_str(), FlatSamples::F32(c))).collect();
+    let size = (width as usize, height as usize);
+    let image = Image::from_layer(Layer::new(
+        size,
+        LayerAttributes::default(),
+        Encoding::FAST_LOSSLESS,
+        AnyChannels::sort(list),
+    ));
     let tmp = temp_name(path);
-    let w = width as usize;
-    let result = exr::prelude::write_rgb_file(&tmp, w, height as usize, |x, y| {
-        let c = rgb[y * w + x];
-        (c[0], c[1], c[2])
-    });
-    match result {
+    match image.write().to_file(&tmp) {
         Ok(()) => std::fs::rename(&tmp, path).map_err(|e| werr(e.to_string())),
         Err(e) => {
             let _ = std::fs::remove_file(&tmp);

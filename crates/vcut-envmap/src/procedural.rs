@@ -321,10 +321,21 @@ fn bake_smooth(layout: Layout, k: u32, f: &dyn Fn(Vec3) -> [f64; 3]) -> Vec<[f64
 }
 
 /// Adds a disk of constant radiance `l` around `axis` with angular radius `r` to the texel
-/// accumulators (`[power_r, power_g, power_b, solid angle]`), spread by exact coverage measured
-/// on a fine sub-texel grid, then rescaled to the disk's exact power.
+/// accumulators (`[power_r, power_g, power_b, solid angle]`) by [`disk_shares`].
 fn add_disk(acc: &mut [[f64; 4]], layout: Layout, axis: Vec3, r: f64, l: [f64; 3]) {
-    let Layout::LatLong { width, height } = layout else { return };
+    for (t, share) in disk_shares(layout, axis, r) {
+        for i in 0..3 {
+            acc[t][i] += l[i] * share;
+        }
+    }
+}
+
+/// The solid angle of the disk around `axis` (map space) with angular radius `r` that each
+/// lat-long texel holds: coverage measured on a fine sub-texel grid, then rescaled so the shares
+/// sum to the disk's exact solid angle (a disk smaller than the grid lands whole in the texel
+/// holding its axis). Empty for a cube layout.
+pub(crate) fn disk_shares(layout: Layout, axis: Vec3, r: f64) -> Vec<(usize, f64)> {
+    let Layout::LatLong { width, height } = layout else { return Vec::new() };
     let (w, h) = (f64::from(width), f64::from(height));
     let (_, v_axis) = layout::latlong_uv(axis);
     let theta_axis = v_axis * PI;
@@ -365,12 +376,7 @@ fn add_disk(acc: &mut [[f64; 4]], layout: Layout, axis: Vec3, r: f64, l: [f64; 3
     }
     let total: f64 = covered.iter().map(|c| c.1).sum();
     let exact = cone_solid_angle(r);
-    for (t, c) in covered {
-        let share = exact * c / total;
-        for i in 0..3 {
-            acc[t][i] += l[i] * share;
-        }
-    }
+    covered.into_iter().map(|(t, c)| (t, exact * c / total)).collect()
 }
 
 fn finish(layout: Layout, acc: Vec<[f64; 4]>, name: &str) -> EnvMap {

@@ -1,9 +1,11 @@
-//! The sun as a known strong light: found in a map, split off with its power kept exactly.
+//! The sun as a known strong light: found in a map, split off with its power kept exactly; or
+//! added to a map as a disk ([`EnvMap::with_suns`]).
 //!
 //! Screen-space occlusion shadow-maps it and the leaf renderer convolves it with visibility; both
 //! need the rest of the map without it.
 
-use crate::{EnvMap, luminance};
+use crate::procedural::{cone_solid_angle, disk_shares};
+use crate::{EnvMap, Layout, layout, luminance};
 use glam::Vec3;
 
 /// A distant light of small extent.
@@ -80,6 +82,55 @@ pub fn split_sun(env: &EnvMap) -> (Option<Sun>, EnvMap) {
     (Some(Sun { dir, irradiance: power.as_vec3() * env.intensity() }), residual)
 }
 
+impl EnvMap {
+    /// This map with `suns` added as disks of angular diameter `diameter_deg` (a glTF scene's
+    /// directional lights, `KHR_lights_punctual`): each a disk of uniform radiance `E / Ω`
+    /// around its direction, `E` its irradiance at normal incidence and `Ω = 2π(1 − cos r)` the
+    /// disk's solid angle, spread over the texels it covers as the built-in sky's sun is
+    /// ([`crate::procedural`]), so the map's power grows by exactly `E` and the renderers see a
+    /// small bright source like any other. A lat-long map at least `width` texels across gets
+    /// them in place (in map space: the map's rotation turns them back to their world
+    /// directions, and its intensity scales them as it scales the rest); a cube map or a narrower
+    /// map is first resampled to a `width × width/2` lat-long map so the disks have texels to
+    /// land in. No sun: the map unchanged.
+    pub fn with_suns(&self, suns: &[Sun], diameter_deg: f32, width: u32) -> EnvMap {
+        if suns.is_empty() {
+            return self.clone();
+        }
+        let narrow = match self.layout {
+            Layout::LatLong { width: w, .. } => w < width,
+            Layout::Cube { .. } => true,
+        };
+        let (mut map, scale) = if narrow {
+            // Resampling bakes rotation and intensity in: the suns take the intensity as a factor.
+            (self.to_latlong(width, 4), self.intensity)
+        } else {
+            (self.clone(), 1.0)
+        };
+        let Layout::LatLong { width: w, height: h } = map.layout else { return map };
+        for sun in suns {
+            let axis = map.rotation.inverse() * sun.dir.normalize_or(Vec3::Y);
+            let r = 0.5 * f64::from(diameter_deg.max(1e-4)).to_radians();
+            let omega = cone_solid_angle(r);
+            for (t, share) in disk_shares(map.layout, axis, r) {
+                let row = (t / w as usize) as f64;
+                let texel = layout::latlong_solid_angle(
+                    0.0,
+                    1.0 / f64::from(w),
+                    row / f64::from(h),
+                    (row + 1.0) / f64::from(h),
+                );
+                let add = share / (omega * texel) * f64::from(scale);
+                for (c, e) in map.texels[t].iter_mut().zip(sun.irradiance.to_array()) {
+                    *c += (f64::from(e.max(0.0)) * add) as f32;
+                }
+            }
+        }
+        map.source = format!("{} with {} sun(s)", map.source, suns.len());
+        map
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -102,5 +153,31 @@ mod tests {
         assert!(left[1] < 0.8 * total[1], "the sun held a large share: {} of {}", left[1], total[1]);
         // A constant map has no sun.
         assert!(split_sun(&EnvMap::constant([1.0; 3])).0.is_none());
+    }
+
+    #[test]
+    fn a_sun_adds_its_irradiance_as_power_where_it_points() {
+        let base = EnvMap::constant([0.5, 0.5, 0.5]);
+        let sun = Sun { dir: Vec3::new(1.0, 2.0, 0.5).normalize(), irradiance: Vec3::new(3.0, 2.0, 1.0) };
+        let lit = base.with_suns(&[sun], 0.53, 256);
+        assert_eq!(lit.layout(), Layout::LatLong { width: 256, height: 128 });
+        let (before, after) = (base.total_power(), lit.total_power());
+        for c in 0..3 {
+            let added = after[c] - before[c];
+            let want = f64::from(sun.irradiance[c]);
+            assert!((added - want).abs() < 1e-4 * want, "channel {c}: added {added}, want {want}");
+        }
+        // All of it within a few texels of its direction.
+        let near = lit.integrate_cone(sun.dir, 3f32.to_radians());
+        let plain = base.to_latlong(256, 4).integrate_cone(sun.dir, 3f32.to_radians());
+        assert!((near[0] - plain[0] - 3.0).abs() < 1e-3, "{near:?} {plain:?}");
+        // A rotated map keeps the sun at its world direction; intensity scales it.
+        let mut turned = EnvMap::constant([0.0; 3]).to_latlong(128, 1);
+        turned.set_rotation_y_degrees(70.0);
+        turned.set_intensity(2.0);
+        let lit = turned.with_suns(&[sun], 0.53, 128);
+        let near = lit.integrate_cone(sun.dir, 4f32.to_radians());
+        assert!((near[1] - 2.0 * 2.0).abs() < 1e-3, "{near:?}");
+        assert_eq!(EnvMap::constant([1.0; 3]).with_suns(&[], 0.53, 64).texels(), EnvMap::constant([1.0; 3]).texels());
     }
 }

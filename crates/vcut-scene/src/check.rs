@@ -194,6 +194,9 @@ impl EnvironmentDesc {
             return Err(t.bad("sun_diameter_deg", self.sun_diameter_deg, "must lie in (0, 45] degrees"));
         }
         t.within("sun_to_zenith", self.sun_to_zenith, 1e-6, 1e9, "")?;
+        if !(self.lux_scale.is_finite() && self.lux_scale >= 0.0) {
+            return Err(t.bad("lux_scale", self.lux_scale, "must be a finite number ≥ 0 (map units per lux)"));
+        }
         if let Some(e) = self.light_error.filter(|e| !(e.is_finite() && *e > 0.0 && *e < 1.0)) {
             return Err(t.bad("light_error", e, "must lie in (0, 1): a relative error, e.g. 0.002 for 0.2 %"));
         }

@@ -33,13 +33,14 @@
 //! resolves through [`crate::assets::locate`]. A file source can yield several objects (glTF nodes, OBJ groups:
 //! `split`); they are named `NAME/CHILD`.
 
-use crate::loaders::{GltfObjects, ObjObjects};
+use crate::loaders::{GltfObjects, GltfSun, ObjObjects};
 use crate::material::Material;
 use crate::mesh::{Mesh, MeshOptions, Weld};
 use crate::{Budget, Builtin, Camera, Motion, Scene, SceneError, SceneObject, assets, budget, shapes, teapot};
 use glam::{EulerRot, Mat4, Quat, Vec3};
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
+use vcut_envmap::sun::Sun;
 use vcut_envmap::{EnvMap, InvalidTexels, procedural};
 
 /// A whole scene file.
@@ -79,8 +80,13 @@ pub struct EnvironmentDesc {
     pub sun_azimuth_deg: f32,
     /// Built-in sky: turbidity.
     pub turbidity: f32,
-    /// Built-in sky: sun diameter, degrees.
+    /// Sun disk diameter, degrees: the built-in sky's and every glTF directional light's.
     pub sun_diameter_deg: f32,
+    /// Map radiance units per lux for glTF directional lights (`KHR_lights_punctual`, whose
+    /// intensity is an illuminance in lux): a light of `E` lux adds a disk of irradiance
+    /// `E × lux_scale`. The default, 1/683 (W/m² per lux at 555 nm), undoes Blender's export of
+    /// a sun of strength S W/m² as S × 683 lux.
+    pub lux_scale: f32,
     /// Built-in sky: sun radiance over zenith luminance.
     pub sun_to_zenith: f32,
     /// Clamp NaN/Inf/negative texels instead of refusing the file.
@@ -104,6 +110,7 @@ impl Default for EnvironmentDesc {
             turbidity: sky.turbidity,
             sun_diameter_deg: sky.sun_diameter_deg,
             sun_to_zenith: sky.sun_to_zenith,
+            lux_scale: 1.0 / 683.0,
             clamp_invalid: false,
             light_error: None,
         }
@@ -235,12 +242,13 @@ impl SceneDesc {
     pub fn instantiate_within(&self, base: &Path, file: &Path, budget: &Budget) -> Result<Scene, SceneError> {
         self.check(file, budget)?;
         let environment = self.environment.load(base, file)?;
-        let (mut objects, mut file_cameras, mut warnings) = (Vec::new(), Vec::new(), Vec::new());
+        let (mut objects, mut file_cameras, mut suns, mut warnings) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
         for (i, o) in self.objects.iter().enumerate() {
-            let (objs, cams, warns) = o.load_within(base, file, i, budget)?;
-            objects.extend(objs);
-            file_cameras.extend(cams);
-            warnings.extend(warns);
+            let loaded = o.load_within(base, file, i, budget)?;
+            objects.extend(loaded.objects);
+            file_cameras.extend(loaded.cameras);
+            suns.extend(loaded.suns);
+            warnings.extend(loaded.ignored);
         }
         let mut seen = std::collections::HashSet::new();
         for o in &objects {
@@ -264,7 +272,11 @@ impl SceneDesc {
             .chain(file_cameras)
             .collect();
         let light_error = self.environment.light_error;
-        let environment_recipe = self.environment.recipe();
+        // The files' directional lights join the map, which then travels embedded, not baked again.
+        let env = &self.environment;
+        let suns: Vec<Sun> = suns.iter().map(|s| Sun { dir: s.dir, irradiance: s.lux * env.lux_scale }).collect();
+        let environment = environment.with_suns(&suns, env.sun_diameter_deg, env.resolution);
+        let environment_recipe = if suns.is_empty() { env.recipe() } else { None };
         Ok(Scene { objects, environment, environment_recipe, cameras, warnings, light_error })
     }
 }
@@ -328,7 +340,7 @@ impl ObjectDesc {
     /// Builds or loads the object(s) this entry names, transformed to world space, within the
     /// memory available now.
     pub fn load(&self, base: &Path, file: &Path, index: usize) -> Result<Vec<SceneObject>, SceneError> {
-        Ok(self.load_within(base, file, index, &Budget::available())?.0)
+        Ok(self.load_within(base, file, index, &Budget::available())?.objects)
     }
 
     /// [`ObjectDesc::load`] with the memory its built-in shapes and its `instances` copies
@@ -343,7 +355,7 @@ impl ObjectDesc {
         let shape = |r: Result<Mesh, crate::mesh::MeshError>| {
             r.map_err(|source| SceneError::Mesh { path: file.into(), object: self.source.clone(), source })
         };
-        let (mut cameras, mut ignored) = (Vec::new(), Vec::new());
+        let (mut cameras, mut suns, mut ignored) = (Vec::new(), Vec::new(), Vec::new());
         let mut parts: Vec<(String, Mesh, Option<Material>)> =
             match (Builtin::named(&self.source), self.source.as_str()) {
                 (Some(b), _) => {
@@ -372,7 +384,7 @@ impl ObjectDesc {
                     };
                     let weld = self.weld.map_or(Weld::None, Weld::Within);
                     let out = crate::loaders::load_file(&path, g, o, MeshOptions { weld, ..Default::default() })?;
-                    (cameras, ignored) = (out.cameras, out.ignored);
+                    (cameras, suns, ignored) = (out.cameras, out.suns, out.ignored);
                     let mut parts: Vec<_> =
                         out.objects.into_iter().map(|o| (o.name, o.mesh, Some(o.material))).collect();
                     if self.split == Some(Split::File) && parts.len() > 1 {
@@ -405,6 +417,9 @@ impl ObjectDesc {
             return Err(bad("non-finite transform".into()));
         }
         transform_cameras(&mut cameras, xf);
+        for sun in &mut suns {
+            sun.dir = xf.transform_vector3(sun.dir).normalize_or(sun.dir);
+        }
         if self.instances.len() > 1 {
             // The copies of a loaded mesh (a built-in's were counted by `check`).
             let one: u64 =
@@ -437,7 +452,7 @@ impl ObjectDesc {
             }
         });
         if self.instances.is_empty() {
-            return Ok((objects.collect(), cameras, ignored));
+            return Ok(Loaded { objects: objects.collect(), cameras, suns, ignored });
         }
         let mut out = Vec::with_capacity(self.instances.len());
         for o in objects {
@@ -447,12 +462,19 @@ impl ObjectDesc {
                 out.push(SceneObject { name: format!("{}/{k}", o.name), mesh, material: o.material, motion: o.motion });
             }
         }
-        Ok((out, cameras, ignored))
+        Ok(Loaded { objects: out, cameras, suns, ignored })
     }
 }
 
-/// An object entry's objects, its file's cameras and what its file holds that is not read.
-type Loaded = (Vec<SceneObject>, Vec<Camera>, Vec<String>);
+/// What an object entry gives: its objects, and its file's cameras and directional lights
+/// (transformed as its objects are, not copied per instance) and what the file holds that is
+/// not read.
+struct Loaded {
+    objects: Vec<SceneObject>,
+    cameras: Vec<Camera>,
+    suns: Vec<GltfSun>,
+    ignored: Vec<String>,
+}
 
 /// Moves cameras with their file's objects: positions and targets as points, up as a direction
 /// (a uniform scale and a rotation keep the field of view).

@@ -71,8 +71,21 @@ pub struct LoadOutput {
     /// glTF perspective cameras in world space, each aimed (its `target`) at the point of its
     /// view axis nearest the objects' bounding-box centre.
     pub cameras: Vec<Camera>,
+    /// `KHR_lights_punctual` directional lights, world space.
+    pub suns: Vec<GltfSun>,
     /// What the file holds that is not read, one line per feature naming the file.
     pub ignored: Vec<String>,
+}
+
+/// A glTF directional light (`KHR_lights_punctual`).
+#[derive(Debug, Clone, PartialEq)]
+pub struct GltfSun {
+    /// The light's name (or `lightN`).
+    pub name: String,
+    /// Unit direction toward the light (its node's +Z: the light shines down −Z).
+    pub dir: Vec3,
+    /// Colour × intensity: illuminance at normal incidence in lux (lm/m²), per channel.
+    pub lux: Vec3,
 }
 
 impl LoadOutput {
@@ -198,9 +211,15 @@ pub fn load_gltf_bytes(
             name.display()
         ));
     }
+    for ext in doc.extensions_used().filter(|e| !READ_EXTENSIONS.contains(e)) {
+        out.ignored.push(format!("{}: extension {ext} not read", name.display()));
+    }
     aim(&mut out);
     Ok(out)
 }
+
+/// The glTF extensions the loader reads; a file using any other is reported.
+const READ_EXTENSIONS: &[&str] = &["KHR_lights_punctual"];
 
 /// Aims each camera at the point of its view axis nearest the centre of the objects' bounds
 /// (a glTF camera has a direction, not a target, and the viewer orbits about the target), at
@@ -344,6 +363,29 @@ impl GltfCtx<'_> {
         SceneError::Gltf { path: self.name.into(), reason }
     }
 
+    /// A `KHR_lights_punctual` light: a directional one becomes a sun (toward its node's +Z, its
+    /// colour × intensity in lux); a point or spot light is reported, not read.
+    fn add_light(&mut self, light: &gltf::khr_lights_punctual::Light<'_>, world: Mat4, node: usize) {
+        let name = light.name().map_or_else(|| format!("light{}", light.index()), str::to_owned);
+        let lux = Vec3::from(light.color()) * light.intensity();
+        let dir = world.transform_vector3(Vec3::Z).normalize_or_zero();
+        match light.kind() {
+            gltf::khr_lights_punctual::Kind::Directional if dir != Vec3::ZERO && lux.is_finite() && lux.min_element() >= 0.0 => {
+                self.out.suns.push(GltfSun { name, dir, lux });
+            }
+            gltf::khr_lights_punctual::Kind::Directional => self.out.ignored.push(format!(
+                "{}: directional light {name} (node {node}) not read: a degenerate transform or a colour × intensity of {lux}",
+                self.name.display()
+            )),
+            gltf::khr_lights_punctual::Kind::Point | gltf::khr_lights_punctual::Kind::Spot { .. } => {
+                self.out.ignored.push(format!(
+                    "{}: light {name} (node {node}) not read: point and spot lights are not supported (directional lights are)",
+                    self.name.display()
+                ))
+            }
+        }
+    }
+
     fn visit(
         &mut self,
         node: &gltf::Node<'_>,
@@ -378,6 +420,9 @@ impl GltfCtx<'_> {
                 // One unit ahead for now: aimed once the objects are known.
                 self.out.cameras.push(Camera { name, position, target: position + forward, up, fov_y_deg });
             }
+        }
+        if let Some(light) = node.light() {
+            self.add_light(&light, world, node.index());
         }
         if let Some(mesh) = node.mesh() {
             match self.grouping {

@@ -96,10 +96,16 @@ pub fn auto_exposure(image: &Image) -> f32 {
     if avg > 1e-5 { (0.18 / avg) as f32 } else { 1.0 }
 }
 
+/// ACES filmic (Narkowicz's fit) of a linear value after `exposure`: the display value in
+/// [0, 1], still linear (before the sRGB transfer function).
+pub fn aces(x: f32, exposure: f32) -> f32 {
+    let x = (x * exposure).max(0.0);
+    ((x * (2.51 * x + 0.03)) / (x * (2.43 * x + 0.59) + 0.14)).clamp(0.0, 1.0)
+}
+
 /// ACES filmic (Narkowicz's fit) of a linear value, then sRGB, as 8 bits.
 pub fn tone_map(x: f32, exposure: f32) -> u8 {
-    let x = (x * exposure).max(0.0);
-    let y = ((x * (2.51 * x + 0.03)) / (x * (2.43 * x + 0.59) + 0.14)).clamp(0.0, 1.0);
+    let y = aces(x, exposure);
     let s = if y <= 0.003_130_8 { 12.92 * y } else { 1.055 * y.powf(1.0 / 2.4) - 0.055 };
     (s * 255.0 + 0.5) as u8
 }
@@ -121,10 +127,10 @@ pub fn write_png(image: &Image, path: &Path, exposure: f32) -> Result<(), ImageE
     std::fs::rename(&tmp, path).map_err(|e| write_err(path, e))
 }
 
-/// Writes the image as linear EXR (atomically).
+/// Writes the image as linear EXR with its alpha (coverage), atomically: [`crate::passes`]
+/// with no pass.
 pub fn write_exr(image: &Image, path: &Path) -> Result<(), ImageError> {
-    let rgb: Vec<[f32; 3]> = image.rgb.iter().map(|c| c.to_array()).collect();
-    vcut_envmap::io::write_exr(path, image.width, image.height, &rgb).map_err(|e| write_err(path, e))
+    crate::passes::write_exr_passes(image, &[], path)
 }
 
 /// Writes the whole scene at its current positions as one binary PLY mesh: per vertex
@@ -152,19 +158,25 @@ pub fn write_ply(frame: &Frame, radiance: &[Vec<Vec3>], path: &Path) -> Result<(
          element face {}\nproperty list uchar int vertex_indices\nend_header\n",
         faces.len()
     );
+    let mut bytes = header.into_bytes();
+    bytes.extend_from_slice(&body);
+    for t in &faces {
+        bytes.push(3);
+        for i in t {
+            bytes.extend_from_slice(&(*i as i32).to_le_bytes());
+        }
+    }
+    write_file(path, &bytes)
+}
+
+/// Writes `bytes` to `path` atomically: to a temporary sibling, then renamed; a failed write
+/// leaves nothing behind.
+pub(crate) fn write_file(path: &Path, bytes: &[u8]) -> Result<(), ImageError> {
     let tmp = vcut_envmap::io::temp_name(path);
     let write = || -> std::io::Result<()> {
-        let mut f = std::io::BufWriter::new(std::fs::File::create(&tmp)?);
-        f.write_all(header.as_bytes())?;
-        f.write_all(&body)?;
-        for t in &faces {
-            f.write_all(&[3u8])?;
-            for i in t {
-                f.write_all(&(*i as i32).to_le_bytes())?;
-            }
-        }
-        f.flush()?;
-        Ok(())
+        let mut f = std::fs::File::create(&tmp)?;
+        f.write_all(bytes)?;
+        f.sync_data()
     };
     write().map_err(|e| {
         let _ = std::fs::remove_file(&tmp);

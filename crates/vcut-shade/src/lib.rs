@@ -30,13 +30,15 @@
 
 pub mod brdf;
 pub mod frame;
+pub mod glb;
 pub mod image;
 pub mod measure;
+pub mod passes;
 pub mod reference;
 pub mod sun;
 
 pub use frame::{
     CutFailure, FIELD_REACH, Frame, FrameCaches, FrameError, FrameMemory, FrameObject, LightChoice, MergeAlgorithm,
-    MoveTiming,
+    MoveTiming, Parts,
 };
 pub use sun::SunRays;

@@ -41,6 +41,7 @@
 //! leaves everything as without sun rays, bit for bit.
 
 use crate::brdf;
+use crate::frame::Parts;
 use glam::Vec3;
 use rayon::prelude::*;
 use vcut_lighttree::LightTree;
@@ -247,19 +248,22 @@ impl Sun {
     }
 
     /// `Σ_s V max(0, n·ω_s) f_r(ω_s, ω_o) L_s` at vertex `v` of object `o` (normal `n`, toward
-    /// `wo`), as the exact reference adds it.
-    pub(crate) fn radiance(&self, o: usize, v: usize, material: &Material, n: Vec3, wo: Vec3) -> Vec3 {
+    /// `wo`, above the surface), as the exact reference adds it, in the frame's two parts: the
+    /// diffuse per unit albedo, and the lobe (its power exact, not tabled).
+    pub(crate) fn parts(&self, o: usize, v: usize, material: &Material, n: Vec3, wo: Vec3) -> Parts {
+        let lobe = brdf::Lobe::with_pow(material, n, wo, brdf::Pow::Exact(material.exponent));
         let count = self.at.len();
         let blocked = self.blocked[o][v * count..(v + 1) * count].iter().fold(0u64, |a, &m| a | m);
-        let mut b = Vec3::ZERO;
+        let mut p = Parts::default();
         for (s, (&d, &l)) in self.dirs.iter().zip(&self.light).enumerate() {
             let c = n.dot(d);
             if c <= 0.0 || blocked >> s & 1 == 1 {
                 continue;
             }
-            b += c * brdf::eval(material, n, d, wo) * l;
+            p.diffuse += c * l / std::f32::consts::PI;
+            p.specular += c * lobe.eval(d) * l;
         }
-        b
+        p
     }
 }
 

@@ -11,7 +11,9 @@ use vcut_data::{InsideSamples, Precomputed};
 use vcut_envmap::EnvMap;
 use vcut_scene::{Camera, Scene};
 use vcut_shade::brdf::parse_spec;
+use vcut_shade::glb::write_glb;
 use vcut_shade::image::{auto_exposure, pixel_errors, rasterize, write_exr, write_ply, write_png};
+use vcut_shade::passes::{Pass, render_passes, write_exr_passes};
 use vcut_shade::reference::{MonteCarloParams, errors, exact_direction, monte_carlo};
 use vcut_shade::{Frame, FrameCaches, SunRays};
 
@@ -106,14 +108,24 @@ pub struct RenderArgs {
     /// Output PNG (tone-mapped: ACES filmic, Narkowicz's fit, sRGB).
     #[arg(short, long, default_value = "target/render/frame.png")]
     pub output: PathBuf,
-    /// Also write the linear image as EXR.
+    /// Also write the linear image as EXR, with its alpha (coverage: 0 where the background
+    /// map shows).
     #[arg(long)]
     pub exr: Option<PathBuf>,
+    /// Passes the EXR also holds, as layers: a comma-separated list of `albedo`, `normal`,
+    /// `depth`, `diffuse`, `specular` (diffuse + specular = the image), or `all`.
+    #[arg(long, value_parser = parse_passes, requires = "exr")]
+    pub exr_passes: Option<Passes>,
     /// Also write the scene at its current positions as a PLY mesh: per vertex position,
     /// normal and linear outgoing radiance as float `red green blue`, toward the camera where
     /// the camera can see it, else along its normal (so every vertex is shaded).
     #[arg(long)]
     pub export_ply: Option<PathBuf>,
+    /// Also write the scene at its current positions as binary glTF (`.glb`) with the shading
+    /// baked per vertex (`COLOR_0` tone-mapped as the PNG, `_RADIANCE` linear; every vertex
+    /// shaded as in the PLY), an unlit material and the camera: Blender and three.js open it.
+    #[arg(long)]
+    pub export_glb: Option<PathBuf>,
     /// What to draw: `cuts` (the precomputed visibility cuts) or a screen-space method on the
     /// same geometry and lighting with no precomputation — `ssao`, `ssdo` (directional
     /// occlusion + one indirect bounce), `ssdo-peeled` (with a second depth layer).
@@ -181,6 +193,8 @@ impl RenderArgs {
             exposure: None,
             output: output.into(),
             exr: None,
+            exr_passes: None,
+            export_glb: None,
             export_ply: None,
             compare: None,
             mode: RenderMode::Cuts,
@@ -486,7 +500,8 @@ pub fn run(args: &RenderArgs) -> Result<RenderOutcome> {
         return screen_space(args, mode, &frame, &env, &camera, out);
     }
     let t = Instant::now();
-    let radiance = frame.shade(camera.position);
+    let parts = frame.shade_parts(camera.position, false);
+    let radiance = frame.radiance(&parts);
     let shade_ms = t.elapsed().as_secs_f64() * 1e3;
     out.shade_ms = Some(shade_ms);
     out.emit("shade_ms", format!("{shade_ms:.2}"));
@@ -506,14 +521,29 @@ pub fn run(args: &RenderArgs) -> Result<RenderOutcome> {
     out.emit("tone_map", "aces-narkowicz".into());
     out.emit("exposure", format!("{exposure:.4}"));
     if let Some(p) = &args.exr {
-        write_exr(&image, p)?;
+        let passes = args.exr_passes.as_ref().map_or(&[][..], |p| p.0.as_slice());
+        let t = Instant::now();
+        let layers = render_passes(&frame, &parts, &camera, args.width, args.height, passes);
+        let passes_ms = t.elapsed().as_secs_f64() * 1e3;
+        write_exr_passes(&image, &layers, p)?;
         out.emit("exr", format!("{}", p.display()));
+        if !passes.is_empty() {
+            out.emit("exr_passes", passes.iter().map(|p| p.name()).collect::<Vec<_>>().join(","));
+            out.emit("exr_passes_ms", format!("{passes_ms:.2}"));
+        }
     }
-    if let Some(p) = &args.export_ply {
+    if args.export_ply.is_some() || args.export_glb.is_some() {
         // Every vertex: those the camera cannot see toward their own normals.
         let all = frame.shade_all(camera.position);
-        write_ply(&frame, &all, p)?;
-        out.emit("ply", format!("{}", p.display()));
+        if let Some(p) = &args.export_ply {
+            write_ply(&frame, &all, p)?;
+            out.emit("ply", format!("{}", p.display()));
+        }
+        if let Some(p) = &args.export_glb {
+            let aspect = args.width.max(1) as f32 / args.height.max(1) as f32;
+            write_glb(&frame, &all, &camera, aspect, exposure, p)?;
+            out.emit("glb", format!("{}", p.display()));
+        }
     }
     let compare = args.compare;
     if compare == Some(Compare::Raytraced) {
@@ -557,6 +587,14 @@ pub fn run(args: &RenderArgs) -> Result<RenderOutcome> {
     Ok(out)
 }
 
+/// `--exr-passes`' list.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Passes(pub Vec<Pass>);
+
+fn parse_passes(list: &str) -> Result<Passes, String> {
+    Pass::parse_list(list).map(Passes)
+}
+
 /// `render --mode ssao|ssdo|ssdo-peeled`: the screen-space image, and with `--compare` the
 /// ray-traced reference of direct light with visibility plus one diffuse bounce.
 fn screen_space(
@@ -575,6 +613,15 @@ fn screen_space(
     out.emit("gbuffer_ms", format!("{:.2}", f.gbuffer_ms));
     out.emit(format!("{}_ms", mode.key()), format!("{:.2}", f.pass_ms));
     let image = crate::ssdo::image(&f.output);
+    for (set, flag) in [
+        (args.exr_passes.is_some(), "--exr-passes"),
+        (args.export_ply.is_some(), "--export-ply"),
+        (args.export_glb.is_some(), "--export-glb"),
+    ] {
+        if set {
+            bail!("{flag}: exports the cuts' shading (--mode cuts); a screen-space mode writes its image only");
+        }
+    }
     if let Some(dir) = args.output.parent().filter(|d| !d.as_os_str().is_empty()) {
         std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
     }

@@ -121,6 +121,7 @@ use lists::{ShadeList, ShadeNode, SpecularNode};
 use merge::FieldCache;
 use object::{ObjectState, ViewCone};
 use rayon::prelude::*;
+pub use shading::Parts;
 pub use stats::FrameMemory;
 use vcut_cut::Cut;
 use vcut_data::{FileError, InsideSamples, Precomputed};

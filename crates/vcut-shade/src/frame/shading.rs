@@ -1,6 +1,9 @@
 //! Shading: B = Σ_k weight_k f_r(Ê_k, ω_o) l_k over each vertex's shading list, the diffuse sum
 //! times k_d/π, the specular lobe eight nodes at a time where the exponent is tabled, plus the
 //! sun's leaves by rays; stale lists and waiting merges done on the spot.
+//!
+//! Every vertex is shaded in two [`Parts`], `B = k_d · diffuse + specular`: the diffuse part
+//! free of the albedo, so a per-pixel albedo (a texture) or an image pass can take it apart.
 
 use super::Frame;
 use super::lists::{ShadeList, blinn_phong_argument, phong_argument};
@@ -9,6 +12,23 @@ use glam::Vec3;
 use rayon::prelude::*;
 use std::borrow::Cow;
 use vcut_merge::MergedCut;
+
+/// A vertex's outgoing radiance in two parts: `k_d · diffuse + specular`.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct Parts {
+    /// The diffuse term per unit albedo: `Σ_k weight_k l_k / π` (plus the sun's leaves').
+    pub diffuse: Vec3,
+    /// Everything else the BRDF reflects (the specular lobe, its sun leaves' share included).
+    pub specular: Vec3,
+}
+
+impl Parts {
+    /// The radiance under diffuse albedo `kd`.
+    #[inline]
+    pub fn radiance(self, kd: Vec3) -> Vec3 {
+        kd * self.diffuse + self.specular
+    }
+}
 
 impl Frame {
     /// Outgoing radiance toward `eye` of vertex `v` of object `o` if its merged cut were `cut`,
@@ -20,7 +40,7 @@ impl Frame {
             return Vec3::ZERO;
         }
         let list = ShadeList::new(cut, s.mesh.normals()[v], &self.nodes, s.svc_ends(v).as_deref());
-        self.shade_vertex(o, v, &list, eye)
+        self.shade_vertex(o, v, &list, eye).radiance(Vec3::from(s.material.kd))
     }
 
     /// As [`Frame::shade_cut`] for a cut whose every value is its own node's mean of
@@ -31,34 +51,33 @@ impl Frame {
             return Vec3::ZERO;
         }
         let list = ShadeList::new(cut, s.mesh.normals()[v], &self.nodes, None);
-        self.shade_vertex(o, v, &list, eye)
+        self.shade_vertex(o, v, &list, eye).radiance(Vec3::from(s.material.kd))
     }
 
-    /// Vertex `v`'s radiance toward `eye` through `list`; its callers have checked that `eye`
-    /// sees it ([`Frame::seen`]).
-    fn shade_vertex(&self, o: usize, v: usize, list: &ShadeList, eye: Vec3) -> Vec3 {
+    /// Vertex `v`'s radiance toward `eye` through `list`, in its parts; its callers have
+    /// checked that `eye` sees it ([`Frame::seen`]).
+    fn shade_vertex(&self, o: usize, v: usize, list: &ShadeList, eye: Vec3) -> Parts {
         let s = &self.objects[o];
         let x = s.mesh.positions()[v] + s.translation;
         let n = s.mesh.normals()[v];
         let wo = brdf::view_direction(n, x, eye);
-        let diffuse = Vec3::from(s.material.kd) / std::f32::consts::PI * list.diffuse;
         let pow = s.pow.as_ref().map_or(brdf::Pow::Exact(s.material.exponent), brdf::Pow::Table);
         let lobe = brdf::Lobe::with_pow(&s.material, n, wo, pow);
-        let sun = self.sun.as_ref().map_or(Vec3::ZERO, |sun| sun.radiance(o, v, &s.material, n, wo));
+        let sun = self.sun.as_ref().map_or(Parts::default(), |sun| sun.parts(o, v, &s.material, n, wo));
         // One loop per lobe kind, so the match leaves the inner loop.
-        sun + diffuse
-            + match lobe {
-                brdf::Lobe::None => Vec3::ZERO,
-                brdf::Lobe::BlinnPhong { n, wo, scale, pow: brdf::Pow::Table(t) } => {
-                    list.specular_lanes(&self.specular, t, scale, blinn_phong_argument(n, wo))
-                }
-                brdf::Lobe::Phong { mirror, scale, pow: brdf::Pow::Table(t) } => {
-                    list.specular_lanes(&self.specular, t, scale, phong_argument(mirror))
-                }
-                brdf::Lobe::BlinnPhong { .. } => list.specular(&self.specular, |d| lobe.eval(d)),
-                brdf::Lobe::Phong { .. } => list.specular(&self.specular, |d| lobe.eval(d)),
-                brdf::Lobe::Ggx { .. } => list.specular(&self.specular, |d| lobe.eval(d)),
+        let specular = match lobe {
+            brdf::Lobe::None => Vec3::ZERO,
+            brdf::Lobe::BlinnPhong { n, wo, scale, pow: brdf::Pow::Table(t) } => {
+                list.specular_lanes(&self.specular, t, scale, blinn_phong_argument(n, wo))
             }
+            brdf::Lobe::Phong { mirror, scale, pow: brdf::Pow::Table(t) } => {
+                list.specular_lanes(&self.specular, t, scale, phong_argument(mirror))
+            }
+            brdf::Lobe::BlinnPhong { .. } => list.specular(&self.specular, |d| lobe.eval(d)),
+            brdf::Lobe::Phong { .. } => list.specular(&self.specular, |d| lobe.eval(d)),
+            brdf::Lobe::Ggx { .. } => list.specular(&self.specular, |d| lobe.eval(d)),
+        };
+        Parts { diffuse: sun.diffuse + list.diffuse / std::f32::consts::PI, specular: sun.specular + specular }
     }
 
     /// Outgoing radiance toward `eye` of every vertex of every object: B = Σ_k v_k f_r l_k over
@@ -73,24 +92,37 @@ impl Frame {
     /// decoding of the same file makes unlikely, shades the vertex black; [`Frame::set_eye`]
     /// reports it). `eye` becomes the eye later merges build lists for.
     pub fn shade(&mut self, eye: Vec3) -> Vec<Vec<Vec3>> {
-        self.shade_vertices(eye, false)
+        let parts = self.shade_parts(eye, false);
+        self.radiance(&parts)
     }
 
     /// [`Frame::shade`] for every vertex, for exports: those seen from `eye` as there, each
     /// other one toward its own normal (as seen head-on from outside; its waiting merge done).
     pub fn shade_all(&mut self, eye: Vec3) -> Vec<Vec<Vec3>> {
-        self.shade_vertices(eye, true)
+        let parts = self.shade_parts(eye, true);
+        self.radiance(&parts)
     }
 
-    fn shade_vertices(&mut self, eye: Vec3, all: bool) -> Vec<Vec<Vec3>> {
+    /// Each object's radiance from its [`Parts`] under its own albedo.
+    pub fn radiance(&self, parts: &[Vec<Parts>]) -> Vec<Vec<Vec3>> {
+        parts
+            .iter()
+            .zip(&self.objects)
+            .map(|(p, s)| p.iter().map(|x| x.radiance(Vec3::from(s.material.kd))).collect())
+            .collect()
+    }
+
+    /// [`Frame::shade`] (or, with `all`, [`Frame::shade_all`]) in [`Parts`]: for a per-pixel
+    /// albedo and for image passes.
+    pub fn shade_parts(&mut self, eye: Vec3, all: bool) -> Vec<Vec<Parts>> {
         self.eye = Some(eye);
         let this = &*self;
-        let (radiance, spot): (Vec<Vec<Vec3>>, Vec<u64>) = this
+        let (parts, spot): (Vec<Vec<Parts>>, Vec<u64>) = this
             .objects
             .iter()
             .enumerate()
             .map(|(o, s)| {
-                let shaded: Vec<(Vec3, bool)> = s
+                let shaded: Vec<(Parts, bool)> = s
                     .lists
                     .par_iter()
                     .enumerate()
@@ -99,7 +131,7 @@ impl Frame {
                         |(built, below, cut), (v, list)| {
                             let seen = s.seen(v, eye);
                             if !seen && !all {
-                                return (Vec3::ZERO, false);
+                                return (Parts::default(), false);
                             }
                             // Unseen (in `all`): viewed along its normal.
                             let eye =
@@ -110,7 +142,7 @@ impl Frame {
                                 let keys =
                                     if pending { Cow::Owned(this.keys(o, v)) } else { Cow::Borrowed(&s.keys[v]) };
                                 if this.merge_one(o, v, &keys, cut).is_err() {
-                                    return (Vec3::ZERO, true);
+                                    return (Parts::default(), true);
                                 }
                                 let ends = s.svc_ends(v);
                                 built.rebuild(cut, s.mesh.normals()[v], &this.nodes, ends.as_deref(), below);
@@ -129,6 +161,6 @@ impl Frame {
             })
             .unzip();
         self.spot_merges += spot.iter().sum::<u64>();
-        radiance
+        parts
     }
 }
