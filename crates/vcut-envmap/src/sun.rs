@@ -93,9 +93,9 @@ impl EnvMap {
     /// directions, and its intensity scales them as it scales the rest); a cube map or a narrower
     /// map is first resampled to a `width × width/2` lat-long map so the disks have texels to
     /// land in. No sun: the map unchanged.
-    pub fn with_suns(&self, suns: &[Sun], diameter_deg: f32, width: u32) -> EnvMap {
+    pub fn with_suns(self, suns: &[Sun], diameter_deg: f32, width: u32) -> EnvMap {
         if suns.is_empty() {
-            return self.clone();
+            return self;
         }
         let narrow = match self.layout {
             Layout::LatLong { width: w, .. } => w < width,
@@ -105,7 +105,7 @@ impl EnvMap {
             // Resampling bakes rotation and intensity in: the suns take the intensity as a factor.
             (self.to_latlong(width, 4), self.intensity)
         } else {
-            (self.clone(), 1.0)
+            (self, 1.0)
         };
         let Layout::LatLong { width: w, height: h } = map.layout else { return map };
         for sun in suns {
@@ -159,7 +159,7 @@ mod tests {
     fn a_sun_adds_its_irradiance_as_power_where_it_points() {
         let base = EnvMap::constant([0.5, 0.5, 0.5]);
         let sun = Sun { dir: Vec3::new(1.0, 2.0, 0.5).normalize(), irradiance: Vec3::new(3.0, 2.0, 1.0) };
-        let lit = base.with_suns(&[sun], 0.53, 256);
+        let lit = base.clone().with_suns(&[sun], 0.53, 256);
         assert_eq!(lit.layout(), Layout::LatLong { width: 256, height: 128 });
         let (before, after) = (base.total_power(), lit.total_power());
         for c in 0..3 {
