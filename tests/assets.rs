@@ -42,6 +42,35 @@ fn meshes_match_sources_md() {
 }
 
 #[test]
+fn the_plants_texture_coordinates_are_read() {
+    let Some(a) = assets_or_skip("the_plants_texture_coordinates_are_read") else { return };
+    let p = a.join("plants/polyhaven_potted_plant_04_1k/potted_plant_04_1k.gltf");
+    let out = load_file(&p, GltfObjects::MeshNodes, ObjObjects::File, MeshOptions::default()).unwrap();
+    let (mut inside, mut total) = (0usize, 0usize);
+    for o in &out.objects {
+        let uv = o.mesh.uvs().unwrap_or_else(|| panic!("{}: no TEXCOORD_0", o.name));
+        assert_eq!(uv.len(), o.mesh.vertex_count(), "{}", o.name);
+        inside += uv.iter().filter(|t| (0.0..=1.0).contains(&t.x) && (0.0..=1.0).contains(&t.y)).count();
+        total += uv.len();
+    }
+    // Poly Haven's atlas lies in the unit square.
+    assert_eq!(inside, total, "{inside} of {total} coordinates in [0, 1]²");
+    println!("plant: {} objects, {total} vertices with texture coordinates", out.objects.len());
+    // Its colour is in the base-colour texture (green leaves, not black), and the ARM texture
+    // says it is not metal (the factor alone, 1 by glTF's default, made it fully metallic).
+    let t = &out.objects[0].textures;
+    let colour = t.base_colour.as_ref().expect("a base-colour texture");
+    let mean = colour.mean();
+    assert!(mean.y > 0.02 && mean.y > mean.z, "base colour mean {mean}");
+    let at_vertices =
+        out.objects[0].mesh.uvs().unwrap().iter().map(|&uv| colour.sample(uv)).sum::<glam::Vec3>() / total as f32;
+    assert!(at_vertices.max_element() > 0.02, "albedo at the vertices {at_vertices}");
+    let metallic = t.metallic_roughness.as_ref().expect("a metallic-roughness texture").mean().z;
+    assert!(metallic < 0.1, "metallic {metallic}");
+    println!("plant: base colour mean {mean}, at the vertices {at_vertices}, metallic mean {metallic}");
+}
+
+#[test]
 fn gltf_engine_keeps_its_hierarchy() {
     let Some(a) = assets_or_skip("gltf_engine_keeps_its_hierarchy") else { return };
     let p = a.join("gltf/2CylinderEngine.glb");

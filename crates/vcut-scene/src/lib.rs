@@ -37,6 +37,7 @@ pub mod raster;
 pub mod scenes;
 pub mod shapes;
 pub mod teapot;
+pub mod texture;
 
 pub use budget::Budget;
 pub use check::Builtin;

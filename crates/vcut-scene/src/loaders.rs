@@ -19,8 +19,9 @@ mod obj;
 
 use crate::material::Material;
 use crate::mesh::{Mesh, MeshOptions, MeshReport};
+use crate::texture::Texture;
 use crate::{Camera, SceneError};
-use glam::{Mat3, Mat4, Vec3};
+use glam::{Mat3, Mat4, Vec2, Vec3};
 pub use obj::load_obj_bytes;
 use std::path::Path;
 
@@ -57,6 +58,18 @@ pub struct LoadedObject {
     pub material: Material,
     /// What validation changed.
     pub report: MeshReport,
+    /// Its material's textures (glTF), decoded.
+    pub textures: MaterialTextures,
+}
+
+/// The textures of a glTF material that the BRDF parameters read: each multiplies its factor
+/// (already in [`Material`]) at every texture coordinate.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct MaterialTextures {
+    /// `baseColorTexture`, linear (decoded from sRGB).
+    pub base_colour: Option<Texture>,
+    /// `metallicRoughnessTexture`: roughness in G, metallic in B (linear).
+    pub metallic_roughness: Option<Texture>,
 }
 
 /// Everything a file gave.
@@ -127,7 +140,11 @@ struct Builder {
     positions: Vec<Vec3>,
     normals: Vec<Vec3>,
     triangles: Vec<[u32; 3]>,
+    /// `TEXCOORD_0` per vertex ((0, 0) for a primitive without), when any primitive has them.
+    uvs: Vec<Vec2>,
+    has_uvs: bool,
     material: Option<Material>,
+    textures: MaterialTextures,
 }
 
 impl Builder {
@@ -135,9 +152,11 @@ impl Builder {
         if self.triangles.is_empty() {
             return Ok(None);
         }
-        let (mesh, report) = Mesh::build(self.positions, Some(self.normals), self.triangles, options)
+        let uvs = self.has_uvs.then_some(self.uvs);
+        let (mesh, report) = Mesh::build_with_uvs(self.positions, Some(self.normals), uvs, self.triangles, options)
             .map_err(|source| SceneError::Mesh { path: path.into(), object: name.clone(), source })?;
-        Ok(Some(LoadedObject { name, mesh, material: self.material.unwrap_or_default(), report }))
+        let material = self.material.unwrap_or_default();
+        Ok(Some(LoadedObject { name, mesh, material, report, textures: self.textures }))
     }
 }
 
@@ -194,7 +213,8 @@ pub fn load_gltf_bytes(
             };
         }
     }
-    let mut ctx = GltfCtx { buffers: &buffers, name, options, grouping, out: &mut out, visits: 0 };
+    let images = std::collections::HashMap::new();
+    let mut ctx = GltfCtx { buffers: &buffers, base, images, name, options, grouping, out: &mut out, visits: 0 };
     for root in roots {
         let mut group = Builder::default();
         ctx.visit(&root, Mat4::IDENTITY, 0, &mut group)?;
@@ -342,6 +362,10 @@ fn node_name(node: &gltf::Node<'_>) -> String {
 
 struct GltfCtx<'a> {
     buffers: &'a [Vec<u8>],
+    /// The folder external images resolve against (`None`: refused).
+    base: Option<&'a Path>,
+    /// Decoded images by (image index, sRGB).
+    images: std::collections::HashMap<(usize, bool), Texture>,
     name: &'a Path,
     options: MeshOptions,
     grouping: GltfObjects,
@@ -356,6 +380,8 @@ enum AccessorUse {
     Vec3F32,
     /// Triangle indices.
     Indices,
+    /// `TEXCOORD_n`: VEC2 of floats or normalised unsigned bytes or shorts.
+    TexCoords,
 }
 
 /// Deeper than this is taken to be a cycle.
@@ -364,6 +390,49 @@ const MAX_DEPTH: usize = 256;
 impl GltfCtx<'_> {
     fn err(&self, reason: String) -> SceneError {
         SceneError::Gltf { path: self.name.into(), reason }
+    }
+
+    /// The image `texture` samples, decoded (once per image and encoding): from a buffer view,
+    /// a base64 data URI or a file beside the glTF.
+    fn image(&mut self, texture: &gltf::Texture<'_>, srgb: bool) -> Result<Texture, SceneError> {
+        let image = texture.source();
+        if let Some(t) = self.images.get(&(image.index(), srgb)) {
+            return Ok(t.clone());
+        }
+        let what = format!("{} image {}", self.name.display(), image.index());
+        let bytes: Vec<u8> = match image.source() {
+            gltf::image::Source::View { view, .. } => {
+                let buffer = self.buffers.get(view.buffer().index()).map(Vec::as_slice).unwrap_or_default();
+                let range = view.offset()..view.offset().saturating_add(view.length());
+                buffer
+                    .get(range)
+                    .ok_or_else(|| self.err(format!("image {}: its view runs past its buffer", image.index())))?
+                    .to_vec()
+            }
+            gltf::image::Source::Uri { uri, .. } if uri.starts_with("data:") => {
+                use base64::Engine as _;
+                let payload = uri
+                    .split_once(";base64,")
+                    .map(|p| p.1)
+                    .ok_or_else(|| self.err(format!("image {}: only base64 data URIs are supported", image.index())))?;
+                base64::engine::general_purpose::STANDARD
+                    .decode(payload)
+                    .map_err(|e| self.err(format!("image {}: bad base64 data: {e}", image.index())))?
+            }
+            gltf::image::Source::Uri { uri, .. } => {
+                let base = self
+                    .base
+                    .ok_or_else(|| self.err(format!("image {} refers to external file '{uri}'", image.index())))?;
+                let rel = percent_decode(uri)
+                    .ok_or_else(|| self.err(format!("image {}: malformed URI '{uri}'", image.index())))?;
+                let path = base.join(&rel);
+                std::fs::read(&path)
+                    .map_err(|e| self.err(format!("image {}: cannot read {}: {e}", image.index(), path.display())))?
+            }
+        };
+        let t = Texture::decode(&bytes, &what, srgb).map_err(|e| self.err(e))?;
+        self.images.insert((image.index(), srgb), t.clone());
+        Ok(t)
     }
 
     /// A `KHR_lights_punctual` light: a directional one becomes a sun (toward its node's +Z, its
@@ -465,6 +534,9 @@ impl GltfCtx<'_> {
             if let Some(i) = prim.indices() {
                 self.check_accessor(&i, AccessorUse::Indices)?;
             }
+            if let Some(t) = prim.get(&gltf::Semantic::TexCoords(0)) {
+                self.check_accessor(&t, AccessorUse::TexCoords)?;
+            }
             let reader = prim.reader(|buf| self.buffers.get(buf.index()).map(|d| &d[..]));
             let positions: Vec<Vec3> = reader
                 .read_positions()
@@ -505,6 +577,24 @@ impl GltfCtx<'_> {
                     .collect(),
                 _ => (2..indices.len()).map(|i| [indices[0], indices[i - 1], indices[i]]).collect(),
             };
+            let uvs: Option<Vec<Vec2>> = reader.read_tex_coords(0).map(|t| t.into_f32().map(Vec2::from).collect());
+            if let Some(uv) = &uvs
+                && uv.len() != positions.len()
+            {
+                return Err(self.err(format!(
+                    "mesh {}: {} texture coordinates for {} positions",
+                    mesh.index(),
+                    uv.len(),
+                    positions.len()
+                )));
+            }
+            if uvs.is_some() && !b.has_uvs {
+                b.uvs = vec![Vec2::ZERO; b.positions.len()];
+                b.has_uvs = true;
+            }
+            if b.has_uvs {
+                b.uvs.extend(uvs.unwrap_or_else(|| vec![Vec2::ZERO; positions.len()]));
+            }
             b.positions.extend(positions.iter().map(|&p| world.transform_point3(p)));
             b.normals.extend(normals.iter().map(|&n| if n == Vec3::ZERO { n } else { normal_m * n }));
             b.triangles.extend(tris.into_iter().map(|t| {
@@ -516,6 +606,13 @@ impl GltfCtx<'_> {
                 let c = pbr.base_color_factor();
                 b.material =
                     Some(Material::from_gltf_pbr([c[0], c[1], c[2]], pbr.metallic_factor(), pbr.roughness_factor()));
+                b.textures = MaterialTextures {
+                    base_colour: pbr.base_color_texture().map(|t| self.image(&t.texture(), true)).transpose()?,
+                    metallic_roughness: pbr
+                        .metallic_roughness_texture()
+                        .map(|t| self.image(&t.texture(), false))
+                        .transpose()?,
+                };
             }
         }
         Ok(())
@@ -532,6 +629,10 @@ impl GltfCtx<'_> {
                 acc.dimensions() == Dimensions::Scalar
                     && matches!(acc.data_type(), DataType::U8 | DataType::U16 | DataType::U32)
             }
+            AccessorUse::TexCoords => {
+                acc.dimensions() == Dimensions::Vec2
+                    && matches!(acc.data_type(), DataType::F32 | DataType::U8 | DataType::U16)
+            }
         };
         if !ok {
             return Err(self.err(format!(
@@ -542,6 +643,7 @@ impl GltfCtx<'_> {
                 match usage {
                     AccessorUse::Vec3F32 => "float VEC3 positions or normals",
                     AccessorUse::Indices => "unsigned integer indices",
+                    AccessorUse::TexCoords => "VEC2 texture coordinates",
                 }
             )));
         }

@@ -12,9 +12,11 @@
 //! - and, for users who switch the object to Blinn-Phong, the exponent `n = 2/α² − 2`
 //!   (Walter et al. 2007's equivalence), clamped to [1, 10⁴].
 //!
-//! Textures (base-colour maps and so on) are not read: one BRDF per object, as in the paper.
-//! A primitive without a material gets glTF's default (white, fully metallic, fully rough — which
-//! we map as above).
+//! The factors map to one BRDF per object, as in the paper. The material's base-colour and
+//! metallic-roughness textures and the mesh's `TEXCOORD_0` are read and decoded
+//! ([`crate::loaders::MaterialTextures`], [`crate::Mesh::uvs`]); the renderers do not apply them
+//! yet (issue 27, in progress). A primitive without a material gets glTF's default (white, fully
+//! metallic, fully rough — which we map as above).
 
 use serde::{Deserialize, Serialize};
 

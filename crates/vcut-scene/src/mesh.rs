@@ -1,7 +1,7 @@
 //! Validated triangle meshes: finite positions, in-range indices, no zero-area triangles, unit
 //! per-vertex normals.
 
-use glam::Vec3;
+use glam::{Vec2, Vec3};
 
 /// How [`Mesh::build`] merges vertices that share a position.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
@@ -97,6 +97,9 @@ pub enum MeshError {
     /// Nothing left to render.
     #[error("no triangles with non-zero area")]
     Empty,
+    /// Texture coordinates that do not match the positions (count) or are not finite.
+    #[error("texture coordinates: {0}")]
+    Uvs(String),
     /// More vertices than 32-bit indices address.
     #[error("{0} vertices exceed the 32-bit index range")]
     TooLarge(usize),
@@ -105,12 +108,13 @@ pub enum MeshError {
 /// A triangle mesh with unit per-vertex normals. Invariants (checked by [`Mesh::build`], re-checked
 /// by [`Mesh::validate`]): positions finite, normals unit length and as many as positions, every
 /// index in range, every vertex used by a triangle, every triangle of non-zero area, at least one
-/// triangle.
+/// triangle; texture coordinates, when present, finite and as many as positions.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Mesh {
     positions: Vec<Vec3>,
     normals: Vec<Vec3>,
     triangles: Vec<[u32; 3]>,
+    uvs: Option<Vec<Vec2>>,
 }
 
 /// Axis-aligned bounds and a bounding sphere.
@@ -153,7 +157,23 @@ impl Mesh {
         triangles: Vec<[u32; 3]>,
         options: MeshOptions,
     ) -> Result<(Mesh, MeshReport), MeshError> {
+        Self::build_with_uvs(positions, normals, None, triangles, options)
+    }
+
+    /// [`Mesh::build`] with texture coordinates (glTF's `TEXCOORD_0`), carried through the
+    /// welding (a welded vertex keeps the first coordinates of those it merges: welding closes
+    /// texture seams) and the removal of unused vertices.
+    pub fn build_with_uvs(
+        positions: Vec<Vec3>,
+        normals: Option<Vec<Vec3>>,
+        mut uvs: Option<Vec<Vec2>>,
+        triangles: Vec<[u32; 3]>,
+        options: MeshOptions,
+    ) -> Result<(Mesh, MeshReport), MeshError> {
         let mut report = MeshReport::default();
+        if let Some(uv) = &uvs {
+            check_uvs(uv, positions.len())?;
+        }
         if positions.len() > u32::MAX as usize {
             return Err(MeshError::TooLarge(positions.len()));
         }
@@ -185,6 +205,7 @@ impl Mesh {
                     merged_n[r as usize] += normals[i];
                 }
                 normals = merged_n;
+                uvs = uvs.map(|uv| kept.iter().map(|&i| uv[i as usize]).collect());
                 let pos = kept.iter().map(|&i| positions[i as usize]).collect();
                 let tris = triangles.iter().map(|t| t.map(|i| remap[i as usize])).collect();
                 (pos, tris)
@@ -228,6 +249,15 @@ impl Mesh {
                     n[new as usize] = normals[old];
                 }
             }
+            if let Some(uv) = &mut uvs {
+                let mut kept = vec![Vec2::ZERO; next as usize];
+                for (old, &new) in new_index.iter().enumerate() {
+                    if new != u32::MAX {
+                        kept[new as usize] = uv[old];
+                    }
+                }
+                *uv = kept;
+            }
             let t = kept_tris.iter().map(|t| t.map(|i| new_index[i as usize])).collect::<Vec<_>>();
             (p, n, t)
         } else {
@@ -245,7 +275,7 @@ impl Mesh {
         for n in &mut normals {
             *n = n.normalize_or(Vec3::Y);
         }
-        Ok((Mesh { positions, normals, triangles: kept_tris }, report))
+        Ok((Mesh { positions, normals, triangles: kept_tris, uvs }, report))
     }
 
     /// Vertex positions.
@@ -306,9 +336,20 @@ impl Mesh {
         }
     }
 
-    /// Appends another mesh's vertices and triangles.
+    /// Texture coordinates per vertex (glTF's `TEXCOORD_0`), when the mesh has them.
+    pub fn uvs(&self) -> Option<&[Vec2]> {
+        self.uvs.as_deref()
+    }
+
+    /// Appends another mesh's vertices and triangles (and texture coordinates: where only one
+    /// of the two has them, the other's vertices get (0, 0)).
     pub fn append(&mut self, other: &Mesh) {
         let off = self.positions.len() as u32;
+        if self.uvs.is_some() || other.uvs.is_some() {
+            let mut uvs = self.uvs.take().unwrap_or_else(|| vec![Vec2::ZERO; self.positions.len()]);
+            uvs.extend_from_slice(other.uvs.as_deref().unwrap_or(&vec![Vec2::ZERO; other.positions.len()]));
+            self.uvs = Some(uvs);
+        }
         self.positions.extend_from_slice(&other.positions);
         self.normals.extend_from_slice(&other.normals);
         self.triangles.extend(other.triangles.iter().map(|t| t.map(|i| i + off)));
@@ -321,9 +362,16 @@ impl Mesh {
         normals: Vec<Vec3>,
         triangles: Vec<[u32; 3]>,
     ) -> Result<Mesh, MeshError> {
-        let mesh = Mesh { positions, normals, triangles };
+        let mesh = Mesh { positions, normals, triangles, uvs: None };
         mesh.validate()?;
         Ok(mesh)
+    }
+
+    /// This mesh with texture coordinates `uvs` (one per vertex, finite).
+    pub fn with_uvs(mut self, uvs: Vec<Vec2>) -> Result<Mesh, MeshError> {
+        check_uvs(&uvs, self.positions.len())?;
+        self.uvs = Some(uvs);
+        Ok(self)
     }
 
     /// Re-checks every invariant; for tests.
@@ -334,6 +382,9 @@ impl Mesh {
         }
         if self.triangles.is_empty() {
             return bad("no triangles".into());
+        }
+        if let Some(uv) = &self.uvs {
+            check_uvs(uv, self.positions.len())?;
         }
         if let Some(p) = self.positions.iter().find(|p| !p.is_finite()) {
             return bad(format!("non-finite position {p}"));
@@ -403,6 +454,17 @@ fn weld_map(positions: &[Vec3], weld: Weld) -> (Vec<u32>, Vec<u32>) {
         remap.push(id);
     }
     (remap, kept)
+}
+
+/// Texture coordinates fit `vertices` vertices: as many, each finite.
+fn check_uvs(uvs: &[Vec2], vertices: usize) -> Result<(), MeshError> {
+    if uvs.len() != vertices {
+        return Err(MeshError::Uvs(format!("{} for {vertices} vertices", uvs.len())));
+    }
+    if let Some((i, uv)) = uvs.iter().enumerate().find(|(_, uv)| !uv.is_finite()) {
+        return Err(MeshError::Uvs(format!("vertex {i} has {uv}")));
+    }
+    Ok(())
 }
 
 #[cfg(test)]
@@ -477,5 +539,39 @@ mod tests {
         let [a, b, c] = m.triangles()[0].map(|i| m.positions()[i as usize]);
         let face = (b - a).cross(c - a).normalize();
         assert!(face.dot(m.normals()[0]) > 0.99);
+    }
+
+    #[test]
+    fn texture_coordinates_follow_welding_and_dropped_vertices() {
+        // Vertex 4 is unused; vertex 3 duplicates vertex 0's position with other coordinates.
+        let p = vec![Vec3::ZERO, Vec3::X, Vec3::new(1.0, 0.0, -1.0), Vec3::ZERO, Vec3::Y];
+        let uv = vec![Vec2::new(0.0, 0.0), Vec2::new(1.0, 0.0), Vec2::new(1.0, 1.0), Vec2::new(0.5, 0.5), Vec2::ONE];
+        let t = vec![[0, 1, 2], [3, 2, 1]];
+        let (m, r) =
+            Mesh::build_with_uvs(p.clone(), None, Some(uv.clone()), t.clone(), MeshOptions::default()).unwrap();
+        assert_eq!(r.unreferenced_vertices_dropped, 1);
+        let got = m.uvs().unwrap();
+        for (k, tri) in m.triangles().iter().enumerate() {
+            let want = t[k].map(|i| uv[i as usize]);
+            assert_eq!(tri.map(|i| got[i as usize]), want, "triangle {k}");
+        }
+        // Welded, vertex 3 merges into vertex 0 and keeps vertex 0's coordinates.
+        let weld = MeshOptions { weld: Weld::Exact, ..Default::default() };
+        let (m, _) = Mesh::build_with_uvs(p.clone(), None, Some(uv.clone()), t.clone(), weld).unwrap();
+        assert_eq!(m.vertex_count(), 3);
+        assert!(m.uvs().unwrap().contains(&Vec2::ZERO) && !m.uvs().unwrap().contains(&Vec2::splat(0.5)));
+        // Appending a mesh without coordinates gives its vertices (0, 0).
+        let (mut a, _) = Mesh::build_with_uvs(p.clone(), None, Some(uv), t.clone(), MeshOptions::default()).unwrap();
+        let (b, _) = Mesh::build(p.clone(), None, t.clone(), MeshOptions::default()).unwrap();
+        a.append(&b);
+        assert_eq!(a.uvs().unwrap().len(), a.vertex_count());
+        assert!(a.validate().is_ok());
+        // Wrong counts and non-finite values are refused.
+        let e = Mesh::build_with_uvs(p.clone(), None, Some(vec![Vec2::ZERO; 2]), t.clone(), MeshOptions::default());
+        assert!(matches!(e, Err(MeshError::Uvs(_))));
+        let mut bad = vec![Vec2::ZERO; 5];
+        bad[2].x = f32::NAN;
+        let e = Mesh::build_with_uvs(p, None, Some(bad), t, MeshOptions::default()).unwrap_err();
+        assert!(e.to_string().contains("vertex 2"), "{e}");
     }
 }
