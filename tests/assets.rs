@@ -71,6 +71,28 @@ fn the_plants_texture_coordinates_are_read() {
 }
 
 #[test]
+fn a_scene_keeps_the_plants_textures_unless_its_material_replaces_them() {
+    let Some(_) = assets_or_skip("a_scene_keeps_the_plants_textures_unless_its_material_replaces_them") else { return };
+    let rel = "asset:plants/polyhaven_potted_plant_04_1k/potted_plant_04_1k.gltf";
+    let dir = std::env::temp_dir().join(format!("vcuts-plant-textures-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let open = |extra: &str| {
+        let file = dir.join("scene.toml");
+        let text = format!("[[object]]\nsource = \"{rel}\"\ninstances = [[0.0, 0.0, 0.0], [2.0, 0.0, 0.0]]\n{extra}");
+        std::fs::write(&file, text).unwrap();
+        vcut_scene::Scene::open(file.to_str().unwrap()).unwrap_or_else(|e| panic!("{e}"))
+    };
+    let scene = open("");
+    assert_eq!(scene.objects.len(), 2);
+    for o in &scene.objects {
+        assert!(o.textures.base_colour.is_some() && o.mesh.uvs().is_some(), "{}", o.name);
+    }
+    let plain = open("material = { model = \"lambert\", kd = [0.5, 0.5, 0.5] }\n");
+    assert!(plain.objects.iter().all(|o| o.textures.base_colour.is_none()));
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
 fn gltf_engine_keeps_its_hierarchy() {
     let Some(a) = assets_or_skip("gltf_engine_keeps_its_hierarchy") else { return };
     let p = a.join("gltf/2CylinderEngine.glb");

@@ -33,7 +33,7 @@
 //! resolves through [`crate::assets::locate`]. A file source can yield several objects (glTF nodes, OBJ groups:
 //! `split`); they are named `NAME/CHILD`.
 
-use crate::loaders::{GltfObjects, GltfSun, ObjObjects};
+use crate::loaders::{GltfObjects, GltfSun, MaterialTextures, ObjObjects};
 use crate::material::Material;
 use crate::mesh::{Mesh, MeshOptions, Weld};
 use crate::{Budget, Builtin, Camera, Motion, Scene, SceneError, SceneObject, assets, budget, shapes, teapot};
@@ -356,7 +356,7 @@ impl ObjectDesc {
             r.map_err(|source| SceneError::Mesh { path: file.into(), object: self.source.clone(), source })
         };
         let (mut cameras, mut suns, mut ignored) = (Vec::new(), Vec::new(), Vec::new());
-        let mut parts: Vec<(String, Mesh, Option<Material>)> =
+        let mut parts: Vec<(String, Mesh, Option<Material>, MaterialTextures)> =
             match (Builtin::named(&self.source), self.source.as_str()) {
                 (Some(b), _) => {
                     let r = res.unwrap_or(b.default_resolution());
@@ -368,7 +368,7 @@ impl ObjectDesc {
                         Builtin::Box => ("box", shapes::cuboid(Vec3::splat(s), r)),
                         Builtin::Plane => ("plane", shapes::plane(s, r)),
                     };
-                    vec![(name.into(), shape(mesh)?, None)]
+                    vec![(name.into(), shape(mesh)?, None, MaterialTextures::default())]
                 }
                 (None, s) if s.starts_with("builtin:") => {
                     return Err(SceneError::UnknownBuiltin { name: s.into(), known: Builtin::KNOWN });
@@ -386,13 +386,14 @@ impl ObjectDesc {
                     let out = crate::loaders::load_file(&path, g, o, MeshOptions { weld, ..Default::default() })?;
                     (cameras, suns, ignored) = (out.cameras, out.suns, out.ignored);
                     let mut parts: Vec<_> =
-                        out.objects.into_iter().map(|o| (o.name, o.mesh, Some(o.material))).collect();
+                        out.objects.into_iter().map(|o| (o.name, o.mesh, Some(o.material), o.textures)).collect();
                     if self.split == Some(Split::File) && parts.len() > 1 {
-                        let (name, mut first, mat) = parts.remove(0);
-                        for (_, m, _) in &parts {
+                        // One object, one material: the first part's.
+                        let (name, mut first, mat, textures) = parts.remove(0);
+                        for (_, m, _, _) in &parts {
                             first.append(m);
                         }
-                        parts = vec![(name, first, mat)];
+                        parts = vec![(name, first, mat, textures)];
                     }
                     parts
                 }
@@ -437,7 +438,7 @@ impl ObjectDesc {
         }
         let single = parts.len() == 1;
         let own = self.name.clone();
-        let objects = parts.into_iter().map(|(child, mut mesh, mat)| {
+        let objects = parts.into_iter().map(|(child, mut mesh, mat, textures)| {
             mesh.transform(xf);
             let name = match (&own, single) {
                 (Some(n), true) => n.clone(),
@@ -448,6 +449,8 @@ impl ObjectDesc {
                 name,
                 mesh,
                 material: self.material.or(mat).unwrap_or_default(),
+                // A scene file's material replaces the file's, textures included.
+                textures: if self.material.is_some() { MaterialTextures::default() } else { textures },
                 motion: if self.moves { Motion::Movable } else { Motion::Static },
             }
         });
@@ -459,7 +462,14 @@ impl ObjectDesc {
             for (k, offset) in self.instances.iter().enumerate() {
                 let mut mesh = o.mesh.clone();
                 mesh.transform(Mat4::from_translation(Vec3::from(*offset)));
-                out.push(SceneObject { name: format!("{}/{k}", o.name), mesh, material: o.material, motion: o.motion });
+                let textures = o.textures.clone();
+                out.push(SceneObject {
+                    name: format!("{}/{k}", o.name),
+                    mesh,
+                    material: o.material,
+                    textures,
+                    motion: o.motion,
+                });
             }
         }
         Ok(Loaded { objects: out, cameras, suns, ignored })

@@ -67,6 +67,9 @@ pub struct SceneObject {
     pub mesh: Mesh,
     /// BRDF parameters.
     pub material: Material,
+    /// Its glTF material's textures (none for built-ins, OBJ files, and a scene file's own
+    /// `material`).
+    pub textures: loaders::MaterialTextures,
     /// Static or movable.
     pub motion: Motion,
 }
