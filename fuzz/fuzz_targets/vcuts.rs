@@ -12,7 +12,7 @@ use vcut_data::shard::ShardPlan;
 
 fuzz_target!(|data: &[u8]| {
     let Some((&mode, rest)) = data.split_first() else { return };
-    match mode % 8 {
+    match mode % 9 {
         // Payload parsers directly, so the fuzzer need not forge CRCs to reach them.
         0 => {
             if let Ok(a) = sections::CutArray::parse(rest.to_vec()) {
@@ -50,6 +50,11 @@ fuzz_target!(|data: &[u8]| {
                     map.texels()
                 );
             }
+        }
+        8 => {
+            // A surface payload read against the vertex count it claims, so the parse goes on.
+            let claimed = rest.get(..4).map_or(0, |b| u32::from_le_bytes([b[0], b[1], b[2], b[3]]) as usize);
+            let _ = vcut_data::surface::decode(rest, claimed);
         }
         // The container: open, then read every section it lists and parse the cut arrays.
         _ => {

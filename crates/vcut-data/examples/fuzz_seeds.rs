@@ -30,6 +30,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             SectionKind::Shard => 5,
             SectionKind::View => 6,
             SectionKind::Environment => 7,
+            SectionKind::Surface => 8,
             SectionKind::Params => continue,
         };
         if seen.contains(&id.kind) {

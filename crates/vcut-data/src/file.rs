@@ -34,11 +34,14 @@ pub enum SectionKind {
     /// The environment map the precompute was given when it came from a file, embedded
     /// ([`vcut_envmap::embed`]).
     Environment = 9,
+    /// One object's texture coordinates and material textures (`a` = object;
+    /// [`crate::surface`]), when it has any.
+    Surface = 10,
 }
 
 impl SectionKind {
     /// Every kind, in number order.
-    pub const ALL: [SectionKind; 9] = [
+    pub const ALL: [SectionKind; 10] = [
         SectionKind::Params,
         SectionKind::Directions,
         SectionKind::Mesh,
@@ -48,6 +51,7 @@ impl SectionKind {
         SectionKind::Shard,
         SectionKind::View,
         SectionKind::Environment,
+        SectionKind::Surface,
     ];
 
     /// Lower-case name.
@@ -62,6 +66,7 @@ impl SectionKind {
             SectionKind::Shard => "shard",
             SectionKind::View => "view",
             SectionKind::Environment => "environment",
+            SectionKind::Surface => "surface",
         }
     }
 }
@@ -84,7 +89,9 @@ impl Kind for SectionKind {
             | SectionKind::Shard
             | SectionKind::View
             | SectionKind::Environment => self.name().into(),
-            SectionKind::Mesh | SectionKind::FieldLayout => format!("{} (object {a})", self.name()),
+            SectionKind::Mesh | SectionKind::FieldLayout | SectionKind::Surface => {
+                format!("{} (object {a})", self.name())
+            }
             SectionKind::Svc => format!("svc (object {a}, chunk {b})"),
             SectionKind::Field => format!("field (object {a}, sphere {b})"),
         }

@@ -35,6 +35,7 @@ pub mod params;
 pub mod precomputed;
 pub mod sections;
 pub mod shard;
+pub mod surface;
 pub mod view;
 
 pub use field::{FieldLayout, FieldSample, InsideSamples, RadialSpacing};

@@ -156,7 +156,18 @@ impl Precomputed {
             if !reader.has(id) {
                 break;
             }
-            objects.push(sections::decode_mesh(&reader.section(id)?).map_err(|e| reader.section_error(id, e))?);
+            let mut object = sections::decode_mesh(&reader.section(id)?).map_err(|e| reader.section_error(id, e))?;
+            let sid = SectionId::new(SectionKind::Surface, i, 0);
+            if reader.has(sid) {
+                let payload = reader.section(sid)?;
+                let (uvs, textures) = crate::surface::decode(&payload, object.mesh.vertex_count())
+                    .map_err(|e| reader.section_error(sid, e))?;
+                if let Some(uvs) = uvs {
+                    object.mesh = object.mesh.with_uvs(uvs).map_err(|e| reader.section_error(sid, e))?;
+                }
+                object.textures = textures;
+            }
+            objects.push(object);
             let lid = SectionId::new(SectionKind::FieldLayout, i, 0);
             layouts.push(if reader.has(lid) {
                 Some(sections::decode_field_layout(&reader.section(lid)?).map_err(|e| reader.section_error(lid, e))?)

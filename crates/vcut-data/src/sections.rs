@@ -324,8 +324,10 @@ pub struct StoredObject {
     pub motion: Motion,
     /// Material at precompute time.
     pub material: Material,
-    /// Mesh at rest.
+    /// Mesh at rest (with its texture coordinates, from its `surface` section).
     pub mesh: Mesh,
+    /// Its material's textures (from its `surface` section).
+    pub textures: vcut_scene::loaders::MaterialTextures,
 }
 
 /// Mesh payload.
@@ -372,7 +374,7 @@ pub fn decode_mesh(bytes: &[u8]) -> Result<StoredObject, PayloadError> {
     let normals = (0..nv).map(|_| r.vec3()).collect::<Result<Vec<_>, _>>()?;
     let triangles = (0..nt).map(|_| Ok([r.u32()?, r.u32()?, r.u32()?])).collect::<Result<Vec<_>, PayloadError>>()?;
     let mesh = Mesh::from_valid_parts(positions, normals, triangles).map_err(PayloadError::Mesh)?;
-    Ok(StoredObject { name, motion, material, mesh })
+    Ok(StoredObject { name, motion, material, mesh, textures: Default::default() })
 }
 
 /// Field layout payload.
@@ -429,17 +431,17 @@ fn put_str(out: &mut Vec<u8>, s: &str) {
 }
 
 /// A bounds-checked little-endian reader.
-struct Cursor<'a> {
+pub(crate) struct Cursor<'a> {
     bytes: &'a [u8],
     at: usize,
 }
 
 impl<'a> Cursor<'a> {
-    fn new(bytes: &'a [u8]) -> Self {
+    pub(crate) fn new(bytes: &'a [u8]) -> Self {
         Cursor { bytes, at: 0 }
     }
 
-    fn take(&mut self, n: usize) -> Result<&'a [u8], PayloadError> {
+    pub(crate) fn take(&mut self, n: usize) -> Result<&'a [u8], PayloadError> {
         let end = self.at.checked_add(n).filter(|&e| e <= self.bytes.len());
         let end = end.ok_or(PayloadError::Truncated { at: self.at, need: n })?;
         let s = &self.bytes[self.at..end];
@@ -447,19 +449,19 @@ impl<'a> Cursor<'a> {
         Ok(s)
     }
 
-    fn rest(&self) -> usize {
+    pub(crate) fn rest(&self) -> usize {
         self.bytes.len() - self.at
     }
 
-    fn u8(&mut self) -> Result<u8, PayloadError> {
+    pub(crate) fn u8(&mut self) -> Result<u8, PayloadError> {
         Ok(self.take(1)?[0])
     }
 
-    fn u32(&mut self) -> Result<u32, PayloadError> {
+    pub(crate) fn u32(&mut self) -> Result<u32, PayloadError> {
         Ok(u32_at(self.take(4)?, 0))
     }
 
-    fn f32(&mut self) -> Result<f32, PayloadError> {
+    pub(crate) fn f32(&mut self) -> Result<f32, PayloadError> {
         Ok(f32::from_bits(self.u32()?))
     }
 

@@ -173,6 +173,9 @@ pub fn estimate<'a>(job: &'a Job<'a>, budget: Duration) -> Result<(Estimate, Set
     bytes += sections::encode_directions(setup.set.directions(), &setup.areas, setup.tree.leaf_to_input()).len() as u64;
     for o in &scene.objects {
         bytes += sections::encode_mesh(&o.name, o.motion, &o.material, &o.mesh).len() as u64 + SECTION_OVERHEAD;
+        if let Some(surface) = vcut_data::surface::encode(&o.mesh, &o.textures) {
+            bytes += surface.len() as u64 + SECTION_OVERHEAD;
+        }
     }
     for (_, s) in vcut_data::view::scene_sections(scene) {
         bytes += s.len() as u64 + SECTION_OVERHEAD;

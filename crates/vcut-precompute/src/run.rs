@@ -396,6 +396,9 @@ fn run_sections<'a>(
             SectionId::new(SectionKind::Mesh, i as u32, 0),
             &sections::encode_mesh(&o.name, o.motion, &o.material, &o.mesh),
         )?;
+        if let Some(surface) = vcut_data::surface::encode(&o.mesh, &o.textures) {
+            writer.put(SectionId::new(SectionKind::Surface, i as u32, 0), &surface)?;
+        }
     }
     for (i, l) in setup.layouts.iter().enumerate() {
         if let Some(l) = l {

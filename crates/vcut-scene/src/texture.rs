@@ -3,19 +3,34 @@
 //! centres, repeating outside [0, 1], (0, 0) at the image's top-left corner.
 //!
 //! A base-colour texture is sRGB-encoded (glTF's rule) and decoded to linear; a
-//! metallic-roughness texture is linear data (roughness in G, metallic in B).
+//! metallic-roughness texture is linear data (roughness in G, metallic in B). Texels are kept as
+//! the 8 bits per channel the files hold (a 16-bit PNG is rounded to 8), so a texture stays
+//! small in memory and in a `.vcuts` file ([`Texture::to_bytes`]) and decodes the same everywhere.
 
 use glam::{Vec2, Vec3};
 
-/// A decoded texture: linear RGB texels, row-major from the top.
-#[derive(Debug, Clone, PartialEq)]
+/// A decoded texture: 8-bit RGB texels, row-major from the top, and whether they are
+/// sRGB-encoded colour. Two textures are equal when their texels and encoding are, wherever they
+/// came from.
+#[derive(Debug, Clone)]
 pub struct Texture {
     width: u32,
     height: u32,
-    texels: Vec<Vec3>,
+    srgb: bool,
+    texels: Vec<[u8; 3]>,
     /// Where it came from (a file or `NAME.gltf image N`), for messages.
     pub source: String,
 }
+
+impl PartialEq for Texture {
+    fn eq(&self, other: &Texture) -> bool {
+        (self.width, self.height, self.srgb) == (other.width, other.height, other.srgb) && self.texels == other.texels
+    }
+}
+
+/// The linear value of each 8-bit sRGB level.
+static SRGB_LEVELS: std::sync::LazyLock<[f32; 256]> =
+    std::sync::LazyLock::new(|| std::array::from_fn(|l| srgb_to_linear(l as f32 / 255.0)));
 
 /// The sRGB transfer function inverted: an 8-bit-range value in [0, 1] to linear.
 fn srgb_to_linear(c: f32) -> f32 {
@@ -27,19 +42,56 @@ impl Texture {
     /// rather than data. The error names `source`.
     pub fn decode(bytes: &[u8], source: &str, srgb: bool) -> Result<Texture, String> {
         let image = image::load_from_memory(bytes).map_err(|e| format!("{source}: cannot decode: {e}"))?;
-        let rgb = image.to_rgb32f();
+        let rgb = image.to_rgb8();
         let (width, height) = rgb.dimensions();
-        if width == 0 || height == 0 {
-            return Err(format!("{source}: empty image"));
+        Self::from_texels(width, height, srgb, rgb.pixels().map(|p| p.0).collect(), source)
+    }
+
+    fn from_texels(width: u32, height: u32, srgb: bool, texels: Vec<[u8; 3]>, source: &str) -> Result<Texture, String> {
+        if width == 0 || height == 0 || texels.len() != width as usize * height as usize {
+            return Err(format!("{source}: {} texels for a {width}×{height} image", texels.len()));
         }
-        let texels = rgb
-            .pixels()
-            .map(|p| {
-                let c = Vec3::new(p[0], p[1], p[2]).clamp(Vec3::ZERO, Vec3::ONE);
-                if srgb { Vec3::new(srgb_to_linear(c.x), srgb_to_linear(c.y), srgb_to_linear(c.z)) } else { c }
-            })
-            .collect();
-        Ok(Texture { width, height, texels, source: source.into() })
+        Ok(Texture { width, height, srgb, texels, source: source.into() })
+    }
+
+    /// The texture as bytes (little-endian width and height as u32, the sRGB flag as a byte, then
+    /// the texels, 3 bytes each): what a `.vcuts` file stores.
+    pub fn to_bytes(&self) -> Vec<u8> {
+        let mut out = Vec::with_capacity(9 + 3 * self.texels.len());
+        out.extend_from_slice(&self.width.to_le_bytes());
+        out.extend_from_slice(&self.height.to_le_bytes());
+        out.push(u8::from(self.srgb));
+        out.extend(self.texels.iter().flatten());
+        out
+    }
+
+    /// Reads what [`Texture::to_bytes`] wrote; errors name `source`.
+    pub fn from_bytes(bytes: &[u8], source: &str) -> Result<Texture, String> {
+        let short = || format!("{source}: a texture of {} bytes is truncated", bytes.len());
+        let head = bytes.get(..9).ok_or_else(short)?;
+        let width = u32::from_le_bytes([head[0], head[1], head[2], head[3]]);
+        let height = u32::from_le_bytes([head[4], head[5], head[6], head[7]]);
+        let srgb = match head[8] {
+            0 => false,
+            1 => true,
+            f => return Err(format!("{source}: sRGB flag {f} is not 0 or 1")),
+        };
+        let body = &bytes[9..];
+        let want = (width as usize).checked_mul(height as usize).and_then(|n| n.checked_mul(3));
+        if want != Some(body.len()) {
+            return Err(format!("{source}: {} texel bytes for a {width}×{height} texture", body.len()));
+        }
+        let texels = body.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect();
+        Self::from_texels(width, height, srgb, texels, source)
+    }
+
+    fn linear(&self, t: [u8; 3]) -> Vec3 {
+        if self.srgb {
+            let l = &*SRGB_LEVELS;
+            Vec3::new(l[t[0] as usize], l[t[1] as usize], l[t[2] as usize])
+        } else {
+            Vec3::new(f32::from(t[0]), f32::from(t[1]), f32::from(t[2])) / 255.0
+        }
     }
 
     /// Width and height in texels.
@@ -54,7 +106,8 @@ impl Texture {
         let (x0, y0) = (x.floor(), y.floor());
         let (fx, fy) = (x - x0, y - y0);
         let wrap = |i: f32, n: u32| (i as i64).rem_euclid(i64::from(n)) as usize;
-        let at = |i: f32, j: f32| self.texels[wrap(j, self.height) * self.width as usize + wrap(i, self.width)];
+        let at =
+            |i: f32, j: f32| self.linear(self.texels[wrap(j, self.height) * self.width as usize + wrap(i, self.width)]);
         let top = at(x0, y0).lerp(at(x0 + 1.0, y0), fx);
         let bottom = at(x0, y0 + 1.0).lerp(at(x0 + 1.0, y0 + 1.0), fx);
         top.lerp(bottom, fy)
@@ -62,7 +115,7 @@ impl Texture {
 
     /// The mean texel.
     pub fn mean(&self) -> Vec3 {
-        self.texels.iter().fold(Vec3::ZERO, |a, &t| a + t) / self.texels.len() as f32
+        self.texels.iter().fold(Vec3::ZERO, |a, &t| a + self.linear(t)) / self.texels.len() as f32
     }
 }
 
@@ -94,5 +147,12 @@ mod tests {
         assert!((s.mean().x - 0.5).abs() < 0.005, "{}", s.mean());
         let e = Texture::decode(b"not an image", "bad.png", true).unwrap_err();
         assert!(e.contains("bad.png"), "{e}");
+        // Bytes round-trip; damaged ones are refused naming the source.
+        assert_eq!(Texture::from_bytes(&s.to_bytes(), "s").unwrap(), s);
+        assert_eq!(Texture::from_bytes(&t.to_bytes(), "t").unwrap(), t);
+        let mut cut = t.to_bytes();
+        cut.pop();
+        assert!(Texture::from_bytes(&cut, "file section").unwrap_err().contains("file section"));
+        assert!(Texture::from_bytes(&[0; 4], "x").is_err());
     }
 }

@@ -117,3 +117,27 @@ fn the_exr_holds_alpha_and_passes_and_the_glb_reimports() {
     }
     assert!(lit > 0);
 }
+
+/// A textured glTF's coordinates and textures travel in the `.vcuts` file (its `surface`
+/// section), equal to what the scene loaded.
+#[test]
+fn the_plants_coordinates_and_textures_travel_in_the_file() {
+    if vcut_scene::assets::dir().is_none() {
+        eprintln!(
+            "SKIPPED the_plants_coordinates_and_textures_travel_in_the_file: shared assets folder not found (set VCUT_ASSETS)"
+        );
+        return;
+    }
+    let s = scratch("exports-plant");
+    let scene = "[[object]]\nsource = \"asset:plants/polyhaven_potted_plant_04_1k/potted_plant_04_1k.gltf\"\n\n\
+                 [[object]]\nname = \"ground\"\nsource = \"builtin:plane\"\nsize = 2.0\nresolution = 4\n";
+    std::fs::write(s.0.join("plant.toml"), scene).unwrap();
+    let data = common::precomputed(&s, "plant.toml", &["directions=256", "field_spheres=2"]);
+    let loaded = vcut_scene::Scene::open(s.0.join("plant.toml").to_str().unwrap()).unwrap();
+    assert_eq!(data.objects[0].mesh.uvs(), loaded.objects[0].mesh.uvs());
+    assert!(data.objects[0].mesh.uvs().is_some());
+    assert_eq!(data.objects[0].textures, loaded.objects[0].textures);
+    assert!(data.objects[0].textures.base_colour.is_some());
+    // The built-in ground has neither.
+    assert!(data.objects[1].mesh.uvs().is_none() && data.objects[1].textures.base_colour.is_none());
+}
