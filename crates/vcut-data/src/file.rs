@@ -116,10 +116,11 @@ mod tests {
         for k in SectionKind::ALL {
             assert_eq!(SectionKind::from_code(k.code()), Some(k));
         }
-        assert_eq!(SectionKind::from_code(10), None);
+        assert_eq!(SectionKind::from_code(11), None);
         assert_eq!(SectionId::new(SectionKind::Svc, 0, 3).to_string(), "svc (object 0, chunk 3)");
         assert_eq!(SectionId::new(SectionKind::Field, 1, 2).to_string(), "field (object 1, sphere 2)");
         assert_eq!(SectionId::new(SectionKind::Mesh, 4, 0).to_string(), "mesh (object 4)");
+        assert_eq!(SectionId::new(SectionKind::Surface, 2, 0).to_string(), "surface (object 2)");
         assert_eq!(SectionId::new(SectionKind::Params, 0, 0).to_string(), "params");
     }
 }

@@ -144,6 +144,8 @@ struct Builder {
     uvs: Vec<Vec2>,
     has_uvs: bool,
     material: Option<Material>,
+    /// The glTF factors the material came from (base colour, metallic, roughness).
+    pbr: Option<([f32; 3], f32, f32)>,
     textures: MaterialTextures,
 }
 
@@ -155,7 +157,14 @@ impl Builder {
         let uvs = self.has_uvs.then_some(self.uvs);
         let (mesh, report) = Mesh::build_with_uvs(self.positions, Some(self.normals), uvs, self.triangles, options)
             .map_err(|source| SceneError::Mesh { path: path.into(), object: name.clone(), source })?;
-        let material = self.material.unwrap_or_default();
+        let mut material = self.material.unwrap_or_default();
+        // Until the renderers take metallic and roughness per vertex: their texture's mean over
+        // the vertices times the factors (the factors alone made Poly Haven's plant, whose
+        // metallic factor is glTF's default 1, a black metal).
+        if let (Some((c, m, r)), Some(t), Some(uvs)) = (self.pbr, &self.textures.metallic_roughness, mesh.uvs()) {
+            let mean = uvs.iter().map(|&uv| t.sample(uv)).sum::<Vec3>() / uvs.len().max(1) as f32;
+            material = Material::from_gltf_pbr(c, m * mean.z, r * mean.y);
+        }
         Ok(Some(LoadedObject { name, mesh, material, report, textures: self.textures }))
     }
 }
@@ -606,6 +615,7 @@ impl GltfCtx<'_> {
                 let c = pbr.base_color_factor();
                 b.material =
                     Some(Material::from_gltf_pbr([c[0], c[1], c[2]], pbr.metallic_factor(), pbr.roughness_factor()));
+                b.pbr = Some(([c[0], c[1], c[2]], pbr.metallic_factor(), pbr.roughness_factor()));
                 b.textures = MaterialTextures {
                     base_colour: pbr.base_color_texture().map(|t| self.image(&t.texture(), true)).transpose()?,
                     metallic_roughness: pbr

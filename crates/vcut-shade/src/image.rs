@@ -78,6 +78,38 @@ pub fn rasterize(
     Image { width: w as u32, height: h as u32, rgb, covered }
 }
 
+/// Rasterises `frame` shaded as `parts` (from [`Frame::shade_parts`]) with the diffuse albedo
+/// taken per pixel — [`Frame::albedo_at`] the interpolated texture coordinates, so a texture
+/// shows at its own resolution, not the mesh's — as `albedo · diffuse + specular`, each part
+/// interpolated over the triangles. Where no object is textured it is [`rasterize`] of
+/// [`Frame::radiance`] up to rounding (and costs four more passes: use that then).
+pub fn rasterize_parts(
+    frame: &Frame,
+    parts: &[Vec<crate::Parts>],
+    camera: &Camera,
+    width: u32,
+    height: u32,
+    background: Option<&EnvMap>,
+) -> Image {
+    let per_vertex = |f: &dyn Fn(usize, usize) -> Vec3| -> Vec<Vec<Vec3>> {
+        (0..frame.object_count()).map(|o| (0..parts[o].len()).map(|v| f(o, v)).collect()).collect()
+    };
+    let draw = |values: &[Vec<Vec3>]| rasterize(frame, values, camera, width, height, None);
+    let diffuse = draw(&per_vertex(&|o, v| parts[o][v].diffuse));
+    let specular = draw(&per_vertex(&|o, v| parts[o][v].specular));
+    let uv = draw(&per_vertex(&|o, v| frame.object(o).mesh.uvs().map_or(Vec3::ZERO, |uv| uv[v].extend(0.0))));
+    let id = draw(&per_vertex(&|o, _| Vec3::splat(o as f32)));
+    let mut image = rasterize(frame, &frame.radiance(parts), camera, width, height, background);
+    for k in 0..image.rgb.len() {
+        if image.covered[k] {
+            let o = (id.rgb[k].x.round() as usize).min(frame.object_count().saturating_sub(1));
+            let coordinates = frame.object(o).mesh.uvs().map(|_| uv.rgb[k].truncate());
+            image.rgb[k] = frame.albedo_at(o, coordinates) * diffuse.rgb[k] + specular.rgb[k];
+        }
+    }
+    image
+}
+
 /// Exposure that maps the log-average luminance of the covered pixels to middle grey 0.18
 /// (Reinhard's key value); 1 for an empty or black image.
 pub fn auto_exposure(image: &Image) -> f32 {

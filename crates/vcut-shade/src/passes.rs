@@ -99,16 +99,17 @@ pub fn render_passes(
             let per_vertex: Vec<Vec<Vec3>> = (0..frame.object_count())
                 .map(|o| {
                     let object = frame.object(o);
-                    let kd = Vec3::from(object.material.kd);
                     match pass {
-                        Pass::Albedo => vec![kd; object.mesh.positions().len()],
+                        Pass::Albedo => (0..object.mesh.vertex_count()).map(|v| frame.albedo(o, v)).collect(),
                         Pass::Normal => object.mesh.normals().to_vec(),
                         Pass::Depth => frame
                             .positions(o)
                             .iter()
                             .map(|&p| Vec3::splat((p - camera.position).dot(forward)))
                             .collect(),
-                        Pass::Diffuse => parts[o].iter().map(|p| kd * p.diffuse).collect(),
+                        Pass::Diffuse => {
+                            parts[o].iter().enumerate().map(|(v, p)| frame.albedo(o, v) * p.diffuse).collect()
+                        }
                         Pass::Specular => parts[o].iter().map(|p| p.specular).collect(),
                     }
                 })

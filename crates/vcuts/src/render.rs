@@ -12,7 +12,7 @@ use vcut_envmap::EnvMap;
 use vcut_scene::{Camera, Scene};
 use vcut_shade::brdf::parse_spec;
 use vcut_shade::glb::write_glb;
-use vcut_shade::image::{auto_exposure, pixel_errors, rasterize, write_exr, write_ply, write_png};
+use vcut_shade::image::{auto_exposure, pixel_errors, rasterize, rasterize_parts, write_exr, write_ply, write_png};
 use vcut_shade::passes::{Pass, render_passes, write_exr_passes};
 use vcut_shade::reference::{MonteCarloParams, errors, exact_direction, monte_carlo};
 use vcut_shade::{Frame, FrameCaches, SunRays};
@@ -507,7 +507,12 @@ pub fn run(args: &RenderArgs) -> Result<RenderOutcome> {
     out.emit("shade_ms", format!("{shade_ms:.2}"));
     emit_memory(&frame, &mut out);
     let t = Instant::now();
-    let image = rasterize(&frame, &radiance, &camera, args.width, args.height, Some(&env));
+    // A textured object takes its albedo per pixel.
+    let image = if frame.has_textures() {
+        rasterize_parts(&frame, &parts, &camera, args.width, args.height, Some(&env))
+    } else {
+        rasterize(&frame, &radiance, &camera, args.width, args.height, Some(&env))
+    };
     let raster_ms = t.elapsed().as_secs_f64() * 1e3;
     out.raster_ms = Some(raster_ms);
     out.emit("raster_ms", format!("{raster_ms:.2}"));

@@ -130,7 +130,7 @@ fn the_plants_coordinates_and_textures_travel_in_the_file() {
     }
     let s = scratch("exports-plant");
     let scene = "[[object]]\nsource = \"asset:plants/polyhaven_potted_plant_04_1k/potted_plant_04_1k.gltf\"\n\n\
-                 [[object]]\nname = \"ground\"\nsource = \"builtin:plane\"\nsize = 2.0\nresolution = 4\n";
+                 [[object]]\nname = \"ground\"\nsource = \"builtin:plane\"\nsize = 0.3\nresolution = 4\ntranslation = [0.0, -0.01, 0.0]\n";
     std::fs::write(s.0.join("plant.toml"), scene).unwrap();
     let data = common::precomputed(&s, "plant.toml", &["directions=256", "field_spheres=2"]);
     let loaded = vcut_scene::Scene::open(s.0.join("plant.toml").to_str().unwrap()).unwrap();
@@ -140,4 +140,35 @@ fn the_plants_coordinates_and_textures_travel_in_the_file() {
     assert!(data.objects[0].textures.base_colour.is_some());
     // The built-in ground has neither.
     assert!(data.objects[1].mesh.uvs().is_none() && data.objects[1].textures.base_colour.is_none());
+    // Rendered, the plant's albedo is its texture's colour, not black: the albedo pass over its
+    // pixels is near the texture's mean at its vertices times its kd.
+    let mut args = vcuts::render::RenderArgs::new(&s.0.join("plant.vcuts"), &s.0.join("p.png"));
+    (args.width, args.height) = (96, 96);
+    args.exr = Some(s.0.join("p.exr"));
+    args.exr_passes = Some(vcuts::render::Passes(vec![vcut_shade::passes::Pass::Albedo]));
+    vcuts::render::run(&args).unwrap();
+    let c = channels(&s.0.join("p.exr"));
+    let kd = Vec3::from(loaded.objects[0].material.kd);
+    let colour = loaded.objects[0].textures.base_colour.as_ref().unwrap();
+    let uvs = loaded.objects[0].mesh.uvs().unwrap();
+    let want = kd * uvs.iter().map(|&uv| colour.sample(uv)).sum::<Vec3>() / uvs.len() as f32;
+    assert!(want.max_element() > 0.02, "black at the vertices: {want}");
+    // Plant pixels: covered and not the ground's untextured grey.
+    let ground = Vec3::from(loaded.objects[1].material.kd);
+    let (mut sum, mut n) = (Vec3::ZERO, 0);
+    for k in 0..96 * 96 {
+        let a = Vec3::new(c["albedo.R"][k], c["albedo.G"][k], c["albedo.B"][k]);
+        if c["A"][k] == 1.0 && (a - ground).length() > 1e-4 {
+            sum += a;
+            n += 1;
+        }
+    }
+    let mean = sum / n.max(1) as f32;
+    println!("plant: {n} pixels, albedo mean {mean}, texture at the vertices × kd {want}, kd {kd}");
+    assert!(n > 100 && mean.max_element() > 0.02, "{n} pixels, mean {mean}");
+    // Screen area weighs the pot's large faces more than the vertex mean does: within a factor 2
+    // of the texture's own mean.
+    let texture = kd * colour.mean();
+    let ratio = mean.max_element() / texture.max_element();
+    assert!((0.5..2.0).contains(&ratio), "pixel albedo {mean} against the texture's mean {texture}");
 }

@@ -231,6 +231,8 @@ pub struct FrameObject<'a> {
     pub mesh: &'a Mesh,
     /// Its BRDF parameters now.
     pub material: &'a Material,
+    /// Its glTF material's textures.
+    pub textures: &'a vcut_scene::loaders::MaterialTextures,
     /// Whether it may move.
     pub motion: Motion,
     /// Its translation from rest now.
@@ -334,6 +336,7 @@ impl Frame {
                 name: stored.name.clone(),
                 mesh: stored.mesh.clone(),
                 material: stored.material,
+                textures: stored.textures.clone(),
                 pow: brdf::PowTable::new(stored.material.exponent),
                 motion: stored.motion,
                 translation: Vec3::ZERO,
@@ -424,9 +427,32 @@ impl Frame {
             name: &s.name,
             mesh: &s.mesh,
             material: &s.material,
+            textures: &s.textures,
             motion: s.motion,
             translation: s.translation,
         }
+    }
+
+    /// The diffuse albedo of object `o` at texture coordinates `uv`: its `kd` times its
+    /// base-colour texture there, when it has one (and coordinates), else its `kd`.
+    pub fn albedo_at(&self, o: usize, uv: Option<glam::Vec2>) -> Vec3 {
+        let s = &self.objects[o];
+        let kd = Vec3::from(s.material.kd);
+        match (&s.textures.base_colour, uv) {
+            (Some(t), Some(uv)) => kd * t.sample(uv),
+            _ => kd,
+        }
+    }
+
+    /// Vertex `v`'s diffuse albedo ([`Frame::albedo_at`] its texture coordinates).
+    pub fn albedo(&self, o: usize, v: usize) -> Vec3 {
+        self.albedo_at(o, self.objects[o].mesh.uvs().map(|uv| uv[v]))
+    }
+
+    /// Whether any object's albedo varies over it (a base-colour texture with coordinates):
+    /// then images take the albedo per pixel.
+    pub fn has_textures(&self) -> bool {
+        self.objects.iter().any(|s| s.textures.base_colour.is_some() && s.mesh.uvs().is_some())
     }
 
     /// Chooses the merge that later moves use: the kept SVCs are prepared again in its form,

@@ -19,6 +19,8 @@ pub(super) struct ObjectState {
     pub(super) name: String,
     pub(super) mesh: Mesh,
     pub(super) material: Material,
+    /// Its glTF material's textures (the base colour multiplies `material.kd`).
+    pub(super) textures: vcut_scene::loaders::MaterialTextures,
     /// `x^exponent` of the material, tabled (`None` above the table's range).
     pub(super) pow: Option<brdf::PowTable>,
     pub(super) motion: Motion,

@@ -103,12 +103,13 @@ impl Frame {
         self.radiance(&parts)
     }
 
-    /// Each object's radiance from its [`Parts`] under its own albedo.
+    /// Each object's radiance from its [`Parts`] under its own albedo at each vertex
+    /// ([`Frame::albedo`]: its `kd`, times its texture at the vertex's coordinates).
     pub fn radiance(&self, parts: &[Vec<Parts>]) -> Vec<Vec<Vec3>> {
         parts
             .iter()
-            .zip(&self.objects)
-            .map(|(p, s)| p.iter().map(|x| x.radiance(Vec3::from(s.material.kd))).collect())
+            .enumerate()
+            .map(|(o, p)| p.iter().enumerate().map(|(v, x)| x.radiance(self.albedo(o, v))).collect())
             .collect()
     }
 
