@@ -15,6 +15,7 @@
 //! Every error names the file; accessors are bounds-checked before they are read, so malformed
 //! files give errors, not panics (the `fuzz/` target `scene_files` checks this).
 
+mod data;
 mod obj;
 
 use crate::material::Material;
@@ -195,7 +196,7 @@ pub fn load_gltf_bytes(
     let root = unchecked.document.into_json();
     check_references(&root).map_err(err)?;
     let document = gltf::Document::from_json(root).map_err(|e| err(e.to_string()))?;
-    let buffers = import_buffers(&document, base, blob).map_err(err)?;
+    let buffers = data::import_buffers(&document, base, blob).map_err(err)?;
     let doc = &document;
     let roots: Vec<gltf::Node<'_>> = match doc.default_scene().or_else(|| doc.scenes().next()) {
         Some(scene) => scene.nodes().collect(),
@@ -270,72 +271,6 @@ fn aim(out: &mut LoadOutput) {
     }
 }
 
-/// Loads every buffer: the GLB blob, `data:` URIs (base64) or files relative to `base`. Our own
-/// rather than gltf's `import_buffers`, which unwraps on URIs that percent-decode to invalid
-/// UTF-8 (found by the fuzzer).
-fn import_buffers(
-    doc: &gltf::Document,
-    base: Option<&Path>,
-    mut blob: Option<Vec<u8>>,
-) -> Result<Vec<Vec<u8>>, String> {
-    use base64::Engine as _;
-    let mut out = Vec::new();
-    for buffer in doc.buffers() {
-        let mut data = match buffer.source() {
-            gltf::buffer::Source::Bin => {
-                blob.take().ok_or_else(|| format!("buffer {} refers to a missing GLB BIN chunk", buffer.index()))?
-            }
-            gltf::buffer::Source::Uri(uri) if uri.starts_with("data:") => {
-                let (_, payload) = uri
-                    .split_once(";base64,")
-                    .ok_or_else(|| format!("buffer {}: only base64 data URIs are supported", buffer.index()))?;
-                base64::engine::general_purpose::STANDARD
-                    .decode(payload)
-                    .map_err(|e| format!("buffer {}: bad base64 data: {e}", buffer.index()))?
-            }
-            gltf::buffer::Source::Uri(uri) => {
-                let base = base.ok_or_else(|| format!("buffer {} refers to external file '{uri}'", buffer.index()))?;
-                let rel =
-                    percent_decode(uri).ok_or_else(|| format!("buffer {}: malformed URI '{uri}'", buffer.index()))?;
-                let path = base.join(&rel);
-                std::fs::read(&path)
-                    .map_err(|e| format!("buffer {}: cannot read {}: {e}", buffer.index(), path.display()))?
-            }
-        };
-        if data.len() < buffer.length() {
-            return Err(format!(
-                "buffer {} declares {} bytes but holds {}",
-                buffer.index(),
-                buffer.length(),
-                data.len()
-            ));
-        }
-        while data.len() % 4 != 0 {
-            data.push(0);
-        }
-        out.push(data);
-    }
-    Ok(out)
-}
-
-/// `%XX` decoding of a relative URI; `None` for bad escapes or invalid UTF-8.
-fn percent_decode(uri: &str) -> Option<String> {
-    let b = uri.as_bytes();
-    let mut out = Vec::with_capacity(b.len());
-    let mut i = 0;
-    while i < b.len() {
-        if b[i] == b'%' {
-            let hex = std::str::from_utf8(b.get(i + 1..i + 3)?).ok()?;
-            out.push(u8::from_str_radix(hex, 16).ok()?);
-            i += 3;
-        } else {
-            out.push(b[i]);
-            i += 1;
-        }
-    }
-    String::from_utf8(out).ok()
-}
-
 /// Every accessor index a primitive names exists (checked before gltf-json's validation hooks run).
 fn check_references(root: &gltf::json::Root) -> Result<(), String> {
     let n = root.accessors.len();
@@ -401,44 +336,14 @@ impl GltfCtx<'_> {
         SceneError::Gltf { path: self.name.into(), reason }
     }
 
-    /// The image `texture` samples, decoded (once per image and encoding): from a buffer view,
-    /// a base64 data URI or a file beside the glTF.
+    /// The image `texture` samples, decoded (once per image and encoding).
     fn image(&mut self, texture: &gltf::Texture<'_>, srgb: bool) -> Result<Texture, SceneError> {
         let image = texture.source();
         if let Some(t) = self.images.get(&(image.index(), srgb)) {
             return Ok(t.clone());
         }
         let what = format!("{} image {}", self.name.display(), image.index());
-        let bytes: Vec<u8> = match image.source() {
-            gltf::image::Source::View { view, .. } => {
-                let buffer = self.buffers.get(view.buffer().index()).map(Vec::as_slice).unwrap_or_default();
-                let range = view.offset()..view.offset().saturating_add(view.length());
-                buffer
-                    .get(range)
-                    .ok_or_else(|| self.err(format!("image {}: its view runs past its buffer", image.index())))?
-                    .to_vec()
-            }
-            gltf::image::Source::Uri { uri, .. } if uri.starts_with("data:") => {
-                use base64::Engine as _;
-                let payload = uri
-                    .split_once(";base64,")
-                    .map(|p| p.1)
-                    .ok_or_else(|| self.err(format!("image {}: only base64 data URIs are supported", image.index())))?;
-                base64::engine::general_purpose::STANDARD
-                    .decode(payload)
-                    .map_err(|e| self.err(format!("image {}: bad base64 data: {e}", image.index())))?
-            }
-            gltf::image::Source::Uri { uri, .. } => {
-                let base = self
-                    .base
-                    .ok_or_else(|| self.err(format!("image {} refers to external file '{uri}'", image.index())))?;
-                let rel = percent_decode(uri)
-                    .ok_or_else(|| self.err(format!("image {}: malformed URI '{uri}'", image.index())))?;
-                let path = base.join(&rel);
-                std::fs::read(&path)
-                    .map_err(|e| self.err(format!("image {}: cannot read {}: {e}", image.index(), path.display())))?
-            }
-        };
+        let bytes = data::image_bytes(&image, self.buffers, self.base).map_err(|e| self.err(e))?;
         let t = Texture::decode(&bytes, &what, srgb).map_err(|e| self.err(e))?;
         self.images.insert((image.index(), srgb), t.clone());
         Ok(t)

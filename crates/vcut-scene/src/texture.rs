@@ -99,6 +99,16 @@ impl Texture {
         (self.width, self.height)
     }
 
+    /// The texels as stored (8 bits per channel, row-major from the top).
+    pub fn texels(&self) -> &[[u8; 3]] {
+        &self.texels
+    }
+
+    /// Whether the texels are sRGB-encoded colour (else linear data).
+    pub fn is_srgb(&self) -> bool {
+        self.srgb
+    }
+
     /// The value at texture coordinates `uv`: bilinear between texel centres, repeating.
     pub fn sample(&self, uv: Vec2) -> Vec3 {
         let (w, h) = (self.width as f32, self.height as f32);

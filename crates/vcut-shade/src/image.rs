@@ -79,10 +79,10 @@ pub fn rasterize(
 }
 
 /// Rasterises `frame` shaded as `parts` (from [`Frame::shade_parts`]) with the diffuse albedo
-/// taken per pixel — [`Frame::albedo_at`] the interpolated texture coordinates, so a texture
-/// shows at its own resolution, not the mesh's — as `albedo · diffuse + specular`, each part
-/// interpolated over the triangles. Where no object is textured it is [`rasterize`] of
-/// [`Frame::radiance`] up to rounding (and costs four more passes: use that then).
+/// taken per pixel ([`albedo_image`], so a texture shows at its own resolution, not the mesh's)
+/// as `albedo · diffuse + specular`, each part interpolated over the triangles. Where no object
+/// is textured it is [`rasterize`] of [`Frame::radiance`] up to rounding (and costs four more
+/// passes: use that then).
 pub fn rasterize_parts(
     frame: &Frame,
     parts: &[Vec<crate::Parts>],
@@ -91,21 +91,41 @@ pub fn rasterize_parts(
     height: u32,
     background: Option<&EnvMap>,
 ) -> Image {
-    let per_vertex = |f: &dyn Fn(usize, usize) -> Vec3| -> Vec<Vec<Vec3>> {
-        (0..frame.object_count()).map(|o| (0..parts[o].len()).map(|v| f(o, v)).collect()).collect()
+    let draw = |f: &dyn Fn(&crate::Parts) -> Vec3| {
+        let values: Vec<Vec<Vec3>> = parts.iter().map(|p| p.iter().map(f).collect()).collect();
+        rasterize(frame, &values, camera, width, height, None)
     };
-    let draw = |values: &[Vec<Vec3>]| rasterize(frame, values, camera, width, height, None);
-    let diffuse = draw(&per_vertex(&|o, v| parts[o][v].diffuse));
-    let specular = draw(&per_vertex(&|o, v| parts[o][v].specular));
-    let uv = draw(&per_vertex(&|o, v| frame.object(o).mesh.uvs().map_or(Vec3::ZERO, |uv| uv[v].extend(0.0))));
-    let id = draw(&per_vertex(&|o, _| Vec3::splat(o as f32)));
+    let diffuse = draw(&|p| p.diffuse);
+    let specular = draw(&|p| p.specular);
+    let albedo = albedo_image(frame, camera, width, height);
     let mut image = rasterize(frame, &frame.radiance(parts), camera, width, height, background);
     for k in 0..image.rgb.len() {
         if image.covered[k] {
-            let o = (id.rgb[k].x.round() as usize).min(frame.object_count().saturating_sub(1));
-            let coordinates = frame.object(o).mesh.uvs().map(|_| uv.rgb[k].truncate());
-            image.rgb[k] = frame.albedo_at(o, coordinates) * diffuse.rgb[k] + specular.rgb[k];
+            image.rgb[k] = albedo.rgb[k] * diffuse.rgb[k] + specular.rgb[k];
         }
+    }
+    image
+}
+
+/// The diffuse albedo each pixel shows: [`Frame::albedo_at`] the texture coordinates
+/// interpolated over the visible triangle (an untextured object's `kd` throughout); zero where
+/// no object is.
+pub fn albedo_image(frame: &Frame, camera: &Camera, width: u32, height: u32) -> Image {
+    let draw = |f: &dyn Fn(usize, usize) -> Vec3| {
+        let values: Vec<Vec<Vec3>> = (0..frame.object_count())
+            .map(|o| (0..frame.object(o).mesh.vertex_count()).map(|v| f(o, v)).collect())
+            .collect();
+        rasterize(frame, &values, camera, width, height, None)
+    };
+    let uv = draw(&|o, v| frame.object(o).mesh.uvs().map_or(Vec3::ZERO, |uv| uv[v].extend(0.0)));
+    let mut image = draw(&|o, _| Vec3::splat(o as f32));
+    for (c, (&covered, uv)) in image.rgb.iter_mut().zip(image.covered.iter().zip(&uv.rgb)) {
+        *c = if covered {
+            let o = (c.x.round() as usize).min(frame.object_count().saturating_sub(1));
+            frame.albedo_at(o, frame.object(o).mesh.uvs().map(|_| uv.truncate()))
+        } else {
+            Vec3::ZERO
+        };
     }
     image
 }

@@ -4,10 +4,12 @@
 //! file.
 //!
 //! Each pass is the rasteriser's perspective-correct interpolation of a per-vertex value over
-//! the same triangles and depth test as the image: `albedo` the object's k_d; `normal` the
+//! the same triangles and depth test as the image: `albedo` the object's k_d, times its
+//! base-colour texture at the pixel's interpolated coordinates ([`crate::image::albedo_image`],
+//! as the image takes it); `normal` the
 //! world-space vertex normal, renormalised per pixel; `depth` the distance along the camera's
 //! view axis in scene units (linear, exact under perspective-correct interpolation; 10¹⁰ where
-//! nothing is drawn, as Blender's Z pass); `diffuse` k_d · [`crate::Parts::diffuse`];
+//! nothing is drawn, as Blender's Z pass); `diffuse` that albedo · [`crate::Parts::diffuse`];
 //! `specular` [`crate::Parts::specular`]. Background pixels are 0 in every other pass.
 //!
 //! Channels follow OpenEXR's layer convention: `R G B A` for the image (its RGB straight, not
@@ -26,7 +28,7 @@ pub const BACKGROUND_DEPTH: f32 = 1.0e10;
 /// One image pass.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Pass {
-    /// Diffuse albedo k_d.
+    /// Diffuse albedo (k_d, times the base-colour texture).
     Albedo,
     /// World-space shading normal.
     Normal,
@@ -93,28 +95,35 @@ pub fn render_passes(
     passes: &[Pass],
 ) -> Vec<(Pass, Image)> {
     let forward = (camera.target - camera.position).normalize_or_zero();
+    let albedo = passes
+        .iter()
+        .any(|p| matches!(p, Pass::Albedo | Pass::Diffuse))
+        .then(|| crate::image::albedo_image(frame, camera, width, height));
     passes
         .iter()
         .map(|&pass| {
-            let per_vertex: Vec<Vec<Vec3>> = (0..frame.object_count())
-                .map(|o| {
-                    let object = frame.object(o);
-                    match pass {
-                        Pass::Albedo => (0..object.mesh.vertex_count()).map(|v| frame.albedo(o, v)).collect(),
-                        Pass::Normal => object.mesh.normals().to_vec(),
-                        Pass::Depth => frame
-                            .positions(o)
-                            .iter()
-                            .map(|&p| Vec3::splat((p - camera.position).dot(forward)))
-                            .collect(),
-                        Pass::Diffuse => {
-                            parts[o].iter().enumerate().map(|(v, p)| frame.albedo(o, v) * p.diffuse).collect()
-                        }
-                        Pass::Specular => parts[o].iter().map(|p| p.specular).collect(),
-                    }
-                })
-                .collect();
-            let mut image = rasterize(frame, &per_vertex, camera, width, height, None);
+            let draw = |per_vertex: Vec<Vec<Vec3>>| rasterize(frame, &per_vertex, camera, width, height, None);
+            let mut image = match pass {
+                Pass::Albedo => albedo.clone().expect("drawn for this pass"),
+                Pass::Normal => {
+                    draw((0..frame.object_count()).map(|o| frame.object(o).mesh.normals().to_vec()).collect())
+                }
+                Pass::Depth => draw(
+                    (0..frame.object_count())
+                        .map(|o| {
+                            let depth = |p: &Vec3| Vec3::splat((*p - camera.position).dot(forward));
+                            frame.positions(o).iter().map(depth).collect()
+                        })
+                        .collect(),
+                ),
+                Pass::Diffuse => {
+                    let mut image = draw(parts.iter().map(|p| p.iter().map(|x| x.diffuse).collect()).collect());
+                    let albedo = albedo.as_ref().expect("drawn for this pass");
+                    image.rgb.iter_mut().zip(&albedo.rgb).for_each(|(c, a)| *c *= *a);
+                    image
+                }
+                Pass::Specular => draw(parts.iter().map(|p| p.iter().map(|x| x.specular).collect()).collect()),
+            };
             for (c, &covered) in image.rgb.iter_mut().zip(&image.covered) {
                 match pass {
                     Pass::Normal => *c = c.normalize_or_zero(),

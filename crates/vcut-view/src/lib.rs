@@ -26,6 +26,7 @@
 //! interpolates the per-vertex radiance over the triangles and draws the background, as
 //! `vcut_shade::image::rasterize` does on the CPU.
 
+mod albedo;
 pub mod app;
 pub mod camera;
 pub mod gpu;

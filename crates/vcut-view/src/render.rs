@@ -43,6 +43,9 @@ impl Viewport {
     }
 }
 
+/// Bytes per mesh vertex: position, colour, textured colour (3 floats each), uv (2).
+const MESH_VERTEX_BYTES: usize = 44;
+
 /// Depth format of the scene pass.
 pub const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
 
@@ -57,6 +60,27 @@ struct ObjectBuffers {
     vertex_count: usize,
 }
 
+/// A mesh object's vertex buffers and its albedo texture's bind group.
+struct MeshObject {
+    buffers: ObjectBuffers,
+    albedo: wgpu::BindGroup,
+}
+
+/// One object's vertices as drawn: a pixel shows `colour + textured × albedo(uv)`, the albedo
+/// the object's texture sampled as the CPU renderer samples it (bilinear, repeating, sRGB
+/// decoded) — 1 for an object without one.
+pub struct ObjectVertices {
+    /// Vertex positions.
+    pub positions: Vec<Vec3>,
+    /// Per vertex, what is added as it is (linear radiance, or display values; see
+    /// [`Shown::radiance`]).
+    pub colours: Vec<Vec3>,
+    /// Per vertex, what the texture's albedo multiplies (empty: nothing).
+    pub textured: Vec<Vec3>,
+    /// Per vertex, texture coordinates (empty: none).
+    pub uvs: Vec<glam::Vec2>,
+}
+
 /// The meshes of a frame as the renderer reads them (the cut viewer's session is one): read
 /// only when their versions change.
 pub trait Meshes {
@@ -67,9 +91,10 @@ pub trait Meshes {
     fn env(&self) -> &EnvMap;
     /// Every object's triangles (vertex indices).
     fn triangles(&self) -> Vec<&[[u32; 3]]>;
-    /// Every object's vertex positions and colours (linear radiance, or display values; see
-    /// [`Shown::radiance`]).
-    fn vertices(&self) -> Vec<(Vec<Vec3>, Vec<Vec3>)>;
+    /// Every object's vertices.
+    fn vertices(&self) -> Vec<ObjectVertices>;
+    /// Every object's albedo texture (`None`: white), read when the object count changes.
+    fn albedo_textures(&self) -> Vec<Option<&vcut_scene::texture::Texture>>;
 }
 
 /// A plant's leaves as the renderer reads them.
@@ -110,10 +135,12 @@ pub struct SceneRenderer {
     bind_group: wgpu::BindGroup,
     background: wgpu::RenderPipeline,
     mesh: wgpu::RenderPipeline,
+    albedo_layout: wgpu::BindGroupLayout,
+    albedo_sampler: wgpu::Sampler,
     image_layout: wgpu::BindGroupLayout,
     image: wgpu::RenderPipeline,
     env_size: (u32, u32),
-    objects: Vec<ObjectBuffers>,
+    objects: Vec<MeshObject>,
     uploaded: Option<[u64; 3]>,
     leaf: wgpu::RenderPipeline,
     leaves: Option<(ObjectBuffers, u64)>,
@@ -195,6 +222,12 @@ impl SceneRenderer {
             bind_group_layouts: &[Some(&layout), Some(&image_layout)],
             immediate_size: 0,
         });
+        let albedo_layout = crate::albedo::layout(device);
+        let mesh_pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("mesh"),
+            bind_group_layouts: &[Some(&layout), Some(&albedo_layout)],
+            immediate_size: 0,
+        });
         let target = [Some(wgpu::ColorTargetState { format, blend: None, write_mask: wgpu::ColorWrites::ALL })];
         let pipeline = |label: &str,
                         layout: &wgpu::PipelineLayout,
@@ -236,12 +269,13 @@ impl SceneRenderer {
         };
         let background = pipeline("background", &pipeline_layout, "vs_background", "fs_background", &[], false);
         let image = pipeline("image", &image_pipeline_layout, "vs_background", "fs_image", &[], false);
+        // Meshes: position, the colour added, the colour the albedo texture multiplies, uv.
         let vertex_layout = wgpu::VertexBufferLayout {
-            array_stride: 24,
+            array_stride: MESH_VERTEX_BYTES as u64,
             step_mode: wgpu::VertexStepMode::Vertex,
-            attributes: &wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3],
+            attributes: &wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3, 2 => Float32x3, 3 => Float32x2],
         };
-        let mesh = pipeline("mesh", &pipeline_layout, "vs_mesh", "fs_mesh", &[Some(vertex_layout)], true);
+        let mesh = pipeline("mesh", &mesh_pipeline_layout, "vs_mesh", "fs_mesh", &[Some(vertex_layout)], true);
         // Leaves: position, the radiance of the side along the normal, of the side against it.
         let leaf_layout = wgpu::VertexBufferLayout {
             array_stride: 36,
@@ -263,6 +297,8 @@ impl SceneRenderer {
             bind_group,
             background,
             mesh,
+            albedo_sampler: crate::albedo::sampler(device),
+            albedo_layout,
             image_layout,
             image,
             env_size,
@@ -334,44 +370,52 @@ impl SceneRenderer {
         }
         let vertices = meshes.vertices();
         if self.objects.len() != vertices.len() {
+            let textures = meshes.albedo_textures();
             self.objects = meshes
                 .triangles()
                 .iter()
                 .zip(&vertices)
-                .map(|(triangles, (positions, _))| {
+                .enumerate()
+                .map(|(o, (triangles, v))| {
                     let indices: Vec<u32> = triangles.iter().flatten().copied().collect();
-                    let vertex_count = positions.len();
-                    ObjectBuffers {
-                        vertices: gpu.device.create_buffer(&wgpu::BufferDescriptor {
-                            label: Some("vertices"),
-                            size: (vertex_count.max(1) * 24) as u64,
-                            usage: wgpu::BufferUsages::VERTEX | wgpu::BufferUsages::COPY_DST,
-                            mapped_at_creation: false,
-                        }),
-                        indices: {
-                            let buffer = gpu.device.create_buffer(&wgpu::BufferDescriptor {
-                                label: Some("indices"),
-                                size: (indices.len().max(1) * 4).next_multiple_of(4) as u64,
-                                usage: wgpu::BufferUsages::INDEX | wgpu::BufferUsages::COPY_DST,
+                    let vertex_count = v.positions.len();
+                    let texture = textures.get(o).copied().flatten();
+                    MeshObject {
+                        buffers: ObjectBuffers {
+                            vertices: gpu.device.create_buffer(&wgpu::BufferDescriptor {
+                                label: Some("vertices"),
+                                size: (vertex_count.max(1) * MESH_VERTEX_BYTES) as u64,
+                                usage: wgpu::BufferUsages::VERTEX | wgpu::BufferUsages::COPY_DST,
                                 mapped_at_creation: false,
-                            });
-                            gpu.queue.write_buffer(&buffer, 0, bytemuck::cast_slice(&indices));
-                            buffer
+                            }),
+                            indices: {
+                                let buffer = gpu.device.create_buffer(&wgpu::BufferDescriptor {
+                                    label: Some("indices"),
+                                    size: (indices.len().max(1) * 4).next_multiple_of(4) as u64,
+                                    usage: wgpu::BufferUsages::INDEX | wgpu::BufferUsages::COPY_DST,
+                                    mapped_at_creation: false,
+                                });
+                                gpu.queue.write_buffer(&buffer, 0, bytemuck::cast_slice(&indices));
+                                buffer
+                            },
+                            index_count: indices.len() as u32,
+                            vertex_count,
                         },
-                        index_count: indices.len() as u32,
-                        vertex_count,
+                        albedo: crate::albedo::bind_group(gpu, &self.albedo_layout, &self.albedo_sampler, texture),
                     }
                 })
                 .collect();
         }
-        for (buffers, (positions, colours)) in self.objects.iter().zip(&vertices) {
-            let data: Vec<[f32; 6]> = positions
-                .iter()
-                .zip(colours)
-                .map(|(p, c)| [p.x, p.y, p.z, c.x, c.y, c.z])
-                .take(buffers.vertex_count)
+        for (object, v) in self.objects.iter().zip(&vertices) {
+            let data: Vec<[f32; 11]> = (0..v.positions.len().min(object.buffers.vertex_count))
+                .map(|i| {
+                    let (p, c) = (v.positions[i], v.colours.get(i).copied().unwrap_or(Vec3::ZERO));
+                    let t = v.textured.get(i).copied().unwrap_or(Vec3::ZERO);
+                    let uv = v.uvs.get(i).copied().unwrap_or(glam::Vec2::ZERO);
+                    [p.x, p.y, p.z, c.x, c.y, c.z, t.x, t.y, t.z, uv.x, uv.y]
+                })
                 .collect();
-            gpu.queue.write_buffer(&buffers.vertices, 0, bytemuck::cast_slice(&data));
+            gpu.queue.write_buffer(&object.buffers.vertices, 0, bytemuck::cast_slice(&data));
         }
         self.uploaded = Some(versions);
         start.elapsed().as_secs_f64() * 1e3
@@ -404,10 +448,11 @@ impl SceneRenderer {
         pass.set_pipeline(&self.background);
         pass.draw(0..3, 0..1);
         pass.set_pipeline(&self.mesh);
-        for o in &self.objects {
+        for MeshObject { buffers: o, albedo } in &self.objects {
             if o.index_count == 0 {
                 continue;
             }
+            pass.set_bind_group(1, albedo, &[]);
             pass.set_vertex_buffer(0, o.vertices.slice(..));
             pass.set_index_buffer(o.indices.slice(..), wgpu::IndexFormat::Uint32);
             pass.draw_indexed(0..o.index_count, 0, 0..1);

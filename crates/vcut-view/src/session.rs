@@ -145,6 +145,7 @@ pub struct Session {
     mode: Mode,
     origin_offset: f32,
     radiance: Vec<Vec<Vec3>>,
+    parts: Vec<Vec<vcut_shade::Parts>>,
     shaded_eye: Option<Vec3>,
     auto_exposure: f32,
     reference: Option<Progressive>,
@@ -178,6 +179,7 @@ impl Session {
             mode: Mode::Cuts,
             origin_offset,
             radiance: Vec::new(),
+            parts: Vec::new(),
             shaded_eye: None,
             auto_exposure: 1.0,
             reference: None,
@@ -374,7 +376,8 @@ impl Session {
             Ok(n) => (self.timings.turn_merged, self.turn_error) = (n, None),
             Err(e) => (self.timings.turn_merged, self.turn_error) = (0, Some(e.to_string())),
         }
-        self.radiance = self.frame.shade(eye);
+        self.parts = self.frame.shade_parts(eye, false);
+        self.radiance = self.frame.radiance(&self.parts);
         self.timings.shade_ms = start.elapsed().as_secs_f64() * 1e3;
         self.shaded_eye = Some(eye);
         // As `cargo xtask render` chooses it (over the covered pixels, not the vertices: hidden
@@ -388,6 +391,12 @@ impl Session {
     /// Per-vertex radiance from the cuts (as of the last [`Session::update`]).
     pub fn radiance(&self) -> &[Vec<Vec3>] {
         &self.radiance
+    }
+
+    /// Per-vertex shading from the cuts in its two parts (as of the last [`Session::update`]):
+    /// what [`Session::radiance`] is made of, for a per-pixel albedo.
+    pub fn parts(&self) -> &[Vec<vcut_shade::Parts>] {
+        &self.parts
     }
 
     /// Share of vertices the exact reference has reached (1 when complete; 0 before it starts).
@@ -548,9 +557,36 @@ impl crate::render::Meshes for Session {
         (0..self.frame.object_count()).map(|o| self.frame.object(o).mesh.triangles()).collect()
     }
 
-    fn vertices(&self) -> Vec<(Vec<Vec3>, Vec<Vec3>)> {
+    /// The cuts' own shading takes a textured object's albedo per pixel (its specular share
+    /// added, its diffuse share times `kd` multiplied by the texture); the exact reference and
+    /// the heat map are per vertex.
+    fn vertices(&self) -> Vec<crate::render::ObjectVertices> {
         let (colours, _) = self.colours();
-        colours.into_iter().enumerate().map(|(o, c)| (self.frame.positions(o), c)).collect()
+        let per_pixel = matches!(self.mode, Mode::Cuts) && self.parts.len() == colours.len();
+        colours
+            .into_iter()
+            .enumerate()
+            .map(|(o, colours)| {
+                let object = self.frame.object(o);
+                let positions = self.frame.positions(o);
+                match (object.textures.base_colour.as_ref(), object.mesh.uvs()) {
+                    (Some(_), Some(uvs)) if per_pixel => {
+                        let kd = Vec3::from(object.material.kd);
+                        crate::render::ObjectVertices {
+                            positions,
+                            colours: self.parts[o].iter().map(|p| p.specular).collect(),
+                            textured: self.parts[o].iter().map(|p| kd * p.diffuse).collect(),
+                            uvs: uvs.to_vec(),
+                        }
+                    }
+                    _ => crate::render::ObjectVertices { positions, colours, textured: Vec::new(), uvs: Vec::new() },
+                }
+            })
+            .collect()
+    }
+
+    fn albedo_textures(&self) -> Vec<Option<&vcut_scene::texture::Texture>> {
+        (0..self.frame.object_count()).map(|o| self.frame.object(o).textures.base_colour.as_ref()).collect()
     }
 }
 

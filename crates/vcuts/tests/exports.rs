@@ -145,9 +145,17 @@ fn the_plants_coordinates_and_textures_travel_in_the_file() {
     let mut args = vcuts::render::RenderArgs::new(&s.0.join("plant.vcuts"), &s.0.join("p.png"));
     (args.width, args.height) = (96, 96);
     args.exr = Some(s.0.join("p.exr"));
-    args.exr_passes = Some(vcuts::render::Passes(vec![vcut_shade::passes::Pass::Albedo]));
+    use vcut_shade::passes::Pass;
+    args.exr_passes = Some(vcuts::render::Passes(vec![Pass::Albedo, Pass::Diffuse, Pass::Specular]));
     vcuts::render::run(&args).unwrap();
     let c = channels(&s.0.join("p.exr"));
+    // The image takes the same per-pixel albedo as the passes: diffuse + specular is the image.
+    for k in 0..96 * 96 {
+        for ch in ["R", "G", "B"] {
+            let (sum, rgb) = (c[&format!("diffuse.{ch}")][k] + c[&format!("specular.{ch}")][k], c[ch][k]);
+            assert!(c["A"][k] == 0.0 || (sum - rgb).abs() <= 1e-4 * rgb.abs().max(1e-3), "pixel {k} {ch}: {sum} vs {rgb}");
+        }
+    }
     let kd = Vec3::from(loaded.objects[0].material.kd);
     let colour = loaded.objects[0].textures.base_colour.as_ref().unwrap();
     let uvs = loaded.objects[0].mesh.uvs().unwrap();

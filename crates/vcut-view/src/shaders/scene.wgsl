@@ -1,5 +1,5 @@
 // The viewer's scene: the environment map as background, then the meshes with interpolated
-// per-vertex colours. Display transform identical to the CPU renderer (vcut_shade::image):
+// per-vertex colours (a textured object's diffuse share multiplied by its albedo per pixel). Display transform identical to the CPU renderer (vcut_shade::image):
 // exposure, ACES filmic (Narkowicz's fit), sRGB transfer function.
 
 struct Uniforms {
@@ -135,25 +135,42 @@ fn fs_image(in: BgOut) -> @location(0) vec4<f32> {
 
 // ---- meshes ----
 
+// The object's albedo texture (a white texel when it has none), sampled bilinearly, repeating,
+// sRGB-decoded by its format: what the CPU renderer's Texture::sample computes.
+@group(1) @binding(0) var albedo_tex: texture_2d<f32>;
+@group(1) @binding(1) var albedo_sampler: sampler;
+
 struct MeshOut {
     @builtin(position) pos: vec4<f32>,
     @location(0) colour: vec3<f32>,
+    @location(1) textured: vec3<f32>,
+    @location(2) uv: vec2<f32>,
 };
 
 @vertex
-fn vs_mesh(@location(0) position: vec3<f32>, @location(1) colour: vec3<f32>) -> MeshOut {
+fn vs_mesh(
+    @location(0) position: vec3<f32>,
+    @location(1) colour: vec3<f32>,
+    @location(2) textured: vec3<f32>,
+    @location(3) uv: vec2<f32>,
+) -> MeshOut {
     var out: MeshOut;
     out.pos = u.view_proj * vec4<f32>(position, 1.0);
     out.colour = colour;
+    out.textured = textured;
+    out.uv = uv;
     return out;
 }
 
 @fragment
 fn fs_mesh(in: MeshOut) -> @location(0) vec4<f32> {
+    // Sampled unconditionally (uniform control flow); `textured` is zero where it does not apply.
+    let albedo = textureSample(albedo_tex, albedo_sampler, in.uv).xyz;
+    let c = in.colour + in.textured * albedo;
     if (u.flags.x == 1u) {
-        return vec4<f32>(display_radiance(in.colour), 1.0);
+        return vec4<f32>(display_radiance(c), 1.0);
     }
-    return vec4<f32>(display_colour(in.colour), 1.0);
+    return vec4<f32>(display_colour(c), 1.0);
 }
 
 // ---- leaves: two-sided, each side its own radiance ----
