@@ -20,7 +20,8 @@ mod obj;
 
 use crate::material::Material;
 use crate::mesh::{Mesh, MeshOptions, MeshReport};
-use crate::texture::Texture;
+pub use crate::texture::MaterialTextures;
+use crate::texture::{PbrFactors, Texture};
 use crate::{Camera, SceneError};
 use glam::{Mat3, Mat4, Vec2, Vec3};
 pub use obj::load_obj_bytes;
@@ -61,16 +62,6 @@ pub struct LoadedObject {
     pub report: MeshReport,
     /// Its material's textures (glTF), decoded.
     pub textures: MaterialTextures,
-}
-
-/// The textures of a glTF material that the BRDF parameters read: each multiplies its factor
-/// (already in [`Material`]) at every texture coordinate.
-#[derive(Debug, Clone, Default, PartialEq)]
-pub struct MaterialTextures {
-    /// `baseColorTexture`, linear (decoded from sRGB).
-    pub base_colour: Option<Texture>,
-    /// `metallicRoughnessTexture`: roughness in G, metallic in B (linear).
-    pub metallic_roughness: Option<Texture>,
 }
 
 /// Everything a file gave.
@@ -145,8 +136,8 @@ struct Builder {
     uvs: Vec<Vec2>,
     has_uvs: bool,
     material: Option<Material>,
-    /// The glTF factors the material came from (base colour, metallic, roughness).
-    pbr: Option<([f32; 3], f32, f32)>,
+    /// The glTF factors the material came from.
+    pbr: Option<PbrFactors>,
     textures: MaterialTextures,
 }
 
@@ -159,14 +150,18 @@ impl Builder {
         let (mesh, report) = Mesh::build_with_uvs(self.positions, Some(self.normals), uvs, self.triangles, options)
             .map_err(|source| SceneError::Mesh { path: path.into(), object: name.clone(), source })?;
         let mut material = self.material.unwrap_or_default();
-        // Until the renderers take metallic and roughness per vertex: their texture's mean over
-        // the vertices times the factors (the factors alone made Poly Haven's plant, whose
-        // metallic factor is glTF's default 1, a black metal).
-        if let (Some((c, m, r)), Some(t), Some(uvs)) = (self.pbr, &self.textures.metallic_roughness, mesh.uvs()) {
+        let mut textures = self.textures;
+        // With a metallic-roughness texture the renderers take the material per vertex and per
+        // pixel from the factors and textures (MaterialTextures::material_at); the object's own
+        // material stands for it where one per object is needed (screen-space modes, editing):
+        // the texture's mean over the vertices times the factors (the factors alone make Poly
+        // Haven's plant, whose metallic factor is glTF's default 1, a black metal).
+        textures.factors = textures.metallic_roughness.as_ref().and(self.pbr);
+        if let (Some(f), Some(t), Some(uvs)) = (self.pbr, &textures.metallic_roughness, mesh.uvs()) {
             let mean = uvs.iter().map(|&uv| t.sample(uv)).sum::<Vec3>() / uvs.len().max(1) as f32;
-            material = Material::from_gltf_pbr(c, m * mean.z, r * mean.y);
+            material = Material::from_gltf_pbr(f.base_colour, f.metallic * mean.z, f.roughness * mean.y);
         }
-        Ok(Some(LoadedObject { name, mesh, material, report, textures: self.textures }))
+        Ok(Some(LoadedObject { name, mesh, material, report, textures }))
     }
 }
 
@@ -520,8 +515,13 @@ impl GltfCtx<'_> {
                 let c = pbr.base_color_factor();
                 b.material =
                     Some(Material::from_gltf_pbr([c[0], c[1], c[2]], pbr.metallic_factor(), pbr.roughness_factor()));
-                b.pbr = Some(([c[0], c[1], c[2]], pbr.metallic_factor(), pbr.roughness_factor()));
+                b.pbr = Some(PbrFactors {
+                    base_colour: [c[0], c[1], c[2]],
+                    metallic: pbr.metallic_factor(),
+                    roughness: pbr.roughness_factor(),
+                });
                 b.textures = MaterialTextures {
+                    factors: None,
                     base_colour: pbr.base_color_texture().map(|t| self.image(&t.texture(), true)).transpose()?,
                     metallic_roughness: pbr
                         .metallic_roughness_texture()

@@ -12,11 +12,13 @@
 //! - and, for users who switch the object to Blinn-Phong, the exponent `n = 2/α² − 2`
 //!   (Walter et al. 2007's equivalence), clamped to [1, 10⁴].
 //!
-//! The factors map to one BRDF per object, as in the paper. The material's base-colour and
-//! metallic-roughness textures and the mesh's `TEXCOORD_0` are read and decoded
-//! ([`crate::loaders::MaterialTextures`], [`crate::Mesh::uvs`]); the renderers do not apply them
-//! yet (issue 27, in progress). A primitive without a material gets glTF's default (white, fully
-//! metallic, fully rough — which we map as above).
+//! The factors map to one BRDF per object, as in the paper. A material's base-colour and
+//! metallic-roughness textures vary it over the surface through the mesh's `TEXCOORD_0`
+//! ([`crate::texture::MaterialTextures::material_at`]: the same mapping of factor × texture at
+//! each point); the renderers take the BRDF per vertex and the diffuse albedo per pixel. The
+//! object's own material then stands for it where one per object is needed: the factors with
+//! the metallic-roughness texture's mean over the vertices. A primitive without a material gets
+//! glTF's default (white, fully metallic, fully rough — which we map as above).
 
 use serde::{Deserialize, Serialize};
 

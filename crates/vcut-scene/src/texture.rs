@@ -7,7 +7,62 @@
 //! the 8 bits per channel the files hold (a 16-bit PNG is rounded to 8), so a texture stays
 //! small in memory and in a `.vcuts` file ([`Texture::to_bytes`]) and decodes the same everywhere.
 
+use crate::material::Material;
 use glam::{Vec2, Vec3};
+
+/// The factors of a glTF metallic-roughness material: what its textures multiply.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PbrFactors {
+    /// `baseColorFactor` (RGB, linear).
+    pub base_colour: [f32; 3],
+    /// `metallicFactor`.
+    pub metallic: f32,
+    /// `roughnessFactor` (perceptual).
+    pub roughness: f32,
+}
+
+/// The textures of a glTF material that the BRDF parameters read, and the factors they multiply.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct MaterialTextures {
+    /// `baseColorTexture`, linear (decoded from sRGB).
+    pub base_colour: Option<Texture>,
+    /// `metallicRoughnessTexture`: roughness in G, metallic in B (linear).
+    pub metallic_roughness: Option<Texture>,
+    /// The material's factors, kept with a metallic-roughness texture (which needs them: glTF's
+    /// mapping is not linear in metallic).
+    pub factors: Option<PbrFactors>,
+}
+
+impl MaterialTextures {
+    /// The BRDF parameters at texture coordinates `uv` of an object whose own material is
+    /// `material`. With a metallic-roughness texture and its factors: glTF's mapping
+    /// ([`Material::from_gltf_pbr`]) of base colour `factor × texture`, metallic and roughness
+    /// `factor × texture` there. Otherwise `material`, its `kd` times the base-colour texture
+    /// there (if any).
+    pub fn material_at(&self, material: &Material, uv: Vec2) -> Material {
+        match (&self.metallic_roughness, self.factors) {
+            (Some(t), Some(f)) => {
+                let base = self.base_colour.as_ref().map_or(Vec3::ONE, |t| t.sample(uv));
+                let mr = t.sample(uv);
+                let c = Vec3::from(f.base_colour) * base;
+                Material::from_gltf_pbr(c.to_array(), f.metallic * mr.z, f.roughness * mr.y)
+            }
+            _ => self.base_colour_at(material, uv),
+        }
+    }
+
+    /// `material` with its `kd` times the base-colour texture at `uv` (if any): what
+    /// [`MaterialTextures::material_at`] gives without a metallic-roughness texture.
+    pub fn base_colour_at(&self, material: &Material, uv: Vec2) -> Material {
+        let base = self.base_colour.as_ref().map_or(Vec3::ONE, |t| t.sample(uv));
+        Material { kd: (Vec3::from(material.kd) * base).to_array(), ..*material }
+    }
+
+    /// Whether the textures vary the material over a surface (given texture coordinates).
+    pub fn vary(&self) -> bool {
+        self.base_colour.is_some() || (self.metallic_roughness.is_some() && self.factors.is_some())
+    }
+}
 
 /// A decoded texture: 8-bit RGB texels, row-major from the top, and whether they are
 /// sRGB-encoded colour. Two textures are equal when their texels and encoding are, wherever they
@@ -164,5 +219,35 @@ mod tests {
         cut.pop();
         assert!(Texture::from_bytes(&cut, "file section").unwrap_err().contains("file section"));
         assert!(Texture::from_bytes(&[0; 4], "x").is_err());
+    }
+
+    #[test]
+    fn a_metallic_roughness_texture_varies_the_material_as_gltf_maps_it() {
+        // Left texel: a rough dielectric (roughness 255, metallic 0); right: a smooth metal
+        // (roughness 51, metallic 255). Base colour (0.5, 0.25, 1) by factor, white texture.
+        let mr = Texture::decode(&png(2, 1, |x, _| if x == 0 { [0, 255, 0] } else { [0, 51, 255] }), "mr", false).unwrap();
+        let textures = MaterialTextures {
+            base_colour: None,
+            metallic_roughness: Some(mr),
+            factors: Some(PbrFactors { base_colour: [0.5, 0.25, 1.0], metallic: 1.0, roughness: 1.0 }),
+        };
+        assert!(textures.vary());
+        let own = Material::lambert([0.1; 3]);
+        let dielectric = textures.material_at(&own, Vec2::new(0.25, 0.5));
+        assert_eq!(dielectric, Material::from_gltf_pbr([0.5, 0.25, 1.0], 0.0, 1.0));
+        assert_eq!(dielectric.kd, [0.5, 0.25, 1.0]);
+        let metal = textures.material_at(&own, Vec2::new(0.75, 0.5));
+        assert_eq!(metal.kd, [0.0; 3]);
+        assert_eq!(metal.ks, [0.5, 0.25, 1.0]);
+        assert!((metal.roughness - 0.04).abs() < 1e-6, "α = (51/255)² = 0.04: {}", metal.roughness);
+        // Halfway: glTF's mapping of the interpolated metallic and roughness.
+        let half = textures.material_at(&own, Vec2::new(0.5, 0.5));
+        assert!((half.kd[0] - 0.25).abs() < 1e-6 && (half.ks[0] - (0.02 + 0.25)).abs() < 1e-6, "{half:?}");
+        // Without the factors (or the texture), only a base colour varies kd of the object's own.
+        let base = Texture::decode(&png(1, 1, |_, _| [188, 188, 188]), "b", true).unwrap();
+        let plain = MaterialTextures { base_colour: Some(base), ..Default::default() };
+        let m = plain.material_at(&own, Vec2::ZERO);
+        assert!((m.kd[0] - 0.05).abs() < 1e-3 && m.model == own.model, "{m:?}");
+        assert!(!MaterialTextures::default().vary());
     }
 }

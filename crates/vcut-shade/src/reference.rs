@@ -60,7 +60,8 @@ impl ExactReference {
     /// Outgoing radiance toward `eye` of vertex `v` of object `o`, at world position `x` (its
     /// current position, as `frame.positions(o)[v]`).
     pub fn vertex(&self, frame: &Frame, o: usize, v: usize, x: Vec3, eye: Vec3) -> Vec3 {
-        let crate::FrameObject { mesh, material, .. } = frame.object(o);
+        let crate::FrameObject { mesh, .. } = frame.object(o);
+        let material = frame.material(o, v);
         let offset = origin_offset(self.origin_offset, mesh);
         let n = mesh.normals()[v];
         if !frame.seen(o, v, eye) {
@@ -164,7 +165,7 @@ pub fn monte_carlo(
     });
     let results: Vec<Vec<(Vec3, u64, bool)>> = (0..frame.object_count())
         .map(|o| {
-            let crate::FrameObject { mesh, material, .. } = frame.object(o);
+            let crate::FrameObject { mesh, .. } = frame.object(o);
             let offset = vcut_rays::origin_offset(origin_offset, mesh);
             let positions = frame.positions(o);
             (0..positions.len())
@@ -175,6 +176,7 @@ pub fn monte_carlo(
                         return (Vec3::ZERO, 0, false);
                     }
                     let wo = brdf::view_direction(n, x, eye);
+                    let material = frame.material(o, v);
                     let origin = vcut_rays::origin(x, n, offset);
                     let mut rng = SplitMix64::new(params.seed ^ ((o as u64) << 40) ^ v as u64);
                     let (mut sum, mut lum, mut lum2, mut count) = (glam::DVec3::ZERO, 0.0f64, 0.0f64, 0u64);

@@ -7,19 +7,10 @@
 mod common;
 use common::gpu;
 use glam::Vec3;
-use std::path::Path;
-use std::sync::atomic::AtomicBool;
 use std::time::Duration;
-use vcut_data::Precomputed;
-use vcut_envmap::EnvMap;
-use vcut_envmap::procedural::PreethamSky;
-use vcut_precompute::PrecomputeParams;
-use vcut_precompute::run::{Job, NoProgress, precompute};
-use vcut_scene::{Camera, Scene, SceneDesc};
-use vcut_shade::Frame;
 use vcut_shade::image::{rasterize, tone_map};
 use vcut_shade::reference::exact_direction;
-use vcut_view::{Display, Mode, OrbitCamera, Session, SessionError};
+use vcut_view::{Display, Mode, Session, SessionError};
 
 const BALL_ABOVE_GROUND: &str = r#"
 [[object]]
@@ -39,50 +30,9 @@ moves = true
 material = { model = "blinn-phong", kd = [0.2, 0.3, 0.5], ks = [0.3, 0.3, 0.3], exponent = 15.0 }
 "#;
 
-fn sky() -> EnvMap {
-    PreethamSky::default().bake(256)
-}
-
 /// A session on the ball-above-ground scene, precomputed at 1,024 directions.
 fn session(name: &str) -> Session {
-    session_of(name, BALL_ABOVE_GROUND, |_| {})
-}
-
-/// A session on the scene `text` (its files written by `files` into its folder first),
-/// precomputed at 1,024 directions.
-fn session_of(name: &str, text: &str, files: impl FnOnce(&Path)) -> Session {
-    let dir = std::env::temp_dir().join(format!("vcut-view-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    files(&dir);
-    let out = dir.join("scene.vcuts");
-    let file = dir.join("test.toml");
-    let scene: Scene = SceneDesc::parse(text, &file).unwrap().instantiate(&dir, &file).unwrap();
-    let mut p = PrecomputeParams::fast();
-    for (k, v) in [("directions", "1024"), ("field_spheres", "12"), ("field_resolution", "8")] {
-        p.set(k, v).unwrap();
-    }
-    let job = Job {
-        scene: &scene,
-        scene_source: "test.toml".into(),
-        environment: "sky".into(),
-        params: p,
-        cache_dir: None,
-        output: out.clone(),
-    };
-    precompute(&job, &NoProgress, &AtomicBool::new(false)).unwrap();
-    let mut data = Precomputed::open(&out).unwrap();
-    let env = sky();
-    let frame = Frame::new(&mut data, &env).unwrap();
-    let camera = Camera {
-        name: "test".into(),
-        position: Vec3::new(2.5, 2.0, 3.5),
-        target: Vec3::new(0.0, 0.3, 0.0),
-        up: Vec3::Y,
-        fov_y_deg: 45.0,
-    };
-    let _ = std::fs::remove_dir_all(&dir);
-    Session::new(frame, env, "builtin:sky", data.svc_origin_offset(), OrbitCamera::from_camera(&camera))
+    common::session_of(name, BALL_ABOVE_GROUND, |_| {})
 }
 
 fn max_change(a: &[Vec<Vec3>], b: &[Vec<Vec3>], o: usize) -> f32 {
@@ -259,78 +209,4 @@ fn the_gpu_screenshot_matches_the_cpu_renderer_and_follows_every_edit() {
     s.set_mode(Mode::Ssdo).unwrap();
     let ssdo = shot(&mut s);
     assert!(differs(&rotated, &ssao) > 500 && differs(&ssao, &ssdo) > 500, "SSAO and SSDO show, and differ");
-}
-
-/// A 2 × 2 quad at y = 0 textured with an 8 × 8 checker of `dark` and `light` texels (its
-/// coordinates spanning the unit square twice: the texture repeats), as `quad.gltf` with its
-/// `quad.bin` and `checker.png`.
-fn write_textured_quad(dir: &Path, dark: [u8; 3], light: [u8; 3]) {
-    let positions: [[f32; 3]; 4] = [[-1.0, 0.0, -1.0], [1.0, 0.0, -1.0], [1.0, 0.0, 1.0], [-1.0, 0.0, 1.0]];
-    let uvs: [[f32; 2]; 4] = [[0.0, 0.0], [2.0, 0.0], [2.0, 2.0], [0.0, 2.0]];
-    let indices: [u32; 6] = [0, 2, 1, 0, 3, 2];
-    let mut bin = Vec::new();
-    positions.iter().flatten().for_each(|x| bin.extend_from_slice(&x.to_le_bytes()));
-    [[0.0f32, 1.0, 0.0]; 4].iter().flatten().for_each(|x| bin.extend_from_slice(&x.to_le_bytes()));
-    uvs.iter().flatten().for_each(|x| bin.extend_from_slice(&x.to_le_bytes()));
-    indices.iter().for_each(|x| bin.extend_from_slice(&x.to_le_bytes()));
-    std::fs::write(dir.join("quad.bin"), &bin).unwrap();
-    image::RgbImage::from_fn(8, 8, |x, y| image::Rgb(if (x + y) % 2 == 0 { dark } else { light }))
-        .save(dir.join("checker.png"))
-        .unwrap();
-    let gltf = r#"{"asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0]}],
-      "nodes": [{"name": "quad", "mesh": 0}],
-      "meshes": [{"primitives": [{"attributes": {"POSITION": 0, "NORMAL": 1, "TEXCOORD_0": 2}, "indices": 3, "material": 0}]}],
-      "materials": [{"pbrMetallicRoughness": {"baseColorTexture": {"index": 0}, "metallicFactor": 0.0, "roughnessFactor": 1.0}}],
-      "textures": [{"source": 0}], "images": [{"uri": "checker.png"}],
-      "buffers": [{"uri": "quad.bin", "byteLength": 152}],
-      "bufferViews": [{"buffer": 0, "byteOffset": 0, "byteLength": 48}, {"buffer": 0, "byteOffset": 48, "byteLength": 48},
-                      {"buffer": 0, "byteOffset": 96, "byteLength": 32}, {"buffer": 0, "byteOffset": 128, "byteLength": 24}],
-      "accessors": [
-        {"bufferView": 0, "componentType": 5126, "count": 4, "type": "VEC3", "min": [-1, 0, -1], "max": [1, 0, 1]},
-        {"bufferView": 1, "componentType": 5126, "count": 4, "type": "VEC3"},
-        {"bufferView": 2, "componentType": 5126, "count": 4, "type": "VEC2"},
-        {"bufferView": 3, "componentType": 5125, "count": 6, "type": "SCALAR"}]}"#;
-    std::fs::write(dir.join("quad.gltf"), gltf).unwrap();
-}
-
-/// The viewer takes a texture's albedo per pixel as the CPU renderer does: a checker with 16
-/// squares a side on a quad of four vertices shows its squares (per-vertex colour could not), and
-/// the GPU screenshot matches `rasterize_parts`.
-#[test]
-fn a_textured_object_shows_its_texture_per_pixel_as_the_cpu_renderer_does() {
-    let Some(gpu) = gpu("a_textured_object_shows_its_texture_per_pixel_as_the_cpu_renderer_does") else { return };
-    let text = "[[object]]\nsource = \"quad.gltf\"\n\n[[object]]\nname = \"ball\"\nsource = \"builtin:sphere\"\n\
-                size = 0.3\nresolution = 10\ntranslation = [0.0, 0.5, 0.0]\nmoves = true\n";
-    let mut s = session_of("textured", text, |dir| write_textured_quad(dir, [40, 40, 40], [230, 200, 120]));
-    assert!(s.frame().has_textures());
-    s.camera = OrbitCamera::from_camera(&Camera {
-        name: "top".into(),
-        position: Vec3::new(0.0, 2.2, 1.2),
-        target: Vec3::ZERO,
-        up: Vec3::Y,
-        fov_y_deg: 50.0,
-    });
-    s.update();
-    let (w, h) = (256, 192);
-    let shot = vcut_view::screenshot(&gpu, &mut s, w, h).unwrap();
-    let image = vcut_shade::image::rasterize_parts(s.frame(), s.parts(), &s.camera.camera(), w, h, Some(s.env()));
-    let e = s.exposure_in_use();
-    let cpu: Vec<u8> = image.rgb.iter().flat_map(|c| [tone_map(c.x, e), tone_map(c.y, e), tone_map(c.z, e)]).collect();
-    let mut diffs: Vec<u8> = Vec::new();
-    for (p, c) in shot.pixels().zip(cpu.chunks(3)) {
-        diffs.push((0..3).map(|k| p.0[k].abs_diff(c[k])).max().unwrap());
-    }
-    let mean = diffs.iter().map(|&d| f64::from(d)).sum::<f64>() / diffs.len() as f64;
-    let within = diffs.iter().filter(|&&d| d <= 3).count() as f64 / diffs.len() as f64;
-    // The checker's edges: a texel boundary blends over a pixel or two, where the GPU's
-    // 8-bit filtering and the CPU's float filtering round differently.
-    eprintln!("adapter {}: textured, mean |gpu - cpu| {mean:.3} levels, {:.2} % within 3", gpu.describe(), within * 100.0);
-    assert!(mean < 0.5 && within > 0.98, "mean {mean}, within {within}");
-    // The squares show: along a row below the ball, the quad's pixels alternate between dark
-    // and light many times (the quad has four vertices).
-    let row: Vec<u8> = (0..w).map(|x| shot.get_pixel(x, h * 4 / 5).0[1]).collect();
-    let (lo, hi) = (*row.iter().min().unwrap(), *row.iter().max().unwrap());
-    let mid = (u16::from(lo) + u16::from(hi)) / 2;
-    let flips = row.windows(2).filter(|p| (u16::from(p[0]) > mid) != (u16::from(p[1]) > mid)).count();
-    assert!(hi - lo > 60 && flips >= 8, "levels {lo}..{hi}, {flips} dark–light changes along the row");
 }

@@ -11,13 +11,16 @@ use vcut_envmap::EnvMap;
 use vcut_scene::Material;
 
 impl Frame {
-    /// Changes object `o`'s material (no merge).
+    /// Changes object `o`'s material (no merge). An object with a metallic-roughness texture
+    /// takes the new material everywhere (the texture applies again when its loaded material
+    /// is set back); a base-colour texture keeps multiplying `kd`.
     pub fn set_material(&mut self, o: usize, material: Material) {
         let s = &mut self.objects[o];
         if s.material.exponent != material.exponent {
             s.pow = brdf::PowTable::new(material.exponent);
         }
         s.material = material;
+        s.vertex_materials = s.vertex_materials();
     }
 
     /// Rebuilds the light tree for a new or rotated environment (no merge; with sun rays on,

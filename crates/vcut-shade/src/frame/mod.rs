@@ -337,6 +337,8 @@ impl Frame {
                 mesh: stored.mesh.clone(),
                 material: stored.material,
                 textures: stored.textures.clone(),
+                vertex_materials: Vec::new(),
+                loaded_material: stored.material,
                 pow: brdf::PowTable::new(stored.material.exponent),
                 motion: stored.motion,
                 translation: Vec3::ZERO,
@@ -352,6 +354,8 @@ impl Frame {
                 pending: Vec::new(),
                 cones: ViewCone::of(&stored.mesh),
             });
+            let last = objects.last_mut().expect("just pushed");
+            last.vertex_materials = last.vertex_materials();
         }
         let mut builder = LightTreeBuilder::new(&tree);
         let light = builder.build(env);
@@ -433,26 +437,31 @@ impl Frame {
         }
     }
 
-    /// The diffuse albedo of object `o` at texture coordinates `uv`: its `kd` times its
-    /// base-colour texture there, when it has one (and coordinates), else its `kd`.
+    /// The diffuse albedo of object `o` at texture coordinates `uv`: the `kd` of its material
+    /// there ([`vcut_scene::texture::MaterialTextures::material_at`]), else its own `kd`.
     pub fn albedo_at(&self, o: usize, uv: Option<glam::Vec2>) -> Vec3 {
         let s = &self.objects[o];
-        let kd = Vec3::from(s.material.kd);
-        match (&s.textures.base_colour, uv) {
-            (Some(t), Some(uv)) => kd * t.sample(uv),
-            _ => kd,
+        match uv {
+            Some(uv) if s.textures.vary() => Vec3::from(s.material_at(uv).kd),
+            _ => Vec3::from(s.material.kd),
         }
     }
 
-    /// Vertex `v`'s diffuse albedo ([`Frame::albedo_at`] its texture coordinates).
+    /// Vertex `v`'s diffuse albedo (its material's `kd`).
     pub fn albedo(&self, o: usize, v: usize) -> Vec3 {
-        self.albedo_at(o, self.objects[o].mesh.uvs().map(|uv| uv[v]))
+        Vec3::from(self.objects[o].material(v).kd)
     }
 
-    /// Whether any object's albedo varies over it (a base-colour texture with coordinates):
-    /// then images take the albedo per pixel.
+    /// Vertex `v`'s material: the object's, varied by its textures at the vertex's coordinates
+    /// (the BRDF every shading of the vertex evaluates).
+    pub fn material(&self, o: usize, v: usize) -> &Material {
+        self.objects[o].material(v)
+    }
+
+    /// Whether any object's material varies over it (textures with coordinates): then images
+    /// take the albedo per pixel.
     pub fn has_textures(&self) -> bool {
-        self.objects.iter().any(|s| s.textures.base_colour.is_some() && s.mesh.uvs().is_some())
+        self.objects.iter().any(|s| !s.vertex_materials.is_empty())
     }
 
     /// Chooses the merge that later moves use: the kept SVCs are prepared again in its form,

@@ -21,6 +21,12 @@ pub(super) struct ObjectState {
     pub(super) material: Material,
     /// Its glTF material's textures (the base colour multiplies `material.kd`).
     pub(super) textures: vcut_scene::loaders::MaterialTextures,
+    /// Per vertex, the material its textures give it there ([`ObjectState::vertex_materials`];
+    /// empty where they do not vary it: then `material` everywhere).
+    pub(super) vertex_materials: Vec<Material>,
+    /// The material it was loaded with: a metallic-roughness texture applies while `material`
+    /// is this one (an edit overrides it; undoing the edit brings it back).
+    pub(super) loaded_material: Material,
     /// `x^exponent` of the material, tabled (`None` above the table's range).
     pub(super) pow: Option<brdf::PowTable>,
     pub(super) motion: Motion,
@@ -43,6 +49,33 @@ pub(super) struct ObjectState {
     pub(super) pending: Vec<bool>,
     /// Per vertex, a cone holding the normals of its triangles ([`ViewCone`]).
     pub(super) cones: Vec<ViewCone>,
+}
+
+impl ObjectState {
+    /// The material at every vertex ([`vcut_scene::texture::MaterialTextures::material_at`] its
+    /// coordinates); empty when textures do not vary it.
+    pub(super) fn vertex_materials(&self) -> Vec<Material> {
+        match self.mesh.uvs() {
+            Some(uvs) if self.textures.vary() => uvs.iter().map(|&uv| self.material_at(uv)).collect(),
+            _ => Vec::new(),
+        }
+    }
+
+    /// The material at texture coordinates `uv`: [`vcut_scene::texture::MaterialTextures::material_at`],
+    /// or, once `material` is edited, [`vcut_scene::texture::MaterialTextures::base_colour_at`].
+    pub(super) fn material_at(&self, uv: glam::Vec2) -> Material {
+        if self.material == self.loaded_material {
+            self.textures.material_at(&self.material, uv)
+        } else {
+            self.textures.base_colour_at(&self.material, uv)
+        }
+    }
+
+    /// Vertex `v`'s material.
+    #[inline]
+    pub(super) fn material(&self, v: usize) -> &Material {
+        self.vertex_materials.get(v).unwrap_or(&self.material)
+    }
 }
 
 /// The normals of a vertex's triangles, bounded by a cone (unit axis, sine of its half-angle):

@@ -40,7 +40,7 @@ impl Frame {
             return Vec3::ZERO;
         }
         let list = ShadeList::new(cut, s.mesh.normals()[v], &self.nodes, s.svc_ends(v).as_deref());
-        self.shade_vertex(o, v, &list, eye).radiance(Vec3::from(s.material.kd))
+        self.shade_vertex(o, v, &list, eye).radiance(self.albedo(o, v))
     }
 
     /// As [`Frame::shade_cut`] for a cut whose every value is its own node's mean of
@@ -51,7 +51,7 @@ impl Frame {
             return Vec3::ZERO;
         }
         let list = ShadeList::new(cut, s.mesh.normals()[v], &self.nodes, None);
-        self.shade_vertex(o, v, &list, eye).radiance(Vec3::from(s.material.kd))
+        self.shade_vertex(o, v, &list, eye).radiance(self.albedo(o, v))
     }
 
     /// Vertex `v`'s radiance toward `eye` through `list`, in its parts; its callers have
@@ -61,9 +61,13 @@ impl Frame {
         let x = s.mesh.positions()[v] + s.translation;
         let n = s.mesh.normals()[v];
         let wo = brdf::view_direction(n, x, eye);
-        let pow = s.pow.as_ref().map_or(brdf::Pow::Exact(s.material.exponent), brdf::Pow::Table);
-        let lobe = brdf::Lobe::with_pow(&s.material, n, wo, pow);
-        let sun = self.sun.as_ref().map_or(Parts::default(), |sun| sun.parts(o, v, &s.material, n, wo));
+        let material = s.material(v);
+        let pow = match &s.pow {
+            Some(t) if material.exponent == s.material.exponent => brdf::Pow::Table(t),
+            _ => brdf::Pow::Exact(material.exponent),
+        };
+        let lobe = brdf::Lobe::with_pow(material, n, wo, pow);
+        let sun = self.sun.as_ref().map_or(Parts::default(), |sun| sun.parts(o, v, material, n, wo));
         // One loop per lobe kind, so the match leaves the inner loop.
         let specular = match lobe {
             brdf::Lobe::None => Vec3::ZERO,
