@@ -42,14 +42,14 @@ pub fn run(
                 continue;
             }
         };
-        // Screen space is diffuse only: an object with no diffuse albedo (a glTF material
-        // read as fully metallic, as the plant's textured one is) gets grey 0.5, and says so.
+        // Screen space is diffuse only, one albedo per object (its textures' mean over its
+        // vertices): an object with none (a metal) gets grey 0.5, and says so.
         let mut grey = Vec::new();
         let objects: Vec<Object> = scene
             .objects
             .iter()
             .map(|o| {
-                let kd = Vec3::from(o.material.kd);
+                let kd = o.textures.mean_albedo(&o.material, o.mesh.uvs());
                 let albedo = if kd.max_element() < 0.01 {
                     grey.push(o.name.clone());
                     Vec3::splat(0.5)

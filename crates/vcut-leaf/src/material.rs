@@ -290,6 +290,47 @@ impl LeafMaterial {
         (r, t)
     }
 
+    /// The single-scattering albedo per channel whose slab (this tissue's extinction and
+    /// thickness) reflects `r`: R grows with the albedo, so bisection finds it; a reflectance
+    /// beyond what an albedo of 0.9999 gives is clamped there.
+    pub fn albedo_for_reflectance(&self, r: Vec3) -> Vec3 {
+        let mut gamma = Vec3::ZERO;
+        for c in 0..3 {
+            let (mut lo, mut hi) = (0.0f32, 0.9999f32);
+            for _ in 0..40 {
+                let mid = 0.5 * (lo + hi);
+                let (rr, _) = self.slab_rt(Vec3::splat(mid), 1.0);
+                if rr[c] < r[c] { lo = mid } else { hi = mid }
+            }
+            gamma[c] = 0.5 * (lo + hi);
+        }
+        gamma
+    }
+
+    /// This tissue with a colour texture (a glTF base colour: what the leaf reflects) as both
+    /// sides' albedo map: each texel's albedo [`LeafMaterial::albedo_for_reflectance`] its
+    /// linear colour (a table over the 256 levels per channel), thickness detail and gloss
+    /// unchanged.
+    pub fn with_reflectance_map(&self, texture: &vcut_scene::texture::Texture) -> LeafMaterial {
+        let table: Vec<Vec3> =
+            (0..=255u8).map(|l| self.albedo_for_reflectance(Vec3::splat(texture.level_value(l)))).collect();
+        let (w, h) = texture.size();
+        let albedo = texture
+            .texels()
+            .iter()
+            .map(|t| [table[t[0] as usize].x, table[t[1] as usize].y, table[t[2] as usize].z, 0.5]);
+        let albedo = Texture::new(w as usize, h as usize, albedo.collect()).expect("albedos lie in [0, 1)");
+        let mut out = self.clone();
+        out.maps = std::array::from_fn(|side| {
+            let r = self.gloss[side].roughness;
+            Some(SideMaps {
+                albedo_thickness: albedo.clone(),
+                specular_roughness: Texture::new(1, 1, vec![[1.0, 1.0, 1.0, r.clamp(0.0, 1.0)]]).expect("in [0, 1]"),
+            })
+        });
+        out
+    }
+
     /// What the leaf scatters at leaf coordinates `uv` (ignored without maps).
     pub fn scatter(&self, uv: Vec2) -> Scatter {
         let base = self.albedo();
@@ -385,5 +426,29 @@ mod tests {
         assert_ne!(vein.r[0], vein.r[1], "the two sides differ");
         assert_eq!(Texture::new(2, 2, vec![[0.0; 4]; 3]), Err(TextureError::Size { width: 2, height: 2, got: 3 }));
         assert!(matches!(Texture::new(1, 1, vec![[f32::NAN, 0.0, 0.0, 0.0]]), Err(TextureError::Value { .. })));
+    }
+
+    #[test]
+    fn a_colour_texture_becomes_an_albedo_map_that_reflects_its_colour() {
+        let leaf = LeafMaterial::default();
+        // The inversion: an albedo's reflectance gives that albedo back.
+        let gamma = Vec3::new(0.3, 0.7, 0.95);
+        let (r, _) = leaf.slab_rt(gamma, 1.0);
+        assert!((leaf.albedo_for_reflectance(r) - gamma).abs().max_element() < 1e-4);
+        // A reflectance no albedo reaches is clamped to the brightest.
+        assert!((leaf.albedo_for_reflectance(Vec3::ONE) - Vec3::splat(0.9999)).abs().max_element() < 1e-4);
+        // A 2×1 sRGB texture, green then dark red: each texel's centre reflects its linear colour
+        // on both sides.
+        let bytes = [2, 0, 0, 0, 1, 0, 0, 0, 1, 60, 110, 40, 70, 20, 10];
+        let t = vcut_scene::texture::Texture::from_bytes(&bytes, "leaf").unwrap();
+        let mapped = leaf.with_reflectance_map(&t);
+        for (uv, texel) in [(Vec2::new(0.25, 0.5), [60u8, 110, 40]), (Vec2::new(0.75, 0.5), [70, 20, 10])] {
+            let want = Vec3::from(texel.map(|l| t.level_value(l)));
+            let s = mapped.scatter(uv);
+            for side in 0..2 {
+                assert!((s.r[side] - want).abs().max_element() < 1e-4, "side {side}: {} vs {want}", s.r[side]);
+            }
+            assert_eq!(s.gloss, leaf.gloss, "gloss unchanged");
+        }
     }
 }

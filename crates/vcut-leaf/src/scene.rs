@@ -119,17 +119,29 @@ impl LeafScene {
     }
 
     /// Every object of `scene` as a leaf of `material` (a file's plant whose leaves and pot share
-    /// one mesh, as the shared asset's do, is all leaf: documented, not guessed apart).
+    /// one mesh, as the shared asset's do, is all leaf: documented, not guessed apart). An
+    /// object with a base-colour texture and coordinates takes the texture as its albedo map
+    /// ([`LeafMaterial::with_reflectance_map`]; coordinates wrapped into the unit square, as
+    /// glTF repeats).
     pub fn from_scene_as_leaves(scene: &Scene, material: &LeafMaterial) -> Result<LeafScene, LeafSceneError> {
         LeafScene::new(
             scene
                 .objects
                 .iter()
-                .map(|o| LeafObject {
-                    name: o.name.clone(),
-                    mesh: o.mesh.clone(),
-                    uv: None,
-                    surface: Surface::Leaf(Box::new(material.clone())),
+                .map(|o| {
+                    let (uv, leaf) = match (&o.textures.base_colour, o.mesh.uvs()) {
+                        (Some(t), Some(uvs)) => (
+                            Some(uvs.iter().map(|uv| Vec2::new(uv.x.rem_euclid(1.0), uv.y.rem_euclid(1.0))).collect()),
+                            material.with_reflectance_map(t),
+                        ),
+                        _ => (None, material.clone()),
+                    };
+                    LeafObject {
+                        name: o.name.clone(),
+                        mesh: o.mesh.clone(),
+                        uv,
+                        surface: Surface::Leaf(Box::new(leaf)),
+                    }
                 })
                 .collect(),
         )

@@ -162,6 +162,21 @@ fn the_shared_potted_plant_renders_as_leaves() {
     let s = vcut_scene::Scene::open(&path.to_string_lossy()).unwrap();
     let scene = LeafScene::from_scene_as_leaves(&s, &LeafMaterial::default()).unwrap();
     assert_eq!(scene.vertex_count(), 4006);
+    // Its base-colour texture is the leaves' albedo map: each vertex reflects the texture's
+    // colour at its coordinates (both sides), not the default leaf's green.
+    let texture = s.objects[0].textures.base_colour.as_ref().expect("the plant's base colour");
+    let uvs = s.objects[0].mesh.uvs().expect("the plant's coordinates");
+    let (mut worst, mut mean_r, mut mean_t) = (0.0f32, Vec3::ZERO, Vec3::ZERO);
+    for (v, scatter) in scene.scatter().iter().enumerate() {
+        let uv = glam::Vec2::new(uvs[v].x.rem_euclid(1.0), uvs[v].y.rem_euclid(1.0));
+        let want = texture.sample(uv);
+        worst = worst.max((scatter.r[0] - want).abs().max_element());
+        mean_r += scatter.r[0] / uvs.len() as f32;
+        mean_t += want / uvs.len() as f32;
+    }
+    println!("plant leaves: reflectance mean {mean_r} against the texture's {mean_t}, worst {worst}");
+    // Within the clamping texture sampling (the leaf maps clamp at the edges, glTF repeats).
+    assert!((mean_r - mean_t).abs().max_element() < 0.01, "mean {mean_r} vs {mean_t}");
     let lvc = Lvc::compute(&scene, &LvcParams { resolution: 4, ..LVC }, |_, _| {});
     let t = Transfer::compute(&scene, &PrtParams { rays: 16, ..PrtParams::default() }, |_, _| {});
     let data = LeafData { lvc, transfer: t };

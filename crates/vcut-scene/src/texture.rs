@@ -58,6 +58,18 @@ impl MaterialTextures {
         Material { kd: (Vec3::from(material.kd) * base).to_array(), ..*material }
     }
 
+    /// The diffuse albedo averaged over a mesh's vertices at coordinates `uvs` (`material`'s
+    /// `kd` without them): one albedo for a renderer that takes one per object (the
+    /// screen-space methods).
+    pub fn mean_albedo(&self, material: &Material, uvs: Option<&[Vec2]>) -> Vec3 {
+        match uvs {
+            Some(uvs) if self.vary() && !uvs.is_empty() => {
+                uvs.iter().map(|&uv| Vec3::from(self.material_at(material, uv).kd)).sum::<Vec3>() / uvs.len() as f32
+            }
+            _ => Vec3::from(material.kd),
+        }
+    }
+
     /// Whether the textures vary the material over a surface (given texture coordinates).
     pub fn vary(&self) -> bool {
         self.base_colour.is_some() || (self.metallic_roughness.is_some() && self.factors.is_some())
@@ -164,6 +176,11 @@ impl Texture {
         self.srgb
     }
 
+    /// The linear value of 8-bit level `level` in this texture's encoding.
+    pub fn level_value(&self, level: u8) -> f32 {
+        if self.srgb { SRGB_LEVELS[level as usize] } else { f32::from(level) / 255.0 }
+    }
+
     /// The value at texture coordinates `uv`: bilinear between texel centres, repeating.
     pub fn sample(&self, uv: Vec2) -> Vec3 {
         let (w, h) = (self.width as f32, self.height as f32);
@@ -225,7 +242,8 @@ mod tests {
     fn a_metallic_roughness_texture_varies_the_material_as_gltf_maps_it() {
         // Left texel: a rough dielectric (roughness 255, metallic 0); right: a smooth metal
         // (roughness 51, metallic 255). Base colour (0.5, 0.25, 1) by factor, white texture.
-        let mr = Texture::decode(&png(2, 1, |x, _| if x == 0 { [0, 255, 0] } else { [0, 51, 255] }), "mr", false).unwrap();
+        let mr =
+            Texture::decode(&png(2, 1, |x, _| if x == 0 { [0, 255, 0] } else { [0, 51, 255] }), "mr", false).unwrap();
         let textures = MaterialTextures {
             base_colour: None,
             metallic_roughness: Some(mr),

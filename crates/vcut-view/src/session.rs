@@ -525,8 +525,8 @@ impl Session {
         let (objects, light) = self.screen.get_or_insert_with(|| {
             let objects: Vec<vcut_ssdo::Object> = (0..frame.object_count())
                 .map(|o| {
-                    let vcut_shade::FrameObject { mesh, material, translation, .. } = frame.object(o);
-                    vcut_ssdo::Object::from_mesh(mesh, translation, Vec3::from(material.kd))
+                    let vcut_shade::FrameObject { mesh, translation, .. } = frame.object(o);
+                    vcut_ssdo::Object::from_mesh(mesh, translation, frame.mean_albedo(o))
                 })
                 .collect();
             let light = vcut_ssdo::Lighting::new(env, &objects, 16);

@@ -1,7 +1,6 @@
 //! The screen-space methods (`vcut-ssdo`) on a frame's geometry: `render --mode ssao|ssdo|
 //! ssdo-peeled`, and the `ssdo` section of `bench`.
 
-use glam::Vec3;
 use std::time::Instant;
 
 use vcut_envmap::EnvMap;
@@ -47,8 +46,8 @@ impl ScreenMode {
 pub fn objects(frame: &Frame) -> Vec<Object> {
     (0..frame.object_count())
         .map(|o| {
-            let vcut_shade::FrameObject { mesh, material, translation, .. } = frame.object(o);
-            Object::from_mesh(mesh, translation, Vec3::from(material.kd))
+            let vcut_shade::FrameObject { mesh, translation, .. } = frame.object(o);
+            Object::from_mesh(mesh, translation, frame.mean_albedo(o))
         })
         .collect()
 }

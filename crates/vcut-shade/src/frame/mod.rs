@@ -447,6 +447,16 @@ impl Frame {
         }
     }
 
+    /// Object `o`'s diffuse albedo averaged over its vertices (its `kd` when textures do not
+    /// vary it): for renderers that take one per object.
+    pub fn mean_albedo(&self, o: usize) -> Vec3 {
+        let s = &self.objects[o];
+        match s.vertex_materials.len() {
+            0 => Vec3::from(s.material.kd),
+            n => s.vertex_materials.iter().map(|m| Vec3::from(m.kd)).sum::<Vec3>() / n as f32,
+        }
+    }
+
     /// Vertex `v`'s diffuse albedo (its material's `kd`).
     pub fn albedo(&self, o: usize, v: usize) -> Vec3 {
         Vec3::from(self.objects[o].material(v).kd)
