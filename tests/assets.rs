@@ -68,6 +68,10 @@ fn the_plants_texture_coordinates_are_read() {
     let metallic = t.metallic_roughness.as_ref().expect("a metallic-roughness texture").mean().z;
     assert!(metallic < 0.1, "metallic {metallic}");
     println!("plant: base colour mean {mean}, at the vertices {at_vertices}, metallic mean {metallic}");
+    // Its factors travel with the metallic-roughness texture; its normal map is reported, not read.
+    assert!(t.factors.is_some());
+    println!("plant: not read: {:?}", out.ignored);
+    assert!(out.ignored.iter().any(|w| w.contains("normal textures of 1 material(s) not read")), "{:?}", out.ignored);
 }
 
 #[test]

@@ -239,6 +239,23 @@ pub fn load_gltf_bytes(
             name.display()
         ));
     }
+    // Texture slots not read: one line per kind, counting the materials that use it.
+    let unread: [(&str, fn(&gltf::Material<'_>) -> bool); 4] = [
+        ("normal textures", |m| m.normal_texture().is_some()),
+        ("occlusion textures", |m| m.occlusion_texture().is_some()),
+        ("emissive textures", |m| m.emissive_texture().is_some()),
+        ("textures on a coordinate set other than TEXCOORD_0", |m| {
+            let pbr = m.pbr_metallic_roughness();
+            pbr.base_color_texture().is_some_and(|t| t.tex_coord() != 0)
+                || pbr.metallic_roughness_texture().is_some_and(|t| t.tex_coord() != 0)
+        }),
+    ];
+    for (what, uses) in unread {
+        let n = doc.materials().filter(|m| uses(m)).count();
+        if n > 0 {
+            out.ignored.push(format!("{}: {what} of {n} material(s) not read", name.display()));
+        }
+    }
     for ext in doc.extensions_used().filter(|e| !READ_EXTENSIONS.contains(e)) {
         out.ignored.push(format!("{}: extension {ext} not read", name.display()));
     }
