@@ -220,6 +220,42 @@ impl Gpu {
         })
     }
 
+    /// A 2-D texture only sampled or loaded (`TEXTURE_BINDING | COPY_DST`, one mip level) of
+    /// `format`, `width × height`, filled with `texels`: rows packed one after another, each
+    /// `texels.len() / height` bytes.
+    pub fn texture_with(
+        &self,
+        label: &str,
+        format: wgpu::TextureFormat,
+        (width, height): (u32, u32),
+        texels: &[u8],
+    ) -> wgpu::Texture {
+        let size = wgpu::Extent3d { width, height, depth_or_array_layers: 1 };
+        let texture = self.device.create_texture(&wgpu::TextureDescriptor {
+            label: Some(label),
+            size,
+            mip_level_count: 1,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D2,
+            format,
+            usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
+            view_formats: &[],
+        });
+        let row = (texels.len() / height.max(1) as usize) as u32;
+        self.queue.write_texture(
+            wgpu::TexelCopyTextureInfo {
+                texture: &texture,
+                mip_level: 0,
+                origin: wgpu::Origin3d::ZERO,
+                aspect: wgpu::TextureAspect::All,
+            },
+            texels,
+            wgpu::TexelCopyBufferLayout { offset: 0, bytes_per_row: Some(row), rows_per_image: Some(height) },
+            size,
+        );
+        texture
+    }
+
     /// Copies a `width × height` texture of `texel_bytes` per texel (made with `COPY_SRC`) to
     /// the CPU, after the work submitted before: its rows packed one after another.
     pub fn read_texture(

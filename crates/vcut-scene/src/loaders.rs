@@ -240,7 +240,8 @@ pub fn load_gltf_bytes(
         ));
     }
     // Texture slots not read: one line per kind, counting the materials that use it.
-    let unread: [(&str, fn(&gltf::Material<'_>) -> bool); 4] = [
+    type Uses = fn(&gltf::Material<'_>) -> bool;
+    let unread: [(&str, Uses); 4] = [
         ("normal textures", |m| m.normal_texture().is_some()),
         ("occlusion textures", |m| m.occlusion_texture().is_some()),
         ("emissive textures", |m| m.emissive_texture().is_some()),

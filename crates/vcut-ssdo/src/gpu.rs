@@ -95,31 +95,10 @@ fn view(t: &wgpu::Texture) -> wgpu::TextureView {
 }
 
 fn table(gpu: &Gpu, label: &str, size: usize, texels: &[Vec3]) -> wgpu::Texture {
-    let s = size as u32;
+    let s = (size as u32).max(1);
     // Only read: no render-attachment use.
-    let t = gpu.device.create_texture(&wgpu::TextureDescriptor {
-        label: Some(label),
-        size: wgpu::Extent3d { width: s.max(1), height: s.max(1), depth_or_array_layers: 1 },
-        mip_level_count: 1,
-        sample_count: 1,
-        dimension: wgpu::TextureDimension::D2,
-        format: PACKED,
-        usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
-        view_formats: &[],
-    });
     let data: Vec<[f32; 4]> = texels.iter().map(|c| [c.x, c.y, c.z, 1.0]).collect();
-    gpu.queue.write_texture(
-        wgpu::TexelCopyTextureInfo {
-            texture: &t,
-            mip_level: 0,
-            origin: wgpu::Origin3d::ZERO,
-            aspect: wgpu::TextureAspect::All,
-        },
-        bytemuck::cast_slice(&data),
-        wgpu::TexelCopyBufferLayout { offset: 0, bytes_per_row: Some(16 * s), rows_per_image: Some(s) },
-        wgpu::Extent3d { width: s, height: s, depth_or_array_layers: 1 },
-    );
-    t
+    gpu.texture_with(label, PACKED, (s, s), bytemuck::cast_slice(&data))
 }
 
 fn bind_group(

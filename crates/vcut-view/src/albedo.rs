@@ -55,29 +55,8 @@ pub(crate) fn bind_group(
         Some(t) => fit(t, max),
         None => (1, 1, true, vec![[255; 4]]),
     };
-    let size = wgpu::Extent3d { width, height, depth_or_array_layers: 1 };
     let format = if srgb { wgpu::TextureFormat::Rgba8UnormSrgb } else { wgpu::TextureFormat::Rgba8Unorm };
-    let gpu_texture = gpu.device.create_texture(&wgpu::TextureDescriptor {
-        label: Some("albedo"),
-        size,
-        mip_level_count: 1,
-        sample_count: 1,
-        dimension: wgpu::TextureDimension::D2,
-        format,
-        usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
-        view_formats: &[],
-    });
-    gpu.queue.write_texture(
-        wgpu::TexelCopyTextureInfo {
-            texture: &gpu_texture,
-            mip_level: 0,
-            origin: wgpu::Origin3d::ZERO,
-            aspect: wgpu::TextureAspect::All,
-        },
-        bytemuck::cast_slice(&texels),
-        wgpu::TexelCopyBufferLayout { offset: 0, bytes_per_row: Some(4 * width), rows_per_image: Some(height) },
-        size,
-    );
+    let gpu_texture = gpu.texture_with("albedo", format, (width, height), bytemuck::cast_slice(&texels));
     let view = gpu_texture.create_view(&Default::default());
     gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
         label: Some("albedo"),

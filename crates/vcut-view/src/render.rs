@@ -317,28 +317,7 @@ impl SceneRenderer {
     ) -> (wgpu::BindGroup, (u32, u32)) {
         let max = gpu.device.limits().max_texture_dimension_2d.min(8192);
         let (w, h, texels) = background_texels(env, max);
-        let size = wgpu::Extent3d { width: w, height: h, depth_or_array_layers: 1 };
-        let texture = gpu.device.create_texture(&wgpu::TextureDescriptor {
-            label: Some("environment"),
-            size,
-            mip_level_count: 1,
-            sample_count: 1,
-            dimension: wgpu::TextureDimension::D2,
-            format: ENV_FORMAT,
-            usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
-            view_formats: &[],
-        });
-        gpu.queue.write_texture(
-            wgpu::TexelCopyTextureInfo {
-                texture: &texture,
-                mip_level: 0,
-                origin: wgpu::Origin3d::ZERO,
-                aspect: wgpu::TextureAspect::All,
-            },
-            bytemuck::cast_slice(&texels),
-            wgpu::TexelCopyBufferLayout { offset: 0, bytes_per_row: Some(16 * w), rows_per_image: Some(h) },
-            size,
-        );
+        let texture = gpu.texture_with("environment", ENV_FORMAT, (w, h), bytemuck::cast_slice(&texels));
         let view = texture.create_view(&Default::default());
         let bind_group = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("scene"),
