@@ -151,7 +151,10 @@ fn a_metallic_roughness_texture_varies_the_brdf_per_vertex() {
     }
     for &v in &right {
         let m = s.frame().material(quad, v);
-        assert!(m.kd[0] < 1e-6 && m.ks[0] > 0.25 && (m.roughness - (180.0f32 / 255.0).powi(2)).abs() < 1e-4, "right {v}: {m:?}");
+        assert!(
+            m.kd[0] < 1e-6 && m.ks[0] > 0.25 && (m.roughness - (180.0f32 / 255.0).powi(2)).abs() < 1e-4,
+            "right {v}: {m:?}"
+        );
     }
     s.camera = OrbitCamera::from_camera(&Camera {
         name: "low".into(),

@@ -153,7 +153,10 @@ fn the_plants_coordinates_and_textures_travel_in_the_file() {
     for k in 0..96 * 96 {
         for ch in ["R", "G", "B"] {
             let (sum, rgb) = (c[&format!("diffuse.{ch}")][k] + c[&format!("specular.{ch}")][k], c[ch][k]);
-            assert!(c["A"][k] == 0.0 || (sum - rgb).abs() <= 1e-4 * rgb.abs().max(1e-3), "pixel {k} {ch}: {sum} vs {rgb}");
+            assert!(
+                c["A"][k] == 0.0 || (sum - rgb).abs() <= 1e-4 * rgb.abs().max(1e-3),
+                "pixel {k} {ch}: {sum} vs {rgb}"
+            );
         }
     }
     let kd = Vec3::from(loaded.objects[0].material.kd);
