@@ -81,3 +81,34 @@ fn cone_integral_of_a_bright_spot_is_its_power() {
     let bg = studio.background[0] as f64 * vcut_envmap::procedural::cone_solid_angle(6f64.to_radians()) * 1.6;
     assert!(inside[0] > light && inside[0] < light + bg, "{} vs {light}", inside[0]);
 }
+
+/// `[environment] reconstruction` reaches the map: bilinear changes what the map integrates to,
+/// an unknown value is refused naming the key, and a cube map refuses bilinear naming the key
+/// and the file.
+#[test]
+fn a_scene_files_reconstruction_reaches_the_map() {
+    use vcut_envmap::Reconstruction;
+    let file = std::path::Path::new("scene.toml");
+    let scene = |r: &str| {
+        let toml = format!("[environment]\nsource = \"builtin:studio\"\nresolution = 64\nreconstruction = \"{r}\"\n");
+        vcut_scene::SceneDesc::parse(&toml, file).and_then(|d| d.instantiate(std::path::Path::new("."), file))
+    };
+    let (b, l) = (scene("box").unwrap(), scene("bilinear").unwrap());
+    assert_eq!(
+        (b.environment.reconstruction(), l.environment.reconstruction()),
+        (Reconstruction::Box, Reconstruction::Bilinear)
+    );
+    let d = rel(b.environment.total_power(), l.environment.total_power());
+    println!("studio 64 × 32: box and bilinear powers differ by {:.3} %", d * 100.0);
+    assert!(d > 1e-3, "{d}");
+    let e = scene("trilinear").unwrap_err().to_string();
+    assert!(e.contains("scene.toml") && e.contains("trilinear") && e.contains("bilinear"), "{e}");
+    let Some(a) = vcut_tests::assets_or_skip("a_scene_files_reconstruction_reaches_the_map (cube map)") else { return };
+    let toml = format!(
+        "[environment]\nsource = \"{}\"\nreconstruction = \"bilinear\"\n",
+        a.join("envmaps/pisa_cube").display()
+    );
+    let e = vcut_scene::SceneDesc::parse(&toml, file).and_then(|d| d.instantiate(std::path::Path::new("."), file));
+    let e = e.map(|_| ()).unwrap_err().to_string();
+    assert!(e.contains("scene.toml") && e.contains("reconstruction") && e.contains("lat-long"), "{e}");
+}

@@ -1,16 +1,18 @@
 //! A map as bytes, losslessly: what a `.vcuts` file embeds so that it renders under the light it
 //! was precomputed for on any machine, with no map file beside it.
 //!
-//! Little-endian: `VCENV` and version byte 1; the layout (`0` lat-long: width, height as u32;
+//! Little-endian: `VCENV` and version byte 2; the layout (`0` lat-long: width, height as u32;
 //! `1` cube: size as u32 and the handedness byte, `0` mirrored-x, `1` literal); the rotation
-//! quaternion (x, y, z, w) and the intensity as f32; the source's name (u32 length, UTF-8); then
+//! quaternion (x, y, z, w) and the intensity as f32; the reconstruction byte (`0` box, `1`
+//! bilinear; absent in version 1, which is box); the source's name (u32 length, UTF-8); then
 //! every texel as three f32. Decoding checks every length and texel (finite, ≥ 0) and names the
 //! source in its errors.
 
-use crate::{CubeHandedness, EnvMap, EnvMapError, InvalidTexels, Layout};
+use crate::{CubeHandedness, EnvMap, EnvMapError, InvalidTexels, Layout, Reconstruction};
 use glam::Quat;
 
-const MAGIC: &[u8; 6] = b"VCENV\x01";
+/// `VCENV` and the version written.
+const MAGIC: &[u8; 6] = b"VCENV\x02";
 
 /// `map` as bytes (exactly: decoding gives back the same texels, rotation and intensity).
 pub fn encode(map: &EnvMap) -> Vec<u8> {
@@ -34,6 +36,10 @@ pub fn encode(map: &EnvMap) -> Vec<u8> {
     for x in map.rotation().to_array().into_iter().chain([map.intensity()]) {
         out.extend_from_slice(&x.to_le_bytes());
     }
+    out.push(match map.reconstruction() {
+        Reconstruction::Box => 0,
+        Reconstruction::Bilinear => 1,
+    });
     let source = map.source().as_bytes();
     out.extend_from_slice(&(source.len() as u32).to_le_bytes());
     out.extend_from_slice(source);
@@ -50,9 +56,10 @@ pub fn encode(map: &EnvMap) -> Vec<u8> {
 pub fn decode(bytes: &[u8], name: &str) -> Result<EnvMap, EnvMapError> {
     let bad = |reason: String| EnvMapError::Shape { path: name.into(), reason };
     let mut r = Cursor { bytes, at: 0 };
-    if r.take(MAGIC.len()).ok() != Some(&MAGIC[..]) {
-        return Err(bad("not an embedded environment map (no VCENV 1 header)".into()));
-    }
+    let version = match r.take(MAGIC.len()) {
+        Ok(m) if m[..5] == MAGIC[..5] && (1..=2).contains(&m[5]) => m[5],
+        _ => return Err(bad("not an embedded environment map (no VCENV 1 or 2 header)".into())),
+    };
     let short = |what: &str| bad(format!("truncated in the {what}"));
     let layout = match r.u8().map_err(|_| short("layout"))? {
         0 => {
@@ -82,6 +89,14 @@ pub fn decode(bytes: &[u8], name: &str) -> Result<EnvMap, EnvMapError> {
     if !(q[4].is_finite() && q[4] >= 0.0) {
         return Err(bad(format!("intensity {} is not finite and ≥ 0", q[4])));
     }
+    let reconstruction = match version {
+        1 => Reconstruction::Box,
+        _ => match r.u8().map_err(|_| short("reconstruction"))? {
+            0 => Reconstruction::Box,
+            1 => Reconstruction::Bilinear,
+            k => return Err(bad(format!("unknown reconstruction {k}"))),
+        },
+    };
     let len = r.u32().map_err(|_| short("source name"))? as usize;
     let source = std::str::from_utf8(r.take(len).map_err(|_| short("source name"))?)
         .map_err(|_| bad("the source name is not UTF-8".into()))?
@@ -106,7 +121,7 @@ pub fn decode(bytes: &[u8], name: &str) -> Result<EnvMap, EnvMapError> {
     let (mut map, _) = EnvMap::new(layout, texels, format!("{name} (embedded from {source})"), InvalidTexels::Reject)?;
     map.set_rotation(rotation);
     map.set_intensity(q[4]);
-    Ok(map)
+    map.with_reconstruction(reconstruction)
 }
 
 struct Cursor<'a> {
@@ -153,13 +168,17 @@ mod tests {
         )
         .unwrap()
         .0;
-        for map in [sky, cube, EnvMap::constant([0.3, 0.2, 0.1])] {
+        let bilinear =
+            crate::procedural::Studio::default().bake(32).with_reconstruction(Reconstruction::Bilinear).unwrap();
+        for map in [sky, cube, EnvMap::constant([0.3, 0.2, 0.1]), bilinear] {
             let bytes = encode(&map);
             let back = decode(&bytes, "t.vcuts: environment").unwrap();
             assert_eq!(back.layout(), map.layout());
             assert_eq!(back.texels(), map.texels());
             assert_eq!(back.rotation(), map.rotation());
             assert_eq!(back.intensity(), map.intensity());
+            assert_eq!(back.reconstruction(), map.reconstruction());
+            assert_eq!(back.integrated_texels(), map.integrated_texels());
             assert!(back.source().contains(map.source()), "{}", back.source());
             // Every truncation is an error naming the section, never a panic.
             for cut in [0, 5, 7, 12, 30, bytes.len() - 1] {
@@ -172,5 +191,15 @@ mod tests {
         nan[n - 4..].copy_from_slice(&f32::NAN.to_le_bytes());
         let e = decode(&nan, "t.vcuts: environment").unwrap_err().to_string();
         assert!(e.contains("NaN"), "{e}");
+        // Version 1 (no reconstruction byte) still reads, as box.
+        let v2 = encode(&EnvMap::constant([1.0; 3]));
+        let mut v1 = v2[..6 + 9 + 20].to_vec();
+        v1[5] = 1;
+        v1.extend_from_slice(&v2[6 + 9 + 20 + 1..]);
+        let old = decode(&v1, "old.vcuts").unwrap();
+        assert_eq!((old.reconstruction(), old.texels()), (Reconstruction::Box, EnvMap::constant([1.0; 3]).texels()));
+        let mut unknown = v2.clone();
+        unknown[6 + 9 + 20] = 7;
+        assert!(decode(&unknown, "t").unwrap_err().to_string().contains("reconstruction 7"));
     }
 }

@@ -3,9 +3,11 @@
 //! An [`EnvMap`] is distant radiance `L(ω)` stored as texels in a [`Layout`] (lat-long or six
 //! cube faces), with a rotation and an intensity scale on top. It answers three questions:
 //!
-//! - **lookup**: [`EnvMap::radiance`] (bilinear) and [`EnvMap::texel_radiance`] (nearest);
-//! - **integration**: [`EnvMap::total_power`] is ∫ L dω exactly for the texel-constant map (texel
-//!   solid angles are computed in closed form, not approximated by `sin θ`), and
+//! - **lookup**: [`EnvMap::radiance`] (bilinear, for display), [`EnvMap::texel_radiance`]
+//!   (nearest) and [`EnvMap::reconstructed`] (the map's [`Reconstruction`]);
+//! - **integration**: [`EnvMap::total_power`] is ∫ L dω exactly for the map's reconstruction,
+//!   box or bilinear ([`reconstruction`]; texel solid angles in closed form, not approximated
+//!   by `sin θ`), and
 //!   [`EnvMap::integrate_region`] / [`EnvMap::integrate_cone`] integrate over a part of the sphere
 //!   by sub-texel patches. [`EnvMap::for_each_patch`] hands those patches out, so a light tree can
 //!   bin radiance into any partition of the sphere without losing power;
@@ -40,10 +42,12 @@ pub mod embed;
 pub mod io;
 pub mod layout;
 pub mod procedural;
+pub mod reconstruction;
 pub mod sun;
 
 pub use io::{EnvMapError, InvalidTexels, LoadReport, load, load_bytes, load_cube_faces};
 pub use layout::{CubeHandedness, Layout};
+pub use reconstruction::Reconstruction;
 
 use glam::{Quat, Vec3};
 
@@ -57,6 +61,9 @@ pub struct EnvMap {
     intensity: f32,
     /// Where the texels came from (file path or built-in name), for messages.
     source: String,
+    reconstruction: Reconstruction,
+    /// Each texel's mean radiance under a bilinear reconstruction (empty for box: the texels).
+    means: Vec<[f32; 3]>,
 }
 
 /// Power statistics of a map, as `cargo xtask inspect` prints them.
@@ -95,7 +102,15 @@ impl EnvMap {
             });
         }
         let clamped = io::check_texels(&mut texels, layout, &source, invalid)?;
-        let map = Self { layout, texels, rotation: Quat::IDENTITY, intensity: 1.0, source };
+        let map = Self {
+            layout,
+            texels,
+            rotation: Quat::IDENTITY,
+            intensity: 1.0,
+            source,
+            reconstruction: Reconstruction::Box,
+            means: Vec::new(),
+        };
         Ok((map, LoadReport { clamped_texels: clamped }))
     }
 
@@ -109,6 +124,56 @@ impl EnvMap {
             rotation: Quat::IDENTITY,
             intensity: 1.0,
             source: "builtin:constant".into(),
+            reconstruction: Reconstruction::Box,
+            means: Vec::new(),
+        }
+    }
+
+    /// How radiance is reconstructed between texel centres (and integrated).
+    pub fn reconstruction(&self) -> Reconstruction {
+        self.reconstruction
+    }
+
+    /// This map reconstructed as `r` ([`reconstruction`]); bilinear needs a lat-long map (an
+    /// error naming the map otherwise).
+    pub fn with_reconstruction(mut self, r: Reconstruction) -> Result<EnvMap, EnvMapError> {
+        self.means = match (r, self.layout) {
+            (Reconstruction::Box, _) => Vec::new(),
+            (Reconstruction::Bilinear, Layout::LatLong { width, height }) => {
+                reconstruction::bilinear_means(width, height, &self.texels)
+            }
+            (Reconstruction::Bilinear, Layout::Cube { .. }) => {
+                return Err(EnvMapError::Shape {
+                    path: self.source.clone().into(),
+                    reason: "bilinear reconstruction needs a lat-long map; a cube map is integrated as box".into(),
+                });
+            }
+        };
+        self.reconstruction = r;
+        Ok(self)
+    }
+
+    /// Each texel's mean radiance under the map's reconstruction (before rotation and
+    /// intensity): the texels themselves for box. What every integrator reads: mean × solid
+    /// angle summed over texels is the reconstruction's integral.
+    pub fn integrated_texels(&self) -> &[[f32; 3]] {
+        if self.means.is_empty() { &self.texels } else { &self.means }
+    }
+
+    /// Radiance along world direction `dir` as the map's reconstruction gives it: the texel's
+    /// value for box, Mitsuba 3's bilinear lookup for bilinear ([`reconstruction`]; not
+    /// [`EnvMap::radiance`], whose rows are centred in their bands).
+    pub fn reconstructed(&self, dir: Vec3) -> Vec3 {
+        match (self.reconstruction, self.layout) {
+            (Reconstruction::Bilinear, Layout::LatLong { width, height }) => {
+                let (u, v) = layout::latlong_uv(self.to_map(dir));
+                let mut out = Vec3::ZERO;
+                for (t, w) in reconstruction::bilinear_weights(width, height, u, v) {
+                    out += Vec3::from(self.texels[t]) * w;
+                }
+                out * self.intensity
+            }
+            _ => self.texel_radiance(dir),
         }
     }
 
@@ -158,11 +223,13 @@ impl EnvMap {
         self.rotation.inverse() * world
     }
 
+    /// Texel `texel`'s mean radiance under the reconstruction, intensity applied.
     fn scaled(&self, texel: usize) -> [f32; 3] {
-        self.texels[texel].map(|c| c * self.intensity)
+        self.integrated_texels()[texel].map(|c| c * self.intensity)
     }
 
-    /// Bilinearly interpolated radiance seen along world direction `dir` (need not be unit).
+    /// Bilinearly interpolated radiance seen along world direction `dir` (need not be unit),
+    /// whatever the map's reconstruction: what backgrounds draw.
     pub fn radiance(&self, dir: Vec3) -> Vec3 {
         let mut out = Vec3::ZERO;
         for (t, w) in self.layout.bilinear(self.to_map(dir)) {
@@ -173,19 +240,20 @@ impl EnvMap {
 
     /// Radiance of the texel that world direction `dir` falls in (no filtering).
     pub fn texel_radiance(&self, dir: Vec3) -> Vec3 {
-        Vec3::from(self.scaled(self.layout.texel_of(self.to_map(dir))))
+        Vec3::from(self.texels[self.layout.texel_of(self.to_map(dir))].map(|c| c * self.intensity))
     }
 
     /// Visits `k × k` sub-texel patches of every texel: `f(world direction, exact solid angle,
-    /// radiance)`. Summing `radiance × solid angle` over any partition of the patches gives the
-    /// partition's power with nothing lost: the solid angles are exact and sum to 4π.
+    /// radiance)`, the radiance its texel's mean under the reconstruction. Summing `radiance ×
+    /// solid angle` over any partition of whole texels gives its power with nothing lost: the
+    /// solid angles are exact and sum to 4π.
     pub fn for_each_patch(&self, k: u32, mut f: impl FnMut(Vec3, f64, [f32; 3])) {
         self.layout.for_each_patch(k, |texel, d, omega| {
             f(self.rotation * d, omega, self.scaled(texel));
         });
     }
 
-    /// ∫ L dω over the whole sphere per RGB channel, exact for the texel-constant map
+    /// ∫ L dω over the whole sphere per RGB channel, exact for the map's reconstruction
     /// (f64 accumulation).
     pub fn total_power(&self) -> [f64; 3] {
         let mut sum = [0.0f64; 3];
@@ -277,6 +345,8 @@ impl EnvMap {
             rotation: Quat::IDENTITY,
             intensity: 1.0,
             source: format!("{} (resampled)", self.source),
+            reconstruction: Reconstruction::Box,
+            means: Vec::new(),
         }
     }
 }

@@ -97,6 +97,7 @@ impl EnvMap {
         if suns.is_empty() {
             return self;
         }
+        let reconstruction = self.reconstruction;
         let narrow = match self.layout {
             Layout::LatLong { width: w, .. } => w < width,
             Layout::Cube { .. } => true,
@@ -127,7 +128,8 @@ impl EnvMap {
             }
         }
         map.source = format!("{} with {} sun(s)", map.source, suns.len());
-        map
+        // Reconstructed as before (the result is lat-long): the means follow the new texels.
+        map.with_reconstruction(reconstruction).expect("a lat-long map")
     }
 }
 

@@ -410,7 +410,7 @@ impl LightTreeBuilder {
         let shift = -yaw / (2.0 * std::f64::consts::PI) * sub as f64;
         let (sin_y, cos_y) = (yaw.sin() as f32, yaw.cos() as f32);
         let scale = f64::from(map.intensity());
-        let texels = map.texels();
+        let texels = map.integrated_texels();
         let threads = rayon::current_num_threads().max(1);
         let rows_per = h.div_ceil(threads).max(1);
         let partials: Vec<Vec<[f64; 3]>> = (0..h)
@@ -503,7 +503,7 @@ impl LightTreeBuilder {
         let Some((_, geo)) = &self.texel_cache else { unreachable!("filled above") };
         let rot = Mat3::from_quat(map.rotation());
         let scale = f64::from(map.intensity());
-        let texels = map.texels();
+        let texels = map.integrated_texels();
         let threads = rayon::current_num_threads().max(1);
         let add = |a: &mut [f64; 3], c: &[f32; 3], w: f64| {
             a[0] += f64::from(c[0]) * w;

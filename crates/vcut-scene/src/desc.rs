@@ -91,6 +91,9 @@ pub struct EnvironmentDesc {
     pub sun_to_zenith: f32,
     /// Clamp NaN/Inf/negative texels instead of refusing the file.
     pub clamp_invalid: bool,
+    /// How radiance is reconstructed between texel centres and integrated: `box` (each texel
+    /// constant, the default) or `bilinear` (Mitsuba 3's `envmap`; lat-long maps only).
+    pub reconstruction: vcut_envmap::Reconstruction,
     /// The target error of the light's brightest leaves left in the cuts (`vcut_shade::sun`):
     /// a relative L2 error in (0, 1); unset, the renderer's default.
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -112,6 +115,7 @@ impl Default for EnvironmentDesc {
             sun_to_zenith: sky.sun_to_zenith,
             lux_scale: 1.0 / 683.0,
             clamp_invalid: false,
+            reconstruction: vcut_envmap::Reconstruction::Box,
             light_error: None,
         }
     }
@@ -332,7 +336,11 @@ impl EnvironmentDesc {
         };
         map.set_rotation_y_degrees(self.rotation_deg);
         map.set_intensity(self.intensity);
-        Ok(map)
+        let r = self.reconstruction;
+        map.with_reconstruction(r).map_err(|e| SceneError::SceneFile {
+            path: file.into(),
+            reason: format!("[environment] reconstruction = \"{}\": {e}", r.name()),
+        })
     }
 }
 

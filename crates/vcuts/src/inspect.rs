@@ -194,6 +194,23 @@ fn print_envmap(map: &EnvMap, load_s: f64) {
     println!("brightest_texel_luminance={:.6e}", s.brightest_luminance);
     println!("brightest_texel_dir={:.4},{:.4},{:.4}", s.brightest_dir.x, s.brightest_dir.y, s.brightest_dir.z);
     println!("energy_share_top_0.1pct={:.4}", s.top_0_1_percent_share);
+    println!("reconstruction={}", map.reconstruction().name());
+    // What the reconstruction changes: the irradiance of an open plane facing up under each
+    // (8 × 8 patches per texel), for a lat-long map.
+    if let vcut_envmap::Layout::LatLong { .. } = map.layout() {
+        let up = |r: vcut_envmap::Reconstruction| {
+            let m = map.clone().with_reconstruction(r).expect("a lat-long map");
+            let mut e = 0.0f64;
+            m.for_each_patch(8, |d, omega, c| {
+                e += f64::from(vcut_envmap::luminance(c)) * f64::from(d.y.max(0.0)) * omega
+            });
+            e
+        };
+        let (b, l) = (up(vcut_envmap::Reconstruction::Box), up(vcut_envmap::Reconstruction::Bilinear));
+        println!("irradiance_up_box={b:.6}");
+        println!("irradiance_up_bilinear={l:.6}");
+        println!("reconstruction_difference_up={:.5}", if b > 0.0 { (l - b) / b } else { 0.0 });
+    }
     if load_s.is_finite() {
         println!("load_s={load_s:.3}");
     }

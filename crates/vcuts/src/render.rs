@@ -86,6 +86,10 @@ pub struct RenderArgs {
     /// Environment map (default: the scene's).
     #[arg(long)]
     pub env: Option<String>,
+    /// How the map's radiance is reconstructed between texel centres and integrated: box or
+    /// bilinear (lat-long maps; Mitsuba 3's envmap). Default: the scene file's (box).
+    #[arg(long)]
+    pub reconstruction: Option<vcut_envmap::Reconstruction>,
     /// Move an object: NAME=dx,dy,dz (repeatable; from its rest position).
     #[arg(long = "move", value_name = "NAME=DX,DY,DZ")]
     pub moves: Vec<String>,
@@ -185,6 +189,7 @@ impl RenderArgs {
         RenderArgs {
             input: input.into(),
             env: None,
+            reconstruction: None,
             moves: Vec::new(),
             brdfs: Vec::new(),
             camera: None,
@@ -282,11 +287,17 @@ pub struct Opened {
 
 /// Opens `input` under environment `env` (default: the one recorded, else the scene's).
 pub fn open(input: &Path, env: Option<&str>) -> Result<Opened> {
-    open_with(input, env, FrameCaches::default())
+    open_with(input, env, None, FrameCaches::default())
 }
 
-/// [`open`] with a frame that keeps `caches` ([`Frame::with_caches`]).
-pub fn open_with(input: &Path, env: Option<&str>, caches: FrameCaches) -> Result<Opened> {
+/// [`open`] with the map reconstructed as `reconstruction` (default: as recorded) and a frame
+/// that keeps `caches` ([`Frame::with_caches`]).
+pub fn open_with(
+    input: &Path,
+    env: Option<&str>,
+    reconstruction: Option<vcut_envmap::Reconstruction>,
+    caches: FrameCaches,
+) -> Result<Opened> {
     let mut data = Precomputed::open(input)?;
     let embedded = data.environment()?;
     // A file without its own record of the scene's view and light: the scene, re-opened.
@@ -324,6 +335,10 @@ pub fn open_with(input: &Path, env: Option<&str>, caches: FrameCaches) -> Result
         }
     };
     let t = Instant::now();
+    let env = match reconstruction {
+        Some(r) => env.with_reconstruction(r).with_context(|| format!("--reconstruction {}", r.name()))?,
+        None => env,
+    };
     let frame = Frame::with_caches(&mut data, &env, caches)?;
     Ok(Opened { data, frame, env, env_name, view, setup_s: t.elapsed().as_secs_f64() })
 }
@@ -417,7 +432,8 @@ pub fn run(args: &RenderArgs) -> Result<RenderOutcome> {
         Some(_) => FrameCaches { svc: true, cells: false, merged: false },
         None => FrameCaches { merged: !args.no_merged_cache, ..FrameCaches::default() },
     };
-    let Opened { data, mut frame, env, view, setup_s, .. } = open_with(&args.input, args.env.as_deref(), caches)?;
+    let Opened { data, mut frame, env, view, setup_s, .. } =
+        open_with(&args.input, args.env.as_deref(), args.reconstruction, caches)?;
     if let Some(budget) = budget {
         frame.fit_memory(budget)?;
         let need = frame.memory().total();
@@ -438,6 +454,7 @@ pub fn run(args: &RenderArgs) -> Result<RenderOutcome> {
     out.emit("frame_caches", if names.is_empty() { "none".into() } else { names.join(",") });
     out.setup_s = setup_s;
     out.emit("setup_s", format!("{setup_s:.3}"));
+    out.emit("reconstruction", env.reconstruction().name().to_string());
     if inside != InsideSamples::default() {
         frame.set_inside_samples(inside)?;
     }

@@ -20,6 +20,10 @@ pub struct ViewArgs {
     /// Environment map (default: the data's).
     #[arg(long)]
     pub env: Option<String>,
+    /// How maps are reconstructed between texel centres and integrated: box or bilinear
+    /// (lat-long maps). Default: the data's (box).
+    #[arg(long)]
+    pub reconstruction: Option<vcut_envmap::Reconstruction>,
     /// Start from this scene camera (default: the scene's first).
     #[arg(long)]
     pub camera: Option<String>,
@@ -200,7 +204,7 @@ pub fn run(args: &ViewArgs) -> Result<()> {
         (Some(p), _) => p.clone(),
         (None, scene) => crate::precompute::cached_or_run(scene.as_deref().unwrap_or("builtin:teapot"), &args.preset)?,
     };
-    let opened = crate::render::open(&input, args.env.as_deref())?;
+    let opened = crate::render::open_with(&input, args.env.as_deref(), args.reconstruction, Default::default())?;
     let crate::render::Opened { data, mut frame, env, env_name, view, setup_s } = opened;
     crate::render::apply_edits(&mut frame, &args.brdfs, &args.moves)?;
     let camera = crate::render::camera(view.as_ref(), args.camera.as_deref(), &frame)?;
@@ -263,6 +267,7 @@ pub fn run(args: &ViewArgs) -> Result<()> {
 
     let base_env = env;
     let base_name = env_name.clone();
+    let reconstruction = base_env.reconstruction();
     let options = ViewOptions {
         title: format!("vcuts viewer — {}", input.display()),
         summary,
@@ -271,7 +276,10 @@ pub fn run(args: &ViewArgs) -> Result<()> {
             if name == base_name {
                 Ok(base_env.clone())
             } else {
-                crate::inspect::load_envmap(name).map_err(|e| format!("{e:#}"))
+                // Another map takes the same reconstruction (a cube map stays box).
+                let map = crate::inspect::load_envmap(name).map_err(|e| format!("{e:#}"))?;
+                let cube = matches!(map.layout(), vcut_envmap::Layout::Cube { .. });
+                if cube { Ok(map) } else { map.with_reconstruction(reconstruction).map_err(|e| e.to_string()) }
             }
         }),
         live_move_ms: args.live_move_ms,

@@ -177,27 +177,37 @@ fn a_built_in_map_travels_as_its_description() {
     let s = scratch("cli-recipe");
     let scene_text = format!(
         "{}\n[environment]\nsource = \"builtin:sky\"\nsun_elevation_deg = 14.0\nsun_azimuth_deg = -60.0\n\
-         resolution = 128\nrotation_deg = 25.0\n",
+         resolution = 128\nrotation_deg = 25.0\nreconstruction = \"bilinear\"\n",
         common::SCENE
     );
     std::fs::write(s.0.join("sky.toml"), scene_text).unwrap();
     let mut data = common::precomputed(&s, "sky.toml", &[]);
     let recipe = data.view.as_ref().and_then(|v| v.environment.clone()).expect("the view records the sky");
     assert_eq!((recipe.sun_elevation_deg, recipe.resolution, recipe.rotation_deg), (14.0, 128, 25.0));
+    assert_eq!(recipe.reconstruction, vcut_envmap::Reconstruction::Bilinear);
     let baked = data.environment().unwrap().expect("the file bakes its map");
     let scene = vcut_scene::Scene::open(s.0.join("sky.toml").to_str().unwrap()).unwrap();
     assert!(baked.texels() == scene.environment.texels(), "the re-baked sky differs from the scene's");
     assert_eq!(baked.rotation(), scene.environment.rotation());
+    assert_eq!(baked.integrated_texels(), scene.environment.integrated_texels(), "reconstructed as the scene's");
     let embedded = vcut_data::file::SectionId::new(vcut_data::file::SectionKind::Environment, 0, 0);
     assert!(!data.reader().has(embedded), "the texels were embedded");
     let file = s.0.join("sky.vcuts");
-    let render = |exr: &str| {
-        let args = ["render", file.to_str().unwrap(), "--width", "48", "--height", "32", "-o", "f.png", "--exr", exr];
+    let render = |exr: &str, extra: &[&str]| {
+        let mut args =
+            vec!["render", file.to_str().unwrap(), "--width", "48", "--height", "32", "-o", "f.png", "--exr", exr];
+        args.extend_from_slice(extra);
         let o = vcuts(&s.0, &args);
         assert!(o.status.success(), "{}", text(&o));
-        std::fs::read(s.0.join(exr)).unwrap()
+        (std::fs::read(s.0.join(exr)).unwrap(), text(&o))
     };
-    let before = render("before.exr");
+    let (before, out) = render("before.exr", &[]);
+    assert!(out.contains("reconstruction=bilinear"), "{out}");
     std::fs::remove_file(s.0.join("sky.toml")).unwrap();
-    assert!(before == render("after.exr"), "the image changed once the scene file was gone");
+    assert!(before == render("after.exr", &[]).0, "the image changed once the scene file was gone");
+    // --reconstruction overrides the recorded one, and the light changes with it.
+    let (boxed, out) = render("box.exr", &["--reconstruction", "box"]);
+    assert!(out.contains("reconstruction=box") && boxed != before, "{out}");
+    let o = vcuts(&s.0, &["render", file.to_str().unwrap(), "-o", "g.png", "--reconstruction", "cubic"]);
+    assert!(!o.status.success() && text(&o).contains("box or bilinear"), "{}", text(&o));
 }
