@@ -16,6 +16,7 @@ pub mod farm;
 pub mod inspect;
 pub mod leaves;
 pub mod machine;
+pub mod open;
 #[cfg(feature = "plots")]
 pub mod plots;
 pub mod precompute;
