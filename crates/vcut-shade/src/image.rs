@@ -81,7 +81,7 @@ pub fn rasterize(
 /// Rasterises `frame` shaded as `parts` (from [`Frame::shade_parts`]) with the diffuse albedo
 /// taken per pixel ([`albedo_image`], so a texture shows at its own resolution, not the mesh's)
 /// as `albedo · diffuse + specular`, each part interpolated over the triangles. Where no object
-/// is textured it is [`rasterize`] of [`Frame::radiance`] up to rounding (and costs four more
+/// is textured it is [`rasterize`] of [`Frame::radiance`] up to rounding (and costs three more
 /// passes: use that then).
 pub fn rasterize_parts(
     frame: &Frame,
@@ -91,17 +91,16 @@ pub fn rasterize_parts(
     height: u32,
     background: Option<&EnvMap>,
 ) -> Image {
-    let draw = |f: &dyn Fn(&crate::Parts) -> Vec3| {
-        let values: Vec<Vec<Vec3>> = parts.iter().map(|p| p.iter().map(f).collect()).collect();
-        rasterize(frame, &values, camera, width, height, None)
+    let values = |f: &dyn Fn(&crate::Parts) -> Vec3| -> Vec<Vec<Vec3>> {
+        parts.iter().map(|p| p.iter().map(f).collect()).collect()
     };
-    let diffuse = draw(&|p| p.diffuse);
-    let specular = draw(&|p| p.specular);
+    // The diffuse part drawn over the background; covered pixels then take albedo and specular.
+    let mut image = rasterize(frame, &values(&|p| p.diffuse), camera, width, height, background);
+    let specular = rasterize(frame, &values(&|p| p.specular), camera, width, height, None);
     let albedo = albedo_image(frame, camera, width, height);
-    let mut image = rasterize(frame, &frame.radiance(parts), camera, width, height, background);
     for k in 0..image.rgb.len() {
         if image.covered[k] {
-            image.rgb[k] = albedo.rgb[k] * diffuse.rgb[k] + specular.rgb[k];
+            image.rgb[k] = albedo.rgb[k] * image.rgb[k] + specular.rgb[k];
         }
     }
     image
