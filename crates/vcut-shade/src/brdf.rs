@@ -279,7 +279,10 @@ pub fn parse_spec(base: Material, spec: &str) -> Result<Material, SpecError> {
             "kd" => m.kd = rgb(v)?,
             "ks" => m.ks = rgb(v)?,
             "alpha" | "exponent" => m.exponent = num(v)?.max(1e-3),
-            "roughness" => m.roughness = num(v)?.clamp(1e-3, 1.0),
+            "roughness" => match num(v)? {
+                r if r > 1.0 => return Err(bad(v, "GGX roughness α must lie in (0, 1]")),
+                r => m.roughness = r.max(1e-3),
+            },
             other => return Err(SpecError::Parameter(other.into())),
         }
     }

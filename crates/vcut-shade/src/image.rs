@@ -106,6 +106,24 @@ pub fn rasterize_parts(
     image
 }
 
+/// The frame's picture from its shading (`parts` from [`Frame::shade_parts`] and `radiance`, its
+/// [`Frame::radiance`]): [`rasterize_parts`] when an object is textured (its albedo per pixel),
+/// else [`rasterize`] of the radiance. What `vcuts render` and the Python `Frame.image` draw.
+pub fn frame_image(
+    frame: &Frame,
+    (parts, radiance): (&[Vec<crate::Parts>], &[Vec<Vec3>]),
+    camera: &Camera,
+    width: u32,
+    height: u32,
+    background: Option<&EnvMap>,
+) -> Image {
+    if frame.has_textures() {
+        rasterize_parts(frame, parts, camera, width, height, background)
+    } else {
+        rasterize(frame, radiance, camera, width, height, background)
+    }
+}
+
 /// The diffuse albedo each pixel shows: [`Frame::albedo_at`] the texture coordinates
 /// interpolated over the visible triangle (an untextured object's `kd` throughout); zero where
 /// no object is.

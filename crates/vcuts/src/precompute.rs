@@ -274,6 +274,18 @@ pub fn estimate_only(args: &PrecomputeArgs, seconds: f64) -> Result<Estimate> {
 /// Runs `precompute` (with `--dry-run`, only its estimate); returns the output path and the
 /// summary.
 pub fn run(args: &PrecomputeArgs) -> Result<(PathBuf, Option<Summary>)> {
+    run_with(args, &Bars::default(), &AtomicBool::new(false))
+}
+
+/// [`run`], reporting progress to `progress` instead of bars, and stopping when `interrupt` is
+/// set (the error is then [`vcut_precompute::run::PrecomputeError::Interrupted`]: the finished
+/// sections stay in the `.partial` file, which the next run resumes). The Python package's
+/// `precompute` is this.
+pub fn run_with(
+    args: &PrecomputeArgs,
+    progress: &dyn Progress,
+    interrupt: &AtomicBool,
+) -> Result<(PathBuf, Option<Summary>)> {
     if !args.gather.is_empty() {
         return Ok((crate::shard::run_gather(&args.gather, args.output.as_deref())?, None));
     }
@@ -329,11 +341,10 @@ pub fn run(args: &PrecomputeArgs) -> Result<(PathBuf, Option<Summary>)> {
     if args.estimate.dry_run {
         return Ok((output, None));
     }
-    let bars = Bars::default();
     let t = Instant::now();
     let summary = match &shard {
-        Some((index, plan)) => precompute_shard(&job, Some(setup), *index, plan, &bars, &AtomicBool::new(false))?,
-        None => precompute_with(&job, Some(setup), &bars, &AtomicBool::new(false))?,
+        Some((index, plan)) => precompute_shard(&job, Some(setup), *index, plan, progress, interrupt)?,
+        None => precompute_with(&job, Some(setup), progress, interrupt)?,
     };
     print_summary(&output, &summary, t.elapsed().as_secs_f64(), &params);
     // A shard's figures are a part of the whole the estimate is about: only its memory compares.

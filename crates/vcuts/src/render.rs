@@ -9,7 +9,7 @@ use vcut_data::InsideSamples;
 use vcut_envmap::EnvMap;
 use vcut_scene::Camera;
 use vcut_shade::glb::write_glb;
-use vcut_shade::image::{auto_exposure, pixel_errors, rasterize, rasterize_parts, write_exr, write_ply, write_png};
+use vcut_shade::image::{auto_exposure, frame_image, pixel_errors, rasterize, write_exr, write_ply, write_png};
 use vcut_shade::passes::{Pass, render_passes, write_exr_passes};
 use vcut_shade::reference::{MonteCarloParams, errors, exact_direction, monte_carlo};
 use vcut_shade::{Frame, FrameCaches, SunRays};
@@ -378,11 +378,7 @@ pub fn run(args: &RenderArgs) -> Result<RenderOutcome> {
     emit_memory(&frame, &mut out);
     let t = Instant::now();
     // A textured object takes its albedo per pixel.
-    let image = if frame.has_textures() {
-        rasterize_parts(&frame, &parts, &camera, args.width, args.height, Some(&env))
-    } else {
-        rasterize(&frame, &radiance, &camera, args.width, args.height, Some(&env))
-    };
+    let image = frame_image(&frame, (&parts, &radiance), &camera, args.width, args.height, Some(&env));
     let raster_ms = t.elapsed().as_secs_f64() * 1e3;
     out.raster_ms = Some(raster_ms);
     out.emit("raster_ms", format!("{raster_ms:.2}"));

@@ -1,0 +1,102 @@
+"""The claims the Rust tests make, at small sizes, through Python."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import vcuts
+
+
+def test_open_plane_under_constant_map_reflects_its_albedo(plane) -> None:
+    # An open Lambertian plane under radiance 1 everywhere: E = π, B = kd/π · E = kd.
+    f = vcuts.open(plane, env="builtin:constant")
+    (rad,) = f.shade([0.3, 5.0, 0.2])
+    assert rad.shape == (25, 3) and rad.dtype == np.float32
+    np.testing.assert_allclose(rad, np.broadcast_to([0.25, 0.5, 0.75], rad.shape), rtol=2e-3)
+
+
+def test_move_and_back_restores_radiance_bit_for_bit(balls) -> None:
+    f = vcuts.open(balls)
+    f.deferred_merges = False
+    eye = f.camera()["position"]
+    before = f.shade(eye)
+    merged = f.translate("ball", (0.8, 0.0, 0.3))
+    assert merged > 0
+    moved = f.shade(eye)
+    assert not all(np.array_equal(a, b) for a, b in zip(before, moved)), "the move changed nothing"
+    f.translate("ball", (0.0, 0.0, 0.0))
+    after = f.shade(eye)
+    for a, b in zip(before, after):
+        assert np.array_equal(a, b)
+
+
+def test_positions_follow_the_translation(balls) -> None:
+    f = vcuts.open(balls)
+    rest = f.positions("small")
+    f.translate("small", (0.5, 0.0, -0.25))
+    np.testing.assert_allclose(f.positions("small") - rest, np.broadcast_to([0.5, 0.0, -0.25], rest.shape), atol=1e-6)
+    assert f.translation("small") == pytest.approx([0.5, 0.0, -0.25])
+    tris = f.indices("small")
+    assert tris.dtype == np.uint32 and tris.shape[1] == 3 and tris.max() < len(rest)
+    n = f.normals("small")
+    np.testing.assert_allclose(np.linalg.norm(n, axis=1), 1.0, atol=1e-5)
+
+
+def test_brdf_and_lighting_edits_make_no_merge(balls) -> None:
+    f = vcuts.open(balls)
+    eye = f.camera()["position"]
+    before = f.shade(eye)
+    merges = f.stats()["merges"]
+    f.set_brdf("ball", "ggx:roughness=0.2,ks=0.04")
+    assert f.material("ball")["model"] == "ggx"
+    edited = f.shade(eye)
+    f.set_environment("builtin:studio")
+    relit = f.shade(eye)
+    assert f.stats()["merges"] == merges
+    assert not np.array_equal(before[0], edited[0])
+    assert not np.array_equal(edited[0], relit[0])
+    # The ground's BRDF did not change: only the light did.
+    assert np.array_equal(before[2], edited[2])
+
+
+def test_arrays_are_handed_over_without_a_copy(balls) -> None:
+    f = vcuts.open(balls)
+    rad = f.shade(f.camera()["position"])[0]
+    # A reshaped view of the 1-D array that owns the Rust allocation.
+    assert not rad.flags["OWNDATA"] and rad.base is not None and rad.base.flags["OWNDATA"] is False
+    assert rad.flags["C_CONTIGUOUS"] and rad.flags["WRITEABLE"]
+
+
+def test_cuts_against_the_references(balls) -> None:
+    f = vcuts.open(balls)
+    eye = f.camera()["position"]
+    got = f.shade(eye)
+    exact = f.exact_reference(eye)
+    rel, worst = vcuts.errors(got, exact)
+    assert 0.0 < rel < 0.1 and worst >= rel
+    mc = f.monte_carlo_reference(eye, rel_error=0.05, max_samples=2048)
+    rel_mc, _ = vcuts.errors(exact, mc)
+    assert rel_mc < 0.1
+
+
+def test_images(balls) -> None:
+    f = vcuts.open(balls)
+    img = f.image(width=80, height=60)
+    assert img.shape == (60, 80, 3) and img.dtype == np.float32 and np.isfinite(img).all() and img.mean() > 0
+    cam = dict(f.camera("main"), position=[0.0, 6.0, 0.01])
+    top = f.image(cam, width=40, height=30)
+    assert top.shape == (30, 40, 3) and not np.array_equal(top, img[:30, :40])
+    for mode in ("ssao", "ssdo"):
+        s = f.screen_space(mode, width=64, height=48)
+        assert s.shape == (48, 64, 3) and np.isfinite(s).all() and s.mean() > 0
+
+
+def test_stats_report_the_move_and_memory(balls) -> None:
+    f = vcuts.open(balls)
+    f.deferred_merges = False
+    n = f.translate(0, (0.2, 0.0, 0.0))
+    s = f.stats()
+    assert s["last_move"]["vertices"] == n > 0
+    assert s["memory"]["total"] == sum(v for k, v in s["memory"].items() if k != "total")
+    assert s["light"]["target_error"] > 0
