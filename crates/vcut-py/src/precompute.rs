@@ -111,6 +111,12 @@ fn _precompute<'py>(
                 break;
             }
         }
+        // A Ctrl-C in the last poll's wait: the run is over (whole or stopped), the signal stands.
+        if stopped_by.is_none()
+            && let Err(e) = py.check_signals()
+        {
+            stopped_by = Some(e);
+        }
         worker.join()
     });
     let result = result.map_err(|_| VcutsError::new_err("precompute: a worker panicked"))?;
@@ -126,7 +132,16 @@ fn _precompute<'py>(
             }
         }
         // Stopped after the last section: the file is whole; the interruption still stands.
-        (Ok(_), Some(stop)) => Err(stop),
+        (Ok((output, _)), Some(stop)) => {
+            if stop.is_instance_of::<pyo3::exceptions::PyKeyboardInterrupt>(py) {
+                Err(pyo3::exceptions::PyKeyboardInterrupt::new_err(format!(
+                    "interrupted after the precompute finished: {} is complete",
+                    output.display()
+                )))
+            } else {
+                Err(stop)
+            }
+        }
         (Err(e), _) => Err(error(e)),
     }
 }
