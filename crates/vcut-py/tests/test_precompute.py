@@ -63,6 +63,10 @@ def test_ctrl_c_keeps_a_resumable_partial_file(workdir, tmp_path) -> None:
     script = textwrap.dedent(
         f"""
         import os, signal, vcuts
+        # Python's own Ctrl-C handler, whatever this process inherited: a shell that starts a
+        # job in the background without job control (CI's) starts it with SIGINT ignored, and
+        # Python then leaves it ignored.
+        signal.signal(signal.SIGINT, signal.default_int_handler)
         sent = []
         def interrupt(stage, done, total):
             if stage == "svc" and not sent:
