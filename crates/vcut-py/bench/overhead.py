@@ -1,7 +1,8 @@
 """What Python adds to a move and a shade: the same drag (eager moves of one object, each
-followed by a shade towards the camera) through `Frame.translate` / `Frame.shade` and through
-`vcuts._vcuts._native_drag`, which runs that loop in Rust; rounds alternate so the machine's
-noise falls on both alike. Also what handing a frame's arrays to numpy costs.
+followed by a shade towards the camera) through `Frame.translate` / `Frame.shade` on one frame
+and through `vcuts._vcuts._native_drag`, which times the same calls in Rust, on a second frame
+of the same file; the two take turns step by step. Also what handing a frame's arrays to numpy
+costs.
 
     python crates/vcut-py/bench/overhead.py FILE.vcuts [OBJECT] [ROUNDS]
 
@@ -33,17 +34,13 @@ for f in (py_frame, rust_frame):
     f.deferred_merges = False
 
 
-def python_drag(f: vcuts.Frame) -> list[tuple[float, float]]:
-    start = np.array(f.translation(obj), dtype=np.float32)
-    out = []
-    for k in range(1, STEPS + 1):
-        t0 = time.perf_counter()
-        f.translate(obj, start + STEP * k)
-        t1 = time.perf_counter()
-        f.shade(eye)
-        t2 = time.perf_counter()
-        out.append(((t1 - t0) * 1e3, (t2 - t1) * 1e3))
-    return out
+def python_step(f: vcuts.Frame, to: np.ndarray) -> tuple[float, float]:
+    t0 = time.perf_counter()
+    f.translate(obj, to)
+    t1 = time.perf_counter()
+    f.shade(eye)
+    t2 = time.perf_counter()
+    return (t1 - t0) * 1e3, (t2 - t1) * 1e3
 
 
 def back(f: vcuts.Frame) -> None:
@@ -51,15 +48,22 @@ def back(f: vcuts.Frame) -> None:
     f.shade(eye)
 
 
+# Step by step, the two frames take turns, who goes first alternating, so drift in the
+# machine's speed falls on both alike.
 py, rust = [], []
 for r in range(rounds + 1):
-    a = python_drag(py_frame)
-    b = _native_drag(rust_frame, obj, STEP, STEPS, eye)
+    for k in range(1, STEPS + 1):
+        turns = [0, 1] if (r * STEPS + k) % 2 else [1, 0]
+        for who in turns:
+            if who == 0:
+                a = python_step(py_frame, STEP * k)
+            else:
+                (b,) = _native_drag(rust_frame, obj, STEP, 1, eye)
+        if r > 0:  # the first round warms caches
+            py.append(a)
+            rust.append(b)
     back(py_frame)
     back(rust_frame)
-    if r > 0:  # the first round warms caches
-        py += a
-        rust += b
 
 py_move = statistics.median(m for m, _ in py)
 py_shade = statistics.median(s for _, s in py)
