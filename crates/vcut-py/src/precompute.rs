@@ -6,8 +6,8 @@ use crate::{VcutsError, error};
 use clap::Parser;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
-use std::sync::Mutex;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
+use std::sync::{Condvar, Mutex};
 use std::time::{Duration, Instant};
 use vcut_precompute::run::{PrecomputeError, Progress, Summary};
 
@@ -20,39 +20,80 @@ struct Cli {
 }
 
 /// Progress as the workers report it; the calling thread reads it. Each stage's start and end
-/// are queued, so a stage shorter than a poll is still reported.
+/// are queued, so a stage shorter than a poll is still reported, and a stage's start waits until
+/// the calling thread has handed it on: an exception from the callback at a stage's start stops
+/// the run before that stage computes anything, however short the run.
 #[derive(Default)]
 struct Polled {
     stage: Mutex<(String, u64)>,
     done: AtomicU64,
-    events: Mutex<Vec<(String, u64, u64)>>,
+    queue: Mutex<Queue>,
+    changed: Condvar,
+}
+
+/// The queued starts and ends, how many were ever queued and how many handed on.
+#[derive(Default)]
+struct Queue {
+    events: Vec<(String, u64, u64)>,
+    queued: u64,
+    handed: u64,
 }
 
 impl Progress for Polled {
     fn stage(&self, name: &str, total: u64) {
         *self.stage.lock().unwrap_or_else(|e| e.into_inner()) = (name.to_string(), total);
         self.done.store(0, Ordering::Relaxed);
-        self.events.lock().unwrap_or_else(|e| e.into_inner()).push((name.to_string(), 0, total));
+        let mut q = self.push((name.to_string(), 0, total));
+        let mine = q.queued;
+        while q.handed < mine {
+            q = self.changed.wait(q).unwrap_or_else(|e| e.into_inner());
+        }
     }
     fn advance(&self, n: u64) {
         self.done.fetch_add(n, Ordering::Relaxed);
     }
     fn end_stage(&self) {
         let now = self.now();
-        self.events.lock().unwrap_or_else(|e| e.into_inner()).push(now);
+        drop(self.push(now));
     }
 }
 
 impl Polled {
+    fn push(&self, event: (String, u64, u64)) -> std::sync::MutexGuard<'_, Queue> {
+        let mut q = self.queue.lock().unwrap_or_else(|e| e.into_inner());
+        q.events.push(event);
+        q.queued += 1;
+        self.changed.notify_all();
+        q
+    }
+
     fn now(&self) -> (String, u64, u64) {
         let (name, total) = self.stage.lock().unwrap_or_else(|e| e.into_inner()).clone();
         (name, self.done.load(Ordering::Relaxed).min(total), total)
     }
 
+    /// Waits up to `wait` for an event or the end of the run (`finished` says whether it ended).
+    fn wait(&self, wait: Duration, finished: impl Fn() -> bool) -> bool {
+        let until = Instant::now() + wait;
+        let mut q = self.queue.lock().unwrap_or_else(|e| e.into_inner());
+        while q.events.is_empty() && !finished() {
+            let left = until.saturating_duration_since(Instant::now());
+            if left.is_zero() {
+                break;
+            }
+            // The worker's end is not signalled through the queue: look again every 5 ms.
+            q = self.changed.wait_timeout(q, left.min(Duration::from_millis(5))).unwrap_or_else(|e| e.into_inner()).0;
+        }
+        finished()
+    }
+
     /// What happened since the last call: the queued starts and ends, then where the current
-    /// stage is (when that is news).
-    fn news(&self, last: &mut (String, u64, u64)) -> Vec<(String, u64, u64)> {
-        let mut out: Vec<_> = std::mem::take(&mut *self.events.lock().unwrap_or_else(|e| e.into_inner()));
+    /// stage is (when that is news). Returns how many queued events it took, for [`Self::handed`].
+    fn news(&self, last: &mut (String, u64, u64)) -> (Vec<(String, u64, u64)>, u64) {
+        let (mut out, upto) = {
+            let mut q = self.queue.lock().unwrap_or_else(|e| e.into_inner());
+            (std::mem::take(&mut q.events), q.queued)
+        };
         let now = self.now();
         if !now.0.is_empty() && out.last() != Some(&now) && *last != now {
             out.push(now);
@@ -60,7 +101,14 @@ impl Polled {
         if let Some(l) = out.last() {
             *last = l.clone();
         }
-        out
+        (out, upto)
+    }
+
+    /// The events up to `upto` were handed on: a waiting start goes on.
+    fn handed(&self, upto: u64) {
+        let mut q = self.queue.lock().unwrap_or_else(|e| e.into_inner());
+        q.handed = q.handed.max(upto);
+        self.changed.notify_all();
     }
 }
 
@@ -86,20 +134,15 @@ fn _precompute<'py>(
     let result = std::thread::scope(|s| {
         let worker = s.spawn(|| vcuts::precompute::run_with(&args, &polled, &interrupt));
         loop {
-            let finished = py.detach(|| {
-                let until = Instant::now() + Duration::from_millis(100);
-                while !worker.is_finished() && Instant::now() < until {
-                    std::thread::sleep(Duration::from_millis(5));
-                }
-                worker.is_finished()
-            });
+            let finished = py.detach(|| polled.wait(Duration::from_millis(100), || worker.is_finished()));
             if stopped_by.is_none()
                 && let Err(e) = py.check_signals()
             {
                 interrupt.store(true, Ordering::Relaxed);
                 stopped_by = Some(e);
             }
-            for (stage, done, total) in polled.news(&mut last) {
+            let (news, upto) = polled.news(&mut last);
+            for (stage, done, total) in news {
                 if let (Some(cb), None) = (&progress, &stopped_by)
                     && let Err(e) = cb.call1((stage.as_str(), done, total))
                 {
@@ -107,6 +150,8 @@ fn _precompute<'py>(
                     stopped_by = Some(e);
                 }
             }
+            // Set the interrupt before a waiting stage goes on, so it sees it.
+            polled.handed(upto);
             if finished {
                 break;
             }
