@@ -58,8 +58,7 @@ pub(crate) struct Frame {
 
 impl Frame {
     fn index(&self, o: &ObjectRef) -> PyResult<usize> {
-        let f = &self.opened.frame;
-        o.resolve((0..f.object_count()).map(|i| f.object(i).name))
+        o.resolve(&self.opened.frame)
     }
 
     fn resolve_camera(&self, camera: Option<CameraArg<'_>>) -> PyResult<vcut_scene::Camera> {
@@ -311,16 +310,7 @@ impl Frame {
         d.set_item("last_move", mv)?;
         let mem = f.memory();
         let md = PyDict::new(py);
-        for (k, v) in [
-            ("stored", mem.stored),
-            ("meshes", mem.meshes),
-            ("merged", mem.merged),
-            ("lists", mem.lists),
-            ("svc_cache", mem.svc_cache),
-            ("keys", mem.keys),
-            ("field_cache", mem.field_cache),
-            ("total", mem.total()),
-        ] {
+        for (k, v) in mem.parts().into_iter().chain([("total", mem.total())]) {
             md.set_item(k, v)?;
         }
         d.set_item("memory", md)?;

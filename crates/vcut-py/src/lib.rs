@@ -48,22 +48,36 @@ pub(crate) enum ObjectRef {
 }
 
 impl ObjectRef {
-    /// The index among `names`, or an error listing them.
-    pub(crate) fn resolve<'a>(&self, names: impl Iterator<Item = &'a str>) -> PyResult<usize> {
-        let names: Vec<&str> = names.collect();
+    /// The object's index in `frame`, or an error listing the objects.
+    pub(crate) fn resolve(&self, frame: &vcut_shade::Frame) -> PyResult<usize> {
         match self {
-            ObjectRef::Index(i) if *i < names.len() => Ok(*i),
+            ObjectRef::Index(i) if *i < frame.object_count() => Ok(*i),
             ObjectRef::Index(i) => Err(VcutsError::new_err(format!(
                 "object {i}: the scene has {} objects ({})",
-                names.len(),
-                names.join(", ")
+                frame.object_count(),
+                vcuts::open::object_names(frame)
             ))),
-            ObjectRef::Name(n) => names
-                .iter()
-                .position(|x| x == n)
-                .ok_or_else(|| VcutsError::new_err(format!("no object '{n}' (objects: {})", names.join(", ")))),
+            ObjectRef::Name(n) => vcuts::open::object(frame, n).map_err(error),
         }
     }
+}
+
+/// The options of the command `command` (`precompute` or `leaves`) as keywords: each long
+/// option's name with `_` for `-`, and whether it is a flag (takes no value). Read from the
+/// command line's own clap arguments, so `vcuts.precompute` and `vcuts.leaves` take a new
+/// option without a change in Python.
+#[pyfunction]
+fn _options(command: &str) -> PyResult<Vec<(String, bool)>> {
+    use clap::CommandFactory;
+    let cmd = match command {
+        "precompute" => precompute::Cli::command(),
+        "leaves" => renderers::Cli::command(),
+        _ => return Err(VcutsError::new_err(format!("_options {command}: expected precompute or leaves"))),
+    };
+    Ok(cmd
+        .get_arguments()
+        .filter_map(|a| Some((a.get_long()?.replace('-', "_"), !a.get_action().takes_values())))
+        .collect())
 }
 
 /// Relative L2 and largest relative error of `got` against `reference` (each a list of `(N, 3)`
@@ -89,6 +103,7 @@ fn _vcuts(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("VcutsError", m.py().get_type::<VcutsError>())?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     m.add_function(wrap_pyfunction!(errors, m)?)?;
+    m.add_function(wrap_pyfunction!(_options, m)?)?;
     scene::register(m)?;
     precompute::register(m)?;
     frame::register(m)?;

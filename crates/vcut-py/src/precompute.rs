@@ -14,7 +14,7 @@ use vcut_precompute::run::{PrecomputeError, Progress, Summary};
 /// The options of `vcuts precompute`, parsed by its own clap arguments.
 #[derive(Parser)]
 #[command(name = "precompute", no_binary_name = true)]
-struct Cli {
+pub(crate) struct Cli {
     #[command(flatten)]
     args: vcuts::precompute::PrecomputeArgs,
 }

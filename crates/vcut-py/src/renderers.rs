@@ -20,7 +20,7 @@ use vcut_leaf::store::{Inputs, Reuse};
 /// The plant options of `vcuts leaves`, parsed by its own clap arguments.
 #[derive(Parser)]
 #[command(name = "leaves", no_binary_name = true)]
-struct Cli {
+pub(crate) struct Cli {
     #[command(flatten)]
     plant: vcuts::leaves::PlantArgs,
 }

@@ -123,6 +123,12 @@ def test_leaves(tmp_path) -> None:
     assert again.data_file[1] is True
     with pytest.raises(vcuts.VcutsError, match="leaf-count"):
         vcuts.leaves(leaf_count="many")
+    with pytest.raises(vcuts.VcutsError, match="leaf-cont"):
+        vcuts.leaves(leaf_cont=3)
+    # Keywords are the command's own options, read from its parser: flags and valued options.
+    options = dict(vcuts._vcuts._options("leaves"))
+    assert options["no_maps"] is True and options["leaf_count"] is False
+    assert dict(vcuts._vcuts._options("precompute"))["fresh"] is True
     with pytest.raises(vcuts.VcutsError, match="method"):
         leaves.shade(method="rt")
 

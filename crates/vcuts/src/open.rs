@@ -87,15 +87,19 @@ pub fn open_with(
     Ok(Opened { data, frame, env, env_name, view, setup_s: t.elapsed().as_secs_f64() })
 }
 
+/// The frame's object named `name`, or an error listing the names.
+pub fn object(frame: &Frame, name: &str) -> Result<usize> {
+    frame.object_index(name).with_context(|| format!("no object '{name}' (objects: {})", object_names(frame)))
+}
+
+/// The frame's object names, comma-separated (for errors).
+pub fn object_names(frame: &Frame) -> String {
+    (0..frame.object_count()).map(|o| frame.object(o).name).collect::<Vec<_>>().join(", ")
+}
+
 /// Applies `--brdf NAME=SPEC` and `--move NAME=DX,DY,DZ` edits; returns the moves' merge
 /// milliseconds and the vertices they re-merged.
 pub fn apply_edits(frame: &mut Frame, brdfs: &[String], moves: &[String]) -> Result<(f64, usize)> {
-    let object = |frame: &Frame, name: &str| {
-        frame.object_index(name).with_context(|| {
-            let names: Vec<&str> = (0..frame.object_count()).map(|o| frame.object(o).name).collect();
-            format!("no object '{name}' (objects: {})", names.join(", "))
-        })
-    };
     for b in brdfs {
         let Some((name, spec)) = b.split_once('=') else { bail!("--brdf {b}: expected NAME=SPEC") };
         let o = object(frame, name)?;

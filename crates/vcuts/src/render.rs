@@ -540,15 +540,7 @@ fn emit_memory(frame: &Frame, out: &mut RenderOutcome) {
     let mb = |b: usize| format!("{:.1}", b as f64 / 1e6);
     out.emit("frame_memory_mb", mb(m.total()));
     out.emit("frame_bytes_per_vertex", format!("{}", m.total() / vertices.max(1)));
-    for (part, bytes) in [
-        ("stored", m.stored),
-        ("meshes", m.meshes),
-        ("merged", m.merged),
-        ("lists", m.lists),
-        ("svc_cache", m.svc_cache),
-        ("keys", m.keys),
-        ("field_cache", m.field_cache),
-    ] {
+    for (part, bytes) in m.parts() {
         out.emit(format!("frame_memory_{part}_mb"), mb(bytes));
     }
     if let Some(peak) = vcut_scene::budget::peak_memory() {

@@ -16,7 +16,7 @@ from pathlib import Path
 from typing import Any, Callable, Optional, Union
 
 from ._vcuts import EnvMap, Frame, Leaves, Scene, VcutsError, __version__, errors, open
-from ._vcuts import _precompute
+from ._vcuts import _options, _precompute
 
 __all__ = [
     "EnvMap",
@@ -32,36 +32,22 @@ __all__ = [
     "read_report",
 ]
 
-# Keyword arguments of `precompute` that are options of `vcuts precompute` (each `--a-b`);
-# any other keyword is a parameter (`--set key=value`; `vcuts precompute --set help` lists them).
-_PRECOMPUTE_OPTIONS = {
-    "env",
-    "directions",
-    "svc_max_error",
-    "field_spheres",
-    "field_resolution",
-    "field_max_error",
-    "cache_dir",
-    "fresh",
-    "shard",
-    "estimate_seconds",
-    "force",
-}
 
-# The options of `vcuts leaves` that `Leaves` takes as keywords (flags are booleans).
-_LEAF_FLAGS = {"cosine_baked", "no_maps", "fresh", "force", "dry_run"}
-
-
-def _argv(options: dict[str, Any], known: Optional[set[str]], flags: set[str]) -> list[str]:
+def _argv(command: str, options: dict[str, Any], unknown_as_set: bool) -> list[str]:
+    """The command line of ``vcuts COMMAND`` for keyword ``options``: each the command's
+    ``--long-option`` (its flags from booleans, lists joined by commas). Another keyword is a
+    ``--set key=value`` parameter when ``unknown_as_set``, else passed on as an option, for the
+    command's parser to refuse by name."""
+    flags = dict(_options(command))
     argv: list[str] = []
     for key, value in options.items():
         if value is None:
             continue
-        if known is not None and key not in known:
+        if unknown_as_set and key not in flags:
             argv += ["--set", f"{key}={value}"]
             continue
         name = "--" + key.replace("_", "-")
-        if key in flags or isinstance(value, bool):
+        if flags.get(key, False):
             if value:
                 argv.append(name)
             continue
@@ -115,8 +101,7 @@ def precompute(
     ``False`` reports nothing. Ctrl-C stops the run with the finished sections kept in
     ``<output>.partial`` and raises ``KeyboardInterrupt``; calling again resumes.
     """
-    options: dict[str, Any] = {"scene": scene, "preset": preset, "output": output}
-    argv = _argv(options, None, set()) + _argv(params, _PRECOMPUTE_OPTIONS, {"fresh", "force"})
+    argv = _argv("precompute", {"scene": scene, "preset": preset, "output": output, **params}, True)
     bar = None
     if progress is None:
         try:
@@ -138,7 +123,7 @@ def leaves(env: str = "builtin:sky", **plant: Any) -> Leaves:
     e.g. ``leaf_count=24``, ``vertices=20000``, ``plant="asset"``, ``sun="40,120"``,
     ``reflectance="0.1,0.3,0.05"``, ``no_maps=True``) lit by ``env``, its leaf data computed or
     loaded from ``leaf_data`` (default ``target/vleaf/...``)."""
-    return Leaves(_argv(plant, None, _LEAF_FLAGS), env)
+    return Leaves(_argv("leaves", plant, False), env)
 
 
 # The bench report's keys that every report has (vcuts::report::Report); sections are optional.

@@ -27,9 +27,23 @@ pub struct FrameMemory {
 }
 
 impl FrameMemory {
+    /// Every part with its name (the field's name: `render`'s `frame_memory_<name>_mb` keys and
+    /// Python's `Frame.stats()["memory"]` read this one list).
+    pub fn parts(&self) -> [(&'static str, usize); 7] {
+        [
+            ("stored", self.stored),
+            ("meshes", self.meshes),
+            ("merged", self.merged),
+            ("lists", self.lists),
+            ("svc_cache", self.svc_cache),
+            ("keys", self.keys),
+            ("field_cache", self.field_cache),
+        ]
+    }
+
     /// Every part together.
     pub fn total(&self) -> usize {
-        self.stored + self.meshes + self.merged + self.lists + self.svc_cache + self.keys + self.field_cache
+        self.parts().iter().map(|(_, b)| b).sum()
     }
 }
 
