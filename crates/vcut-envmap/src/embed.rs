@@ -103,13 +103,9 @@ pub fn decode(bytes: &[u8], name: &str) -> Result<EnvMap, EnvMapError> {
         .to_owned();
     let rest = r.rest();
     let expected = layout.texel_count();
-    if expected == 0 || rest.len() != expected.saturating_mul(12) {
-        return Err(bad(format!(
-            "{} needs {} bytes of texels, found {}",
-            layout.describe(),
-            expected * 12,
-            rest.len()
-        )));
+    let needed = expected.saturating_mul(12);
+    if expected == 0 || rest.len() != needed {
+        return Err(bad(format!("{} needs {needed} bytes of texels, found {}", layout.describe(), rest.len())));
     }
     let texels = rest
         .chunks_exact(12)
@@ -201,5 +197,14 @@ mod tests {
         let mut unknown = v2.clone();
         unknown[6 + 9 + 20] = 7;
         assert!(decode(&unknown, "t").unwrap_err().to_string().contains("reconstruction 7"));
+        // Dimensions whose texel bytes overflow (a damaged header): an error, not a panic.
+        let huge_latlong = [&b"VCENV\x02\x00"[..], &0x5b00_0010u32.to_le_bytes(), &0xe300_0008u32.to_le_bytes()];
+        let huge_cube = [&b"VCENV\x02\x01"[..], &u32::MAX.to_le_bytes(), &[1]];
+        for header in [huge_latlong.concat(), huge_cube.concat()] {
+            let mut bytes = header;
+            bytes.extend_from_slice(&v2[6 + 9..]);
+            let e = decode(&bytes, "t.vcuts: environment").unwrap_err().to_string();
+            assert!(e.contains("bytes of texels"), "{e}");
+        }
     }
 }

@@ -129,7 +129,8 @@ impl Layout {
     pub fn texel_count(&self) -> usize {
         match *self {
             Layout::LatLong { width, height } => width as usize * height as usize,
-            Layout::Cube { size, .. } => 6 * size as usize * size as usize,
+            // Saturates: a size read from a damaged file must not overflow (no real map is near).
+            Layout::Cube { size, .. } => 6usize.saturating_mul(size as usize * size as usize),
         }
     }
 
