@@ -73,7 +73,7 @@ pub fn run(quick: bool, out: &Path) -> Result<LeavesSection> {
     let pre = precompute(&scene, (&lvc_params, &prt_params), None, &out.join("plant-100k.vleaf"), Reuse::Never, est)?
         .context("the bench never runs dry")?;
     let cam = camera(&scene);
-    let f = frame_figures(&scene, &pre, &light, cam.position, 7)?;
+    let f = frame_figures(&scene, &pre, &light, (cam.position, Shader::new().edge_rays()), 7)?;
     // The cosine-baked maps, for their ratio (the paper's byte content), on the same plant.
     let baked_ratio = {
         let t = Instant::now();
@@ -92,7 +92,7 @@ pub fn run(quick: bool, out: &Path) -> Result<LeavesSection> {
     let reference_rad = &reference_out.radiance;
     let reference_s = t.elapsed().as_secs_f64();
     let mut shader = Shader::new();
-    shader.prepare(&pre.data.lvc, &light)?;
+    shader.prepare(&scene, &pre.data.lvc, &light)?;
     let (mut lvc_rad, mut sh_rad) = (Vec::new(), Vec::new());
     shader.shade(&scene, &pre.data, &light, SunMethod::Lvc, cam.position, &mut lvc_rad);
     shader.shade(&scene, &pre.data, &light, SunMethod::ShOnly, cam.position, &mut sh_rad);
@@ -122,7 +122,8 @@ pub fn run(quick: bool, out: &Path) -> Result<LeavesSection> {
         est,
     )?
     .context("the bench never runs dry")?;
-    let fh = frame_figures(&huge_scene, &huge_pre, &light, camera(&huge_scene).position, 5)?;
+    let fh =
+        frame_figures(&huge_scene, &huge_pre, &light, (camera(&huge_scene).position, Shader::new().edge_rays()), 5)?;
     let rle_ratio = pre.data.lvc.raw_bytes() as f64 / pre.data.lvc.compressed_bytes().max(1) as f64;
     for (k, v) in [
         ("rle_ratio", rle_ratio),
@@ -130,6 +131,8 @@ pub fn run(quick: bool, out: &Path) -> Result<LeavesSection> {
         ("decode_ms", f.decode_ms),
         ("shade_ms", f.shade_ms),
         ("shade_ms_large", fh.shade_ms),
+        ("sun_change_ms", f.sun_change_ms),
+        ("sun_change_ms_large", fh.sun_change_ms),
         ("rel_l2_lvc_prt", rel_lvc),
         ("rel_l2_sh_only", rel_sh),
         ("reference_noise_rel_l2", noise),
@@ -151,6 +154,8 @@ pub fn run(quick: bool, out: &Path) -> Result<LeavesSection> {
         decode_ms_100k: f.decode_ms,
         shade_ms_100k: f.shade_ms,
         shade_ms_500k: fh.shade_ms,
+        sun_change_ms_100k: f.sun_change_ms,
+        sun_change_ms_500k: fh.sun_change_ms,
         prt_s_500k: huge_pre.seconds.1,
         rel_l2_lvc_prt: rel_lvc,
         rel_l2_sh_only: rel_sh,

@@ -32,7 +32,7 @@ fn frame(c: &mut Criterion) {
     let raw = map.clone();
     g.bench_function("rle_encode_map", |b| b.iter(|| rle::encode(black_box(&raw))));
     let mut shader = Shader::new();
-    shader.prepare(&data.lvc, &light).unwrap();
+    shader.prepare(&scene, &data.lvc, &light).unwrap();
     let mut out = Vec::new();
     g.bench_function("shade_lvc_prt", |b| {
         b.iter(|| shader.shade(&scene, &data, &light, SunMethod::Lvc, black_box(eye), &mut out))

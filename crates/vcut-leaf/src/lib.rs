@@ -9,8 +9,8 @@
 //! - [`prt`]: the environment and every bounce (reflected *and* transmitted) by order-5 SH
 //!   precomputed radiance transfer ([`sh`]);
 //! - [`shade`]: a frame — decode the sun direction's map, add the PRT pass — and the SH-only
-//!   rendering it is compared with; [`reference`]: the path-traced reference; [`image`]: pictures
-//!   of two-sided leaves;
+//!   rendering it is compared with; [`reference`]: the path-traced reference; [`breakdown`]: the
+//!   error per light path against it; [`image`]: pictures of two-sided leaves;
 //! - [`lod`]: coarser meshes of each leaf (meshoptimizer) with Gaussian-averaged transfer, chosen
 //!   per leaf by its size on screen;
 //! - [`plant`]: a procedural plant of any leaf count; [`scene`]: leaves and opaque surfaces
@@ -34,6 +34,7 @@
 //! assert!(lvc.compressed_bytes() <= lvc.raw_bytes());
 //! ```
 
+pub mod breakdown;
 pub mod image;
 pub mod lod;
 pub mod lvc;

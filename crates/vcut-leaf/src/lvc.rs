@@ -73,6 +73,30 @@ impl CubeDirections {
         cube_dir(face, c(s), c(t)).normalize()
     }
 
+    /// The texels around `d` and their weights (summing to 1): the nearest texels of `d`
+    /// moved half a face-centre texel (90°/R) along two tangent directions each way — the 2 × 2
+    /// block of texel centres around `d`, across a face's edge too — each weighted by the
+    /// inverse of its angle to `d` (a texel `d` points at takes all of it).
+    pub fn around(&self, d: Vec3) -> Vec<(usize, f32)> {
+        let d = d.normalize_or(Vec3::Y);
+        let step = (0.5 * std::f32::consts::FRAC_PI_2 / self.resolution.max(1) as f32).tan();
+        let (u, w) = d.any_orthonormal_pair();
+        let mut near: Vec<usize> = vec![self.nearest(d)];
+        for (a, b) in [(-1.0, -1.0), (1.0, -1.0), (-1.0, 1.0), (1.0, 1.0)] {
+            let j = self.nearest((d + (u * a + w * b) * step).normalize());
+            if !near.contains(&j) {
+                near.push(j);
+            }
+        }
+        let angle = |j: usize| d.dot(self.direction(j)).clamp(-1.0, 1.0).acos();
+        if let Some(&j) = near.iter().find(|&&j| angle(j) < 1e-5) {
+            return vec![(j, 1.0)];
+        }
+        let inv: Vec<f32> = near.iter().map(|&j| 1.0 / angle(j)).collect();
+        let total: f32 = inv.iter().sum();
+        near.into_iter().zip(inv).map(|(j, x)| (j, x / total)).collect()
+    }
+
     /// The texel direction `d` falls in.
     pub fn nearest(&self, d: Vec3) -> usize {
         let r = self.resolution as usize;
@@ -436,6 +460,13 @@ impl Lvc {
         self.directions().nearest(sun)
     }
 
+    /// The computed sun directions whose maps blend into direction `sun`'s: the texels around
+    /// it ([`CubeDirections::around`]) when all of them were computed, else the nearest alone.
+    pub fn sun_weights(&self, sun: Vec3) -> Vec<(usize, f32)> {
+        let near = self.directions().around(sun);
+        if near.iter().all(|&(j, _)| self.has(j)) { near } else { vec![(self.sun_index(sun), 1.0)] }
+    }
+
     /// Whether sun direction `j` was computed.
     pub fn has(&self, j: usize) -> bool {
         self.offsets[j + 1] > self.offsets[j] || self.vertices == 0
@@ -475,5 +506,33 @@ mod tests {
         // A 30° disk spans several 11° texels; the real sun fits in one.
         assert!(masks[100].len() > 3);
         assert!(disk_masks(dirs, &LvcParams { resolution: 8, ..LvcParams::default() }).iter().all(|m| m.len() == 1));
+    }
+
+    #[test]
+    fn a_sun_between_texel_centres_blends_the_texels_around_it() {
+        let dirs = CubeDirections { resolution: 8 };
+        let sum = |w: &[(usize, f32)]| w.iter().map(|x| x.1).sum::<f32>();
+        let share = |w: &[(usize, f32)], i: usize| w.iter().filter(|x| x.0 == i).map(|x| x.1).sum::<f32>();
+        // At a centre: that texel alone.
+        for i in [0, 27, 100, 383] {
+            assert_eq!(dirs.around(dirs.direction(i)), vec![(i, 1.0)], "texel {i}");
+        }
+        // Between two centres of +Y's face (s = 2 and 3 of row 4): about half each, and most
+        // of the weight.
+        let (a, b) = (2 * 64 + 4 * 8 + 2, 2 * 64 + 4 * 8 + 3);
+        let w = dirs.around((dirs.direction(a) + dirs.direction(b)).normalize());
+        assert!((share(&w, a) - share(&w, b)).abs() < 0.05 && share(&w, a) + share(&w, b) > 0.5, "{w:?}");
+        assert!((sum(&w) - 1.0).abs() < 1e-5);
+        // On the edge between +X and +Z (the built-in sun's azimuth of 45°): texels of both.
+        let edge = glam::Vec3::new(1.0, 0.8, 1.0).normalize();
+        let faces: Vec<usize> = dirs.around(edge).iter().map(|x| x.0 / 64).collect();
+        assert!(faces.contains(&0) && faces.contains(&4), "{faces:?}");
+        // Across a sweep of directions: weights sum to one and the nearest texel is among them.
+        for k in 0..500 {
+            let d =
+                glam::Vec3::new((k as f32 * 0.37).sin(), (k as f32 * 0.11).cos(), (k as f32 * 0.53).sin()).normalize();
+            let w = dirs.around(d);
+            assert!((sum(&w) - 1.0).abs() < 1e-5 && share(&w, dirs.nearest(d)) > 0.0, "{d}");
+        }
     }
 }

@@ -184,11 +184,55 @@ pub struct LeafData {
     pub transfer: Transfer,
 }
 
-/// Shades frames, keeping the decoded map of the last sun direction.
-#[derive(Debug, Default)]
+/// Shades frames, keeping the map of the last sun direction.
+#[derive(Debug)]
 pub struct Shader {
     map: Vec<u8>,
-    map_sun: Option<usize>,
+    /// The sun direction the map was made for.
+    map_sun: Option<Vec3>,
+    edge_rays: u32,
+    edge_vertices: usize,
+}
+
+impl Default for Shader {
+    fn default() -> Shader {
+        Shader { map: Vec::new(), map_sun: None, edge_rays: 4, edge_vertices: 0 }
+    }
+}
+
+/// Rays over the sun's disk (Vogel's spiral, area-uniform) toward its true direction.
+struct DiskRays {
+    dir: Vec3,
+    rays: Vec<Vec3>,
+}
+
+impl DiskRays {
+    fn new(dir: Vec3, diameter_deg: f32, count: u32) -> DiskRays {
+        let radius = (diameter_deg * 0.5).to_radians().max(0.0);
+        let (u, w) = dir.any_orthonormal_pair();
+        let rays = (0..count.max(1))
+            .map(|k| {
+                let r = radius * ((k as f32 + 0.5) / count.max(1) as f32).sqrt();
+                let phi = k as f32 * PI * (3.0 - 5.0f32.sqrt());
+                (dir * r.cos() + (u * phi.cos() + w * phi.sin()) * r.sin()).normalize()
+            })
+            .collect();
+        DiskRays { dir, rays }
+    }
+
+    /// Vertex `v`'s map byte toward the sun: the share of the rays that reach it (times the
+    /// cosine when the maps bake it in).
+    fn byte(&self, scene: &LeafScene, v: usize, content: Content) -> u8 {
+        let (p, nrm) = (scene.positions()[v], scene.normals()[v]);
+        let side = if nrm.dot(self.dir) >= 0.0 { nrm } else { -nrm };
+        let origin = p + side * scene.ray_offset();
+        let open = self.rays.iter().filter(|&&d| !scene.occluder().occluded(origin, d, f32::INFINITY)).count();
+        let mut share = open as f32 / self.rays.len() as f32;
+        if content == Content::CosineBaked {
+            share *= nrm.dot(self.dir).abs();
+        }
+        (share.clamp(0.0, 1.0) * 255.0).round() as u8
+    }
 }
 
 /// Per vertex, the radiance leaving side 0 and side 1 toward the eye.
@@ -200,19 +244,80 @@ impl Shader {
         Shader::default()
     }
 
-    /// Decodes the map of `lighting`'s sun direction unless it is the one already decoded;
-    /// returns whether it decoded.
-    pub fn prepare(&mut self, lvc: &Lvc, lighting: &Lighting) -> Result<bool, RleError> {
+    /// Makes the map of `lighting`'s sun direction unless it is the one already made: the
+    /// decoded maps of the computed directions around it blended bilinearly
+    /// ([`Lvc::sun_weights`]), so shadows move with the sun between the cube's directions;
+    /// then every vertex whose neighbouring maps disagree — a shadow edge passes between the
+    /// directions, where a blend is a guess — casts [`Shader::edge_rays`] rays over the sun's
+    /// disk in its true direction and takes what they see. Returns whether it made a map.
+    pub fn prepare(&mut self, scene: &LeafScene, lvc: &Lvc, lighting: &Lighting) -> Result<bool, RleError> {
         let Some(sun) = lighting.sun else { return Ok(false) };
-        let j = lvc.sun_index(sun.dir);
-        if self.map_sun == Some(j) {
+        if self.map_sun == Some(sun.dir) {
             return Ok(false);
         }
-        self.map.resize(lvc.vertex_count(), 0);
+        let n = lvc.vertex_count();
         self.map_sun = None;
-        lvc.decode(j, &mut self.map)?;
-        self.map_sun = Some(j);
+        self.map.resize(n, 0);
+        self.edge_vertices = 0;
+        let weights = lvc.sun_weights(sun.dir);
+        if let [(j, _)] = weights[..] {
+            lvc.decode(j, &mut self.map)?;
+        } else {
+            let mut sum = vec![0.0f32; n];
+            let (mut lo, mut hi) = (vec![u8::MAX; n], vec![0u8; n]);
+            for &(j, w) in &weights {
+                lvc.decode(j, &mut self.map)?;
+                for (v, &m) in self.map.iter().enumerate() {
+                    sum[v] += w * f32::from(m);
+                    lo[v] = lo[v].min(m);
+                    hi[v] = hi[v].max(m);
+                }
+            }
+            for (m, acc) in self.map.iter_mut().zip(&sum) {
+                *m = acc.round().clamp(0.0, 255.0) as u8;
+            }
+            if self.edge_rays > 0 && scene.vertex_count() == n {
+                let edges: Vec<usize> = (0..n).filter(|&v| lo[v] != hi[v]).collect();
+                let disk = DiskRays::new(sun.dir, lvc.params().sun_diameter_deg, self.edge_rays);
+                let content = lvc.params().content;
+                let seen: Vec<u8> = edges.par_iter().with_min_len(256).map(|&v| disk.byte(scene, v, content)).collect();
+                for (&v, b) in edges.iter().zip(seen) {
+                    self.map[v] = b;
+                }
+                self.edge_vertices = edges.len();
+            }
+        }
+        self.map_sun = Some(sun.dir);
         Ok(true)
+    }
+
+    /// A shader casting `rays` rays per shadow-edge vertex when it makes a sun map (0: the maps
+    /// around the sun blended only).
+    pub fn with_edge_rays(rays: u32) -> Shader {
+        Shader { edge_rays: rays, ..Shader::default() }
+    }
+
+    /// Rays per shadow-edge vertex when a sun map is made (default 4; 0: the blend alone).
+    pub fn edge_rays(&self) -> u32 {
+        self.edge_rays
+    }
+
+    /// Sets [`Shader::edge_rays`]; the next [`Shader::prepare`] makes its map again.
+    pub fn set_edge_rays(&mut self, rays: u32) {
+        if rays != self.edge_rays {
+            self.edge_rays = rays;
+            self.map_sun = None;
+        }
+    }
+
+    /// Vertices the last map cast rays for (its shadow edges).
+    pub fn edge_vertices(&self) -> usize {
+        self.edge_vertices
+    }
+
+    /// The sun map the last [`Shader::prepare`] made (a byte per vertex), if any.
+    pub fn sun_map(&self) -> Option<&[u8]> {
+        self.map_sun.map(|_| &self.map[..])
     }
 
     fn context<'a>(
@@ -224,6 +329,10 @@ impl Shader {
         eye: Vec3,
     ) -> FrameContext<'a> {
         let lvc = &data.lvc;
+        let map = match (method, lighting.sun) {
+            (SunMethod::Lvc, Some(sun)) if self.map_sun == Some(sun.dir) => Some((&self.map[..], lvc.params().content)),
+            _ => None,
+        };
         // Light through the direct transfer, and through the indirect one.
         let mut through_direct = [Vec3A::ZERO; COEFFS];
         let mut through_indirect = [Vec3A::ZERO; COEFFS];
@@ -234,12 +343,6 @@ impl Shader {
                 SunMethod::ShOnly => through_indirect[i],
             };
         }
-        let map = match (method, lighting.sun) {
-            (SunMethod::Lvc, Some(sun)) if self.map_sun == Some(lvc.sun_index(sun.dir)) => {
-                Some((&self.map[..], lvc.params().content))
-            }
-            _ => None,
-        };
         FrameContext {
             scene,
             through_direct,
@@ -293,6 +396,33 @@ impl Shader {
     }
 }
 
+/// The SH band of each coefficient.
+const BAND: [usize; COEFFS] = [0, 1, 1, 1, 2, 2, 2, 2, 2, 3, 3, 3, 3, 3, 3, 3, 4, 4, 4, 4, 4, 4, 4, 4, 4];
+
+/// The share of a gloss lobe around the mirror direction that the side's rays found open: the
+/// lobe-filtered band-limited visibility × cosine the direct transfer `t` holds (its SH
+/// coefficients; `yb` is the basis at the mirror direction times the lobe's band weights), over
+/// the same for an open side — whose projection is zonal around the normal (`cos_nm` =
+/// n·mirror). `None` where the open side's filtered cosine is too small to divide by.
+fn lobe_visibility(t: &[f32; COEFFS], yb: &[f32; COEFFS], cos_nm: f32, bands: &[f32; 5]) -> Option<f32> {
+    // 2π∫₀¹ μ P_l(μ) dμ: the clamped cosine's zonal coefficients, times (2l + 1)/(4π).
+    const COSINE: [f32; 5] = [PI, 2.0 * PI / 3.0, PI / 4.0, 0.0, -PI / 24.0];
+    let c = cos_nm;
+    let legendre = [
+        1.0,
+        c,
+        (3.0 * c * c - 1.0) / 2.0,
+        (5.0 * c * c * c - 3.0 * c) / 2.0,
+        (35.0 * c * c * c * c - 30.0 * c * c + 3.0) / 8.0,
+    ];
+    let mut open = 0.0;
+    for l in 0..5 {
+        open += bands[l] * COSINE[l] * (2 * l + 1) as f32 / (4.0 * PI) * legendre[l];
+    }
+    let seen: f32 = t.iter().zip(yb).map(|(t, yb)| t * yb).sum();
+    (open > 0.02).then(|| (seen / open).clamp(0.0, 1.0))
+}
+
 /// What every vertex of one frame shares.
 struct FrameContext<'a> {
     scene: &'a LeafScene,
@@ -312,19 +442,24 @@ impl FrameContext<'_> {
         let (through_direct, through_indirect) = (&self.through_direct, &self.through_indirect);
         let (tables, sky_share, eye) = (self.tables, self.sky_share, self.eye);
         let (p, nrm) = (scene.positions()[v], scene.normals()[v]);
-        let mut e = [Vec3A::ZERO; 2];
-        for (side, e) in e.iter_mut().enumerate() {
+        // Irradiance per side: what arrives unscattered (the environment through the direct
+        // transfer) and what other surfaces pass on.
+        let (mut e, mut e_ind) = ([Vec3A::ZERO; 2], [Vec3A::ZERO; 2]);
+        for side in 0..2 {
             let (d, ind) = (&direct[side], &indirect[side]);
-            let mut acc = Vec3A::ZERO;
+            let (mut a, mut b) = (Vec3A::ZERO, Vec3A::ZERO);
             for i in 0..COEFFS {
-                acc += through_direct[i] * d[i] + through_indirect[i] * Vec3A::from(ind[i]);
+                a += through_direct[i] * d[i];
+                b += through_indirect[i] * Vec3A::from(ind[i]);
             }
-            *e = acc.max(Vec3A::ZERO);
+            e_ind[side] = b.max(Vec3A::ZERO);
+            e[side] = (a + b).max(Vec3A::ZERO);
         }
         let e = e.map(Vec3::from);
         let view = (eye - p).normalize_or_zero();
         let mut radiance = [s.r[0] / PI * e[0] + s.t / PI * e[1], s.r[1] / PI * e[1] + s.t / PI * e[0]];
-        // Gloss of the SH light, toward the eye mirrored into each side.
+        // Gloss of the SH light, toward the eye mirrored into each side: the lobe's open part
+        // reflects the environment, its occluded part the light other surfaces pass on.
         for (side, rad) in radiance.iter_mut().enumerate() {
             let g = s.gloss[side];
             if g.rho_s == Vec3::ZERO {
@@ -335,14 +470,20 @@ impl FrameContext<'_> {
             let nv = ns.dot(vs).max(1e-3);
             let (albedo, bands) = tables.lookup(g.roughness, nv);
             let mirror = 2.0 * nv * ns - vs;
+            // The basis at the mirror direction filtered by the lobe's band weights.
             let y = crate::sh::basis(mirror);
+            let yb: [f32; COEFFS] = std::array::from_fn(|i| y[i] * bands[BAND[i]]);
             let mut filtered = Vec3A::ZERO;
-            for (i, yi) in y.iter().enumerate() {
-                let l = (i as f32).sqrt() as usize;
-                filtered += through_direct[i] * (yi * bands[l]);
+            for (t, yb) in through_direct.iter().zip(&yb) {
+                filtered += *t * *yb;
             }
-            let visible = (direct[side][0] * sky_share).clamp(0.0, 1.0);
-            *rad += g.rho_s * albedo * visible * Vec3::from(filtered.max(Vec3A::ZERO));
+            let open = (direct[side][0] * sky_share).clamp(0.0, 1.0);
+            let visible = lobe_visibility(&direct[side], &yb, ns.dot(mirror), &bands).unwrap_or(open);
+            // The occluders' mean radiance: the bounced irradiance over the occluded part of the
+            // cosine-weighted hemisphere.
+            let occluded = Vec3::from(e_ind[side]) / (PI * (1.0 - open).max(0.05));
+            let lobe = visible * Vec3::from(filtered.max(Vec3A::ZERO)) + (1.0 - visible) * occluded;
+            *rad += g.rho_s * albedo * lobe;
         }
         if let (Some(sun), Some((map, content))) = (self.sun, self.map) {
             let cos = nrm.dot(sun.dir);

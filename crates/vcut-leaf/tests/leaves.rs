@@ -39,7 +39,7 @@ fn sky() -> (Lighting, vcut_envmap::EnvMap) {
 
 fn frame(scene: &LeafScene, data: &LeafData, light: &Lighting, method: SunMethod, eye: Vec3) -> Vec<TwoSided> {
     let mut shader = Shader::new();
-    shader.prepare(&data.lvc, light).unwrap();
+    shader.prepare(scene, &data.lvc, light).unwrap();
     let mut out = Vec::new();
     shader.shade(scene, data, light, method, eye, &mut out);
     out
@@ -123,6 +123,105 @@ fn a_leaf_shadows_the_leaf_below_and_passes_it_green_light() {
     let (e_lvc, e_sh) = (rel_l2(&got, &want.radiance), rel_l2(&sh, &want.radiance));
     assert!(e_lvc < 0.08, "two passes {e_lvc} (reference noise {})", want.noise());
     assert!(e_sh > 2.0 * e_lvc, "SH only {e_sh} vs two passes {e_lvc}");
+}
+
+#[test]
+fn a_sun_between_cube_directions_blends_their_maps() {
+    // A leaf over a leaf: the lower one's shadow moves as the sun moves between directions.
+    let upper = square("upper", 0.3, 1.0, 4, Surface::Leaf(Box::default()));
+    let lower = square("lower", 0.0, 1.2, 6, Surface::Leaf(Box::default()));
+    let scene = LeafScene::new(vec![upper, lower]).unwrap();
+    let lvc = Lvc::compute(&scene, &LVC, |_, _| {});
+    let data = LeafData {
+        lvc,
+        transfer: Transfer::compute(&scene, &PrtParams { rays: 16, ..PrtParams::default() }, |_, _| {}),
+    };
+    let (light, _) = sky();
+    let dirs = data.lvc.directions();
+    // Two neighbouring directions of the +Y face whose maps differ.
+    let (a, b) = (2 * 256 + 6 * 16 + 9, 2 * 256 + 6 * 16 + 10);
+    let decoded = |j: usize| {
+        let mut m = vec![0u8; scene.vertex_count()];
+        data.lvc.decode(j, &mut m).unwrap();
+        m
+    };
+    let (ma, mb) = (decoded(a), decoded(b));
+    assert_ne!(ma, mb, "the shadow moves between the two directions");
+    let mut shader = Shader::new();
+    shader.set_edge_rays(0);
+    let made = |shader: &mut Shader, d: Vec3| {
+        assert!(shader.prepare(&scene, &data.lvc, &light.with_sun_dir(d)).unwrap());
+        shader.sun_map().unwrap().to_vec()
+    };
+    // At a direction's centre its own map; between two, every byte the blend of the maps
+    // around it.
+    assert_eq!(made(&mut shader, dirs.direction(a)), ma);
+    let between = (dirs.direction(a) + dirs.direction(b)).normalize();
+    let w = data.lvc.sun_weights(between);
+    assert!(w.iter().any(|x| x.0 == a) && w.iter().any(|x| x.0 == b), "{w:?}");
+    let maps: Vec<(Vec<u8>, f32)> = w.iter().map(|&(j, x)| (decoded(j), x)).collect();
+    let half = made(&mut shader, between);
+    for (v, h) in half.iter().enumerate() {
+        let blend: f32 = maps.iter().map(|(m, x)| x * f32::from(m[v])).sum();
+        assert!((f32::from(*h) - blend).abs() <= 0.51, "vertex {v}: {h} for {blend}");
+    }
+    assert!(half != ma && half != mb);
+    // The same sun again decodes nothing.
+    assert!(!shader.prepare(&scene, &data.lvc, &light.with_sun_dir(between)).unwrap());
+    assert_eq!(shader.edge_vertices(), 0);
+    // With rays, the vertices where the two maps disagree see the true sun: lit or not as a
+    // ray from them toward it says; the others keep the blend.
+    shader.set_edge_rays(4);
+    let exact = made(&mut shader, between);
+    let edges: Vec<usize> =
+        (0..scene.vertex_count()).filter(|&v| maps.iter().any(|(m, _)| m[v] != maps[0].0[v])).collect();
+    assert_eq!(shader.edge_vertices(), edges.len());
+    assert!(!edges.is_empty());
+    for v in 0..scene.vertex_count() {
+        if !edges.contains(&v) {
+            assert_eq!(exact[v], half[v], "vertex {v} keeps the blend");
+            continue;
+        }
+        let (p, n) = (scene.positions()[v], scene.normals()[v]);
+        let side = if n.dot(between) >= 0.0 { n } else { -n };
+        let lit = !scene.occluder().occluded(p + side * scene.ray_offset(), between, f32::INFINITY);
+        assert!(if lit { exact[v] > 127 } else { exact[v] < 128 }, "vertex {v}: {} lit {lit}", exact[v]);
+    }
+}
+
+#[test]
+fn a_glossy_leaf_reflects_what_its_mirror_direction_sees() {
+    // A glossy leaf beside an opaque wall under a constant sky: seen from the wall's side, its
+    // gloss mirrors the open sky; from the far side, the wall. Both match the path tracer.
+    let leaf = square("leaf", 0.0, 1.0, 4, Surface::Leaf(Box::default()));
+    let wall = {
+        let pos = vec![
+            Vec3::new(-2.0, -0.1, -0.6),
+            Vec3::new(2.0, -0.1, -0.6),
+            Vec3::new(2.0, 3.0, -0.6),
+            Vec3::new(-2.0, 3.0, -0.6),
+        ];
+        let mesh = Mesh::build(pos, None, vec![[0, 1, 2], [0, 2, 3]], MeshOptions::default()).unwrap().0;
+        LeafObject { name: "wall".into(), mesh, uv: None, surface: Surface::Opaque(Vec3::splat(0.2)) }
+    };
+    let scene = LeafScene::new(vec![leaf, wall]).unwrap();
+    let lvc = Lvc::compute(&scene, &LvcParams { resolution: 4, ..LVC }, |_, _| {});
+    let data = LeafData {
+        lvc,
+        transfer: Transfer::compute(&scene, &PrtParams { rays: 1024, ..PrtParams::default() }, |_, _| {}),
+    };
+    let sky = vcut_envmap::EnvMap::constant([1.0; 3]);
+    let light = Lighting::new(&sky, None);
+    let verts: Vec<usize> = scene.vertex_range(0).collect();
+    for eye in [Vec3::new(0.0, 1.0, 2.0), Vec3::new(0.0, 1.0, -0.5)] {
+        let got = frame(&scene, &data, &light, SunMethod::Lvc, eye);
+        let want =
+            reference(&scene, &sky, None, eye, &verts, &ReferenceParams { paths: 2048, ..ReferenceParams::default() });
+        let got: Vec<TwoSided> = verts.iter().map(|&v| got[v]).collect();
+        let e = rel_l2(&got, &want.radiance);
+        println!("eye {eye}: {e} (reference noise {})", want.noise());
+        assert!(e < 0.05, "eye {eye}: {e} (reference noise {})", want.noise());
+    }
 }
 
 #[test]
@@ -224,7 +323,7 @@ fn coarser_leaves_keep_their_light_and_far_leaves_get_them() {
     let eye = c + Vec3::new(0.5, 0.4, 1.0) * 3.0 * r;
     let full = frame(&scene, &data, &light, SunMethod::Lvc, eye);
     let mut shader = Shader::new();
-    shader.prepare(&data.lvc, &light).unwrap();
+    shader.prepare(&scene, &data.lvc, &light).unwrap();
     let mut out = Vec::new();
     shader.shade_lod(&scene, &data, &near, &light, SunMethod::Lvc, eye, &mut out);
     for (k, &v) in near.vertices.iter().enumerate() {

@@ -34,6 +34,7 @@ pub(crate) struct Leaves {
     rest: EnvMap,
     camera: vcut_scene::Camera,
     sun_diameter: f32,
+    edge_rays: u32,
     file: std::path::PathBuf,
     loaded: bool,
 }
@@ -83,6 +84,7 @@ impl Leaves {
                 rest,
                 camera,
                 sun_diameter: p.sun_diameter,
+                edge_rays: p.sun_edge_rays,
                 file: pre.file,
                 loaded: pre.outcome.loaded,
             })
@@ -178,8 +180,8 @@ impl Leaves {
 
 impl Leaves {
     fn radiance(&self, method: SunMethod, eye: Vec3) -> anyhow::Result<Vec<TwoSided>> {
-        let mut shader = Shader::new();
-        shader.prepare(&self.data.lvc, &self.light)?;
+        let mut shader = Shader::with_edge_rays(self.edge_rays);
+        shader.prepare(&self.scene, &self.data.lvc, &self.light)?;
         let mut out = Vec::new();
         shader.shade(&self.scene, &self.data, &self.light, method, eye, &mut out);
         Ok(out)

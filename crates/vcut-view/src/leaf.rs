@@ -138,6 +138,18 @@ impl LeafSession {
         self.dirty = true;
     }
 
+    /// Rays per shadow-edge vertex toward the true sun when the sun moves
+    /// ([`Shader::edge_rays`]).
+    pub fn edge_rays(&self) -> u32 {
+        self.shader.edge_rays()
+    }
+
+    /// Sets [`LeafSession::edge_rays`] (0: the maps around the sun blended only).
+    pub fn set_edge_rays(&mut self, rays: u32) {
+        self.shader.set_edge_rays(rays);
+        self.dirty = true;
+    }
+
     /// The sun's elevation and azimuth, degrees.
     pub fn sun(&self) -> (f32, f32) {
         self.sun
@@ -179,7 +191,7 @@ impl LeafSession {
         }
         let eye = self.camera.eye();
         let start = Instant::now();
-        let decoded = self.shader.prepare(&self.data.lvc, &self.lighting)?;
+        let decoded = self.shader.prepare(&self.scene, &self.data.lvc, &self.lighting)?;
         self.timings.decode_ms = if decoded { start.elapsed().as_secs_f64() * 1e3 } else { 0.0 };
         let start = Instant::now();
         let force = (!self.lod_enabled).then_some(0);

@@ -10,6 +10,7 @@ use glam::Vec3;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 use vcut_envmap::EnvMap;
+use vcut_leaf::breakdown::breakdown;
 use vcut_leaf::image::{render, render_triangles};
 use vcut_leaf::lod::{Lod, LodParams};
 use vcut_leaf::lvc::{Content, LvcParams};
@@ -58,6 +59,10 @@ pub struct PlantArgs {
     /// PRT rays per vertex side.
     #[arg(long, default_value_t = 256)]
     pub prt_rays: u32,
+    /// Rays per vertex toward the true sun where the maps around its direction disagree (a
+    /// shadow edge passes between them); 0: those maps blended only.
+    #[arg(long, default_value_t = 4)]
+    pub sun_edge_rays: u32,
     /// PRT scatterings in the indirect transfer.
     #[arg(long, default_value_t = 2)]
     pub bounces: u32,
@@ -113,6 +118,10 @@ pub struct LeavesArgs {
     /// At most this many vertices get a reference (a spread subset; all of a small scene).
     #[arg(long, default_value_t = 6500)]
     pub reference_vertices: usize,
+    /// Also split the error by light path (the sun and the environment, each whole and
+    /// unscattered, and the sun on the maps' own direction): five more references.
+    #[arg(long)]
+    pub breakdown: bool,
     /// Image size WIDTHxHEIGHT.
     #[arg(long, default_value = "960x720")]
     pub size: String,
@@ -434,11 +443,13 @@ pub fn run(args: &LeavesArgs) -> Result<()> {
     println!("prt_s={:.3}", pre.seconds.1);
     println!("transfer_bytes={}", pre.data.transfer.bytes());
     let cam = camera(&scene);
-    let figures = frame_figures(&scene, &pre, &light, cam.position, 5)?;
+    let figures = frame_figures(&scene, &pre, &light, (cam.position, p.sun_edge_rays), 5)?;
     println!("decode_ms={:.3}", figures.decode_ms);
     println!("shade_ms={:.3}", figures.shade_ms);
-    let mut shader = Shader::new();
-    shader.prepare(&pre.data.lvc, &light)?;
+    println!("sun_change_ms={:.3}", figures.sun_change_ms);
+    let mut shader = Shader::with_edge_rays(p.sun_edge_rays);
+    shader.prepare(&scene, &pre.data.lvc, &light)?;
+    println!("sun_edge_vertices={}", shader.edge_vertices());
     let (mut lvc_rad, mut sh_rad) = (Vec::new(), Vec::new());
     shader.shade(&scene, &pre.data, &light, SunMethod::Lvc, cam.position, &mut lvc_rad);
     shader.shade(&scene, &pre.data, &light, SunMethod::ShOnly, cam.position, &mut sh_rad);
@@ -453,7 +464,7 @@ pub fn run(args: &LeavesArgs) -> Result<()> {
     println!("png_lvc_prt={}", write("leaves.png", &lvc_img)?.display());
     let sh_img = to_image(render(&scene, &sh_rad, &cam, w, h, Some(&rest)));
     println!("png_sh_only={}", write("leaves-sh-only.png", &sh_img)?.display());
-    let lod_figures = lod_report(&scene, &pre.data, &light, &cam, (w, h), &rest)?;
+    let lod_figures = lod_report(&scene, &pre.data, (&light, p.sun_edge_rays), &cam, (w, h), &rest)?;
     for (k, v) in &lod_figures {
         println!("{k}={v}");
     }
@@ -484,6 +495,14 @@ pub fn run(args: &LeavesArgs) -> Result<()> {
             println!("rel_l2_lvc_prt_{}={:.4}", obj.name, rel_l2(&a, &r));
             println!("rel_l2_sh_only_{}={:.4}", obj.name, rel_l2(&b, &r));
         }
+        if args.breakdown {
+            let parts = breakdown(&scene, &pre.data, (&light, &rest), cam.position, (&verts, reference_rad), &rp)?;
+            for part in parts {
+                println!("breakdown_{}_rel_l2={:.4}", part.name, part.rel_l2);
+                println!("breakdown_{}_share_of_whole={:.4}", part.name, part.share_of_whole);
+                println!("breakdown_{}_weight={:.4}", part.name, part.weight);
+            }
+        }
         if verts.len() == scene.vertex_count() {
             let img = to_image(render(&scene, reference_rad, &cam, w, h, Some(&rest)));
             println!("png_reference={}", write("leaves-reference.png", &img)?.display());
@@ -498,7 +517,7 @@ pub fn run(args: &LeavesArgs) -> Result<()> {
 fn lod_report(
     scene: &LeafScene,
     data: &LeafData,
-    light: &Lighting,
+    (light, edge_rays): (&Lighting, u32),
     cam: &Camera,
     (w, h): (u32, u32),
     background: &EnvMap,
@@ -506,8 +525,8 @@ fn lod_report(
     let t = Instant::now();
     let lod = Lod::build(scene, &data.transfer, &LodParams::default());
     let mut out = vec![("lod_build_s".to_string(), format!("{:.3}", t.elapsed().as_secs_f64()))];
-    let mut shader = Shader::new();
-    shader.prepare(&data.lvc, light)?;
+    let mut shader = Shader::with_edge_rays(edge_rays);
+    shader.prepare(scene, &data.lvc, light)?;
     let mut rad = Vec::new();
     let timed = |sel: &vcut_leaf::lod::Selection, eye: Vec3, rad: &mut Vec<TwoSided>| {
         let mut times = Vec::new();
@@ -558,15 +577,18 @@ pub struct FrameFigures {
     pub decode_ms: f64,
     /// Median time to shade every vertex (both passes, both sides).
     pub shade_ms: f64,
+    /// Median time of a sun move's preparation: the maps around the sun decoded and blended
+    /// ([`Shader::prepare`]).
+    pub sun_change_ms: f64,
 }
 
-/// Medians over `runs` frames: decoding the map of the lighting's sun (and its neighbours), and
-/// shading.
+/// Medians over `runs` frames seen from `eye`: decoding the map of the lighting's sun, making the
+/// sun's map (its neighbours blended, `edge_rays` rays per shadow-edge vertex), and shading.
 pub fn frame_figures(
     scene: &LeafScene,
     pre: &Precomputed,
     light: &Lighting,
-    eye: Vec3,
+    (eye, edge_rays): (Vec3, u32),
     runs: usize,
 ) -> Result<FrameFigures> {
     let mut decode = Vec::new();
@@ -578,8 +600,14 @@ pub fn frame_figures(
         pre.data.lvc.decode(j, &mut buf)?;
         decode.push(t.elapsed().as_secs_f64() * 1e3);
     }
-    let mut shader = Shader::new();
-    shader.prepare(&pre.data.lvc, light)?;
+    let mut change = Vec::new();
+    for _ in 0..runs.max(1) {
+        let t = Instant::now();
+        Shader::with_edge_rays(edge_rays).prepare(scene, &pre.data.lvc, light)?;
+        change.push(t.elapsed().as_secs_f64() * 1e3);
+    }
+    let mut shader = Shader::with_edge_rays(edge_rays);
+    shader.prepare(scene, &pre.data.lvc, light)?;
     let mut out = Vec::new();
     let mut shade = Vec::new();
     for _ in 0..runs.max(1) + 1 {
@@ -588,5 +616,5 @@ pub fn frame_figures(
         shade.push(t.elapsed().as_secs_f64() * 1e3);
     }
     shade.remove(0);
-    Ok(FrameFigures { decode_ms: median(decode), shade_ms: median(shade) })
+    Ok(FrameFigures { decode_ms: median(decode), shade_ms: median(shade), sun_change_ms: median(change) })
 }

@@ -115,6 +115,7 @@ fn run_leaves(args: &ViewArgs) -> Result<()> {
     if let Some((e, a)) = crate::leaves::sun_angles(p)? {
         session.set_sun(e, a);
     }
+    session.set_edge_rays(p.sun_edge_rays);
     session.exposure = args.exposure;
     if let Some(path) = &args.screenshot {
         let gpu = Gpu::headless()?;
