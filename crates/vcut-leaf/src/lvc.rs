@@ -106,6 +106,18 @@ impl CubeDirections {
     }
 }
 
+/// `n` directions spread evenly over a disk of angular radius `radius` (radians) around unit
+/// `axis`: Vogel's spiral, area-uniform. The maps' disk and the shader's edge rays both sample it.
+pub(crate) fn disk_directions(axis: Vec3, radius: f32, n: u32) -> impl Iterator<Item = Vec3> {
+    let n = n.max(1);
+    let (u, v) = axis.any_orthonormal_pair();
+    (0..n).map(move |k| {
+        let r = radius * ((k as f32 + 0.5) / n as f32).sqrt();
+        let phi = k as f32 * std::f32::consts::PI * (3.0 - 5.0f32.sqrt());
+        (axis * r.cos() + (u * phi.cos() + v * phi.sin()) * r.sin()).normalize()
+    })
+}
+
 /// Per sun direction, the texels its disk covers and their weights (summing to 1).
 fn disk_masks(dirs: CubeDirections, params: &LvcParams) -> Vec<Vec<(u32, f32)>> {
     let radius = (params.sun_diameter_deg * 0.5).to_radians().max(0.0);
@@ -113,14 +125,8 @@ fn disk_masks(dirs: CubeDirections, params: &LvcParams) -> Vec<Vec<(u32, f32)>> 
     (0..dirs.len())
         .into_par_iter()
         .map(|j| {
-            let axis = dirs.direction(j);
-            let (u, v) = axis.any_orthonormal_pair();
             let mut weights: Vec<(u32, f32)> = Vec::new();
-            for k in 0..n {
-                // Vogel's spiral: evenly spread points on the disk, area-uniform.
-                let r = radius * ((k as f32 + 0.5) / n as f32).sqrt();
-                let phi = k as f32 * std::f32::consts::PI * (3.0 - 5.0f32.sqrt());
-                let d = (axis * r.cos() + (u * phi.cos() + v * phi.sin()) * r.sin()).normalize();
+            for d in disk_directions(dirs.direction(j), radius, n) {
                 let texel = dirs.nearest(d) as u32;
                 match weights.iter_mut().find(|(t, _)| *t == texel) {
                     Some((_, w)) => *w += 1.0 / n as f32,

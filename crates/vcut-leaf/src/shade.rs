@@ -209,15 +209,7 @@ struct DiskRays {
 impl DiskRays {
     fn new(dir: Vec3, diameter_deg: f32, count: u32) -> DiskRays {
         let radius = (diameter_deg * 0.5).to_radians().max(0.0);
-        let (u, w) = dir.any_orthonormal_pair();
-        let rays = (0..count.max(1))
-            .map(|k| {
-                let r = radius * ((k as f32 + 0.5) / count.max(1) as f32).sqrt();
-                let phi = k as f32 * PI * (3.0 - 5.0f32.sqrt());
-                (dir * r.cos() + (u * phi.cos() + w * phi.sin()) * r.sin()).normalize()
-            })
-            .collect();
-        DiskRays { dir, rays }
+        DiskRays { dir, rays: crate::lvc::disk_directions(dir, radius, count).collect() }
     }
 
     /// Vertex `v`'s map byte toward the sun: the share of the rays that reach it (times the
@@ -245,7 +237,7 @@ impl Shader {
     }
 
     /// Makes the map of `lighting`'s sun direction unless it is the one already made: the
-    /// decoded maps of the computed directions around it blended bilinearly
+    /// decoded maps of the computed directions around it blended by angle
     /// ([`Lvc::sun_weights`]), so shadows move with the sun between the cube's directions;
     /// then every vertex whose neighbouring maps disagree — a shadow edge passes between the
     /// directions, where a blend is a guess — casts [`Shader::edge_rays`] rays over the sun's
