@@ -21,17 +21,28 @@ pub struct PublishArgs {
     pub check: bool,
 }
 
-const BEGIN: &str = "<!-- table1 -->";
-const END: &str = "<!-- /table1 -->";
+/// The markers of Table 1's block.
+const TABLE1: (&str, &str) = ("<!-- table1 -->", "<!-- /table1 -->");
+/// The markers of the accuracy section's worst cases (README only).
+const WORST: (&str, &str) = ("<!-- accuracy-worst -->", "<!-- /accuracy-worst -->");
 const DOCS: [&str; 2] = ["README.md", "docs/benchmarks.md"];
 /// What a report brings to `docs/report/`, those it has.
-const PUBLISHED: [&str; 4] = ["table1.md", "tradeoff_size.png", "scaling_objects.png", "scaling_vertices.png"];
+const PUBLISHED: [&str; 6] =
+    ["table1.md", "tradeoff_size.png", "scaling_objects.png", "scaling_vertices.png", "accuracy.md", "accuracy.png"];
 
 /// `text` with the block between the markers replaced by `table`; `None` without markers.
-pub fn splice(text: &str, table: &str) -> Option<String> {
-    let a = text.find(BEGIN)? + BEGIN.len();
-    let b = a + text[a..].find(END)?;
+pub fn splice(text: &str, (begin, end): (&str, &str), table: &str) -> Option<String> {
+    let a = text.find(begin)? + begin.len();
+    let b = a + text[a..].find(end)?;
     Some(format!("{}\n{}\n{}", &text[..a], table.trim_end(), &text[b..]))
+}
+
+/// The README's worst-case lines from an `accuracy.md`: its `Worst at` lines, one per preset,
+/// as a list; `None` when it has none (not a table `bench` wrote).
+pub fn worst_cases(accuracy_md: &str) -> Option<String> {
+    let lines: Vec<String> =
+        accuracy_md.lines().filter(|l| l.starts_with("Worst at ")).map(|l| format!("- {l}")).collect();
+    (!lines.is_empty()).then(|| lines.join("\n"))
 }
 
 /// Runs `publish`.
@@ -44,10 +55,20 @@ pub fn run(args: &PublishArgs) -> Result<()> {
     if !table.trim_start().starts_with("| scene |") {
         bail!("{}: not a Table 1 written by `cargo xtask bench`", source.display());
     }
+    // The accuracy section's worst cases: the report's `accuracy.md`, else the one published.
+    let accuracy = Some(report.join("accuracy.md")).filter(|s| s.exists()).unwrap_or_else(|| kept.join("accuracy.md"));
+    let worst = match std::fs::read_to_string(&accuracy) {
+        Ok(md) => Some(worst_cases(&md).with_context(|| format!("{}: no `Worst at` lines", accuracy.display()))?),
+        Err(_) => None,
+    };
     let mut stale: Vec<String> = crate_readmes(args.check)?;
     for doc in DOCS {
         let text = std::fs::read_to_string(doc).with_context(|| format!("reading {doc}"))?;
-        let new = splice(&text, &table).with_context(|| format!("{doc}: no {BEGIN} … {END} markers"))?;
+        let mut new =
+            splice(&text, TABLE1, &table).with_context(|| format!("{doc}: no {} … {} markers", TABLE1.0, TABLE1.1))?;
+        if let (Some(worst), true) = (&worst, doc == "README.md") {
+            new = splice(&new, WORST, worst).with_context(|| format!("{doc}: no {} … {} markers", WORST.0, WORST.1))?;
+        }
         if new != text {
             stale.push(doc.to_string());
             if !args.check {
@@ -168,9 +189,24 @@ mod tests {
     #[test]
     fn splice_replaces_only_between_the_markers() {
         let text = "a\n<!-- table1 -->\nold\n<!-- /table1 -->\nb\n";
-        assert_eq!(splice(text, "| scene |\n").unwrap(), "a\n<!-- table1 -->\n| scene |\n<!-- /table1 -->\nb\n");
-        assert_eq!(splice(&splice(text, "| x |").unwrap(), "| x |").unwrap(), splice(text, "| x |").unwrap());
-        assert!(splice("no markers", "t").is_none());
+        assert_eq!(
+            splice(text, TABLE1, "| scene |\n").unwrap(),
+            "a\n<!-- table1 -->\n| scene |\n<!-- /table1 -->\nb\n"
+        );
+        let once = splice(text, TABLE1, "| x |").unwrap();
+        assert_eq!(splice(&once, TABLE1, "| x |").unwrap(), once);
+        assert!(splice("no markers", TABLE1, "t").is_none());
+        assert!(splice(text, WORST, "t").is_none());
+    }
+
+    #[test]
+    fn the_worst_cases_are_the_accuracy_tables_worst_lines() {
+        let md = "| scene |\n|---|\n| teapot |\n\nWorst at `fast`: teapot under x (rest), 4.00 % against the exact reference.\n\nWorst at `paper`: bunny under y (moved), 0.40 % against the exact reference.\n\nSkipped: z\n";
+        assert_eq!(
+            worst_cases(md).unwrap(),
+            "- Worst at `fast`: teapot under x (rest), 4.00 % against the exact reference.\n- Worst at `paper`: bunny under y (moved), 0.40 % against the exact reference."
+        );
+        assert!(worst_cases("| scene |\n").is_none());
     }
 
     #[test]

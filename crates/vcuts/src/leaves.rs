@@ -119,7 +119,8 @@ pub struct LeavesArgs {
     #[arg(long, default_value_t = 6500)]
     pub reference_vertices: usize,
     /// Also split the error by light path (the sun and the environment, each whole and
-    /// unscattered, and the sun on the maps' own direction): five more references.
+    /// unscattered, the sun on the maps' own direction) and by gloss (the environment and the
+    /// sun with every leaf's gloss removed): eight more references.
     #[arg(long)]
     pub breakdown: bool,
     /// Image size WIDTHxHEIGHT.

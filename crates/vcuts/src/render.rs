@@ -153,6 +153,11 @@ pub struct RenderArgs {
     /// `sun_rays_per_vertex` report the choice and its cost.
     #[arg(long, value_name = "REL")]
     pub light_error: Option<f64>,
+    /// The cost cap of `--light-error`: at most N leaves cast by rays (1 to 64, default 32).
+    /// Each costs a ray per vertex facing it on a lighting change and a move, and a BRDF
+    /// evaluation per vertex facing it on every shading.
+    #[arg(long, value_name = "N", conflicts_with = "no_sun_rays", value_parser = clap::value_parser!(u8).range(1..=64))]
+    pub light_max_leaves: Option<u8>,
     /// Multiply every field within reach into a vertex's cut, as the paper does. By default a
     /// field whose object lies wholly below the vertex's horizon is left out
     /// (`Frame::set_horizon_culling`).
@@ -206,6 +211,7 @@ impl RenderArgs {
             light_error: None,
             no_horizon_culling: false,
             field_reach: None,
+            light_max_leaves: None,
             eager_merges: false,
             no_merged_cache: false,
             memory_budget: None,
@@ -320,14 +326,22 @@ pub fn run(args: &RenderArgs) -> Result<RenderOutcome> {
     }
     if args.no_sun_rays {
         frame.set_sun_rays(None);
-    } else if let Some(target) = light_error(args.light_error, view.as_ref().and_then(|v| v.light_error))? {
-        frame.set_sun_rays(Some(SunRays { target, ..SunRays::default() }));
+    } else {
+        let target = light_error(args.light_error, view.as_ref().and_then(|v| v.light_error))?;
+        if target.is_some() || args.light_max_leaves.is_some() {
+            let rays = frame.sun_rays().unwrap_or_default();
+            frame.set_sun_rays(Some(SunRays {
+                target: target.unwrap_or(rays.target),
+                max_leaves: args.light_max_leaves.map_or(rays.max_leaves, usize::from),
+            }));
+        }
     }
     out.sun_leaves = frame.sun_leaves();
     out.emit("sun_leaves", format!("{}", out.sun_leaves));
     let choice = frame.light_choice();
-    if frame.sun_rays().is_some() {
+    if let Some(rays) = frame.sun_rays() {
         out.emit("light_error_target", format!("{}", choice.target));
+        out.emit("light_max_leaves", format!("{}", rays.max_leaves));
         out.emit("light_error_estimate_cuts", format!("{:.5}", choice.estimate_cuts));
         out.emit("light_error_estimate", format!("{:.5}", choice.estimate));
         out.emit("light_choice_ms", format!("{:.2}", choice.estimate_s * 1e3));

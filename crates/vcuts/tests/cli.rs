@@ -84,6 +84,17 @@ fn precompute_logs_progress_without_a_terminal_and_render_works_from_another_fol
     let o = vcuts(&elsewhere, &[&small[..], &["--light-error", "2"]].concat());
     assert_eq!(o.status.code(), Some(1), "{}", text(&o));
     assert!(text(&o).contains("--light-error 2: must lie in (0, 1)"), "{}", text(&o));
+    // The cost cap reaches the frame: at most that many leaves cast; 0 is refused by name.
+    let o = vcuts(&elsewhere, &[&small[..], &["--light-error", "0.0001", "--light-max-leaves", "1"]].concat());
+    assert!(o.status.success(), "{}", text(&o));
+    let stdout = String::from_utf8_lossy(&o.stdout);
+    assert!(stdout.contains("light_max_leaves=1\n"), "{}", text(&o));
+    let leaves: usize =
+        stdout.lines().find_map(|l| l.strip_prefix("sun_leaves=")).and_then(|v| v.parse().ok()).unwrap();
+    assert!(leaves <= 1, "{}", text(&o));
+    let o = vcuts(&elsewhere, &[&small[..], &["--light-max-leaves", "0"]].concat());
+    assert_eq!(o.status.code(), Some(2), "{}", text(&o));
+    assert!(text(&o).contains("--light-max-leaves"), "{}", text(&o));
     // -q: results on stdout as before, nothing about progress on stderr.
     let o = vcuts(
         &work,
