@@ -92,7 +92,8 @@ pub struct BenchArgs {
     #[arg(long, value_delimiter = ',')]
     pub scaling_tessellations: Option<Vec<u32>>,
     /// Reuse a scene's data file from an earlier run (and the precompute figures kept beside
-    /// it) instead of precomputing again: to re-time frames after a change to shading.
+    /// it) instead of precomputing again: to re-time frames after a change to shading. The
+    /// accuracy section keeps the rows of `OUT/accuracy.json` and measures only what is missing.
     #[arg(long)]
     pub reuse: bool,
     /// Only redraw the trade-off plots from `OUT/tradeoff.csv`.
@@ -366,7 +367,8 @@ pub fn run(args: &BenchArgs) -> Result<()> {
     }
     if args.only_accuracy {
         let path = args.out.join("report.json");
-        let section = crate::bench_accuracy::run(args.quick, args.no_mc, &args.out.join("data"), &args.out)?;
+        let section =
+            crate::bench_accuracy::run(args.quick, args.no_mc, args.reuse, &args.out.join("data"), &args.out)?;
         replace_section(&path, "accuracy", &section)?;
         println!("report={}", path.display());
         return Ok(());
@@ -493,7 +495,7 @@ pub fn run(args: &BenchArgs) -> Result<()> {
         report.scaling = Some(crate::bench_scaling::run(&sweeps, &data_dir, &args.out)?);
     }
     if !args.no_accuracy {
-        report.accuracy = Some(crate::bench_accuracy::run(args.quick, args.no_mc, &data_dir, &args.out)?);
+        report.accuracy = Some(crate::bench_accuracy::run(args.quick, args.no_mc, args.reuse, &data_dir, &args.out)?);
     }
     if !args.no_distributed {
         report.distributed = Some(crate::bench_distributed::run(args.quick, &data_dir, &args.out)?);

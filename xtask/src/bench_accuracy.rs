@@ -4,6 +4,8 @@
 //! `accuracy.json` after every map (a stopped run keeps what it measured), `accuracy.md` and
 //! `accuracy.png` (the error per map at rest, with the goals); then the target-error sweep under
 //! the map whose bright leaves err most, per scene and preset (`vcuts::accuracy::measure_knob`).
+//! With `--reuse`, the rows and sweeps an earlier run wrote to `accuracy.json` are kept and only
+//! what is missing is measured (a run of hours resumes from its last map).
 
 use anyhow::{Context, Result};
 use std::path::Path;
@@ -15,11 +17,30 @@ use vcut_shade::reference::MonteCarloParams;
 use vcuts::accuracy::{AccuracySection, McCache, Subject, asset_maps, builtin_maps, measure_knob, measure_map};
 use vcuts::report::{write_atomic, write_json};
 
-/// Runs the section.
-pub fn run(quick: bool, no_mc: bool, data_dir: &Path, out: &Path) -> Result<AccuracySection> {
+/// The rows and sweeps of an earlier run's `accuracy.json` (none without one); its skipped list
+/// is measured again.
+fn earlier(out: &Path) -> Result<AccuracySection> {
+    let path = out.join("accuracy.json");
+    match std::fs::read_to_string(&path) {
+        Ok(text) => {
+            let mut s: AccuracySection =
+                serde_json::from_str(&text).with_context(|| format!("{}: not an accuracy section", path.display()))?;
+            s.skipped.clear();
+            println!("accuracy: reusing {} rows of {}", s.rows.len(), path.display());
+            Ok(s)
+        }
+        Err(_) => Ok(AccuracySection::default()),
+    }
+}
+
+/// Runs the section; `reuse` keeps what an earlier run measured.
+pub fn run(quick: bool, no_mc: bool, reuse: bool, data_dir: &Path, out: &Path) -> Result<AccuracySection> {
     let presets: &[&str] = if quick { &["fast"] } else { &["fast", "balanced", "paper"] };
     let scenes: &[&str] = if quick { &["teapot"] } else { &["teapot", "bunny"] };
-    let mut section = AccuracySection::default();
+    let mut section = if reuse { earlier(out)? } else { AccuracySection::default() };
+    let measured = |s: &AccuracySection, scene: &str, preset: &str, map: &str| {
+        s.rows.iter().filter(|r| r.scene == scene && r.preset == preset && r.map == map).count() >= 2
+    };
     let mut maps = builtin_maps(quick);
     if !quick {
         match vcut_scene::assets::dir() {
@@ -46,6 +67,11 @@ pub fn run(quick: bool, no_mc: bool, data_dir: &Path, out: &Path) -> Result<Accu
         };
         let eye = scene.cameras.first().map(|c| c.position).context("the built-in scene has a camera")?;
         for &preset in presets {
+            let swept = section.knob.iter().any(|k| k.scene == name && k.preset == preset);
+            if swept && maps.iter().all(|(m, _)| measured(&section, name, preset, m)) {
+                println!("\n== accuracy: {name} at {preset}: measured before");
+                continue;
+            }
             println!("\n== accuracy: {name} at {preset}, {} maps", maps.len());
             let file =
                 vcuts::precompute::cached_or_run_at(&spec, preset, &data_dir.join(format!("{name}-{preset}.vcuts")))?;
@@ -55,6 +81,9 @@ pub fn run(quick: bool, no_mc: bool, data_dir: &Path, out: &Path) -> Result<Accu
             let movable = first_movable(&frame).with_context(|| format!("scene {name} has no movable object"))?;
             let subject = Subject { scene: name, preset, movable, eye, offset };
             for (map, env) in &maps {
+                if measured(&section, name, preset, map) {
+                    continue;
+                }
                 let cache = (!no_mc).then_some((&mut mc, &mc_params));
                 section.rows.extend(measure_map(&mut frame, &subject, map, env, cache)?);
                 write_json(&out.join("accuracy.json"), &section)?;
@@ -67,6 +96,9 @@ pub fn run(quick: bool, no_mc: bool, data_dir: &Path, out: &Path) -> Result<Accu
                 .filter(|r| r.scene == name && r.preset == preset && r.pose == "rest")
                 .max_by(|a, b| a.light_estimate_cuts.total_cmp(&b.light_estimate_cuts))
                 .map(|r| r.map.clone());
+            if swept {
+                continue;
+            }
             if let Some((map, env)) = worst.and_then(|w| maps.iter().find(|(m, _)| *m == w)) {
                 section.knob.extend(measure_knob(&mut frame, &subject, map, env)?);
                 write_json(&out.join("accuracy.json"), &section)?;
@@ -78,4 +110,39 @@ pub fn run(quick: bool, no_mc: bool, data_dir: &Path, out: &Path) -> Result<Accu
     write_atomic(&out.join("accuracy.md"), md.as_bytes())?;
     vcuts::plots::accuracy(&section, &out.join("accuracy.png"))?;
     Ok(section)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// What `--reuse` finds complete is not measured again: the run neither precomputes nor
+    /// opens a frame, and keeps the rows and sweeps it read.
+    #[test]
+    fn a_reused_run_measures_only_what_is_missing() {
+        let out = std::env::temp_dir().join(format!("xtask-accuracy-reuse-{}", std::process::id()));
+        std::fs::create_dir_all(&out).unwrap();
+        let row = |map: &str, pose: &str| {
+            serde_json::json!({
+                "scene": "teapot", "preset": "fast", "map": map, "pose": pose, "sun_leaves": 1,
+                "light_concentration": 0.5, "light_concentration_left": 0.1, "rel_l2_exact": 0.01,
+                "max_err_exact": 0.1, "rel_l2_mc": null, "max_err_mc": null,
+                "rel_l2_exact_cuts_only": 0.02, "edit_ms": 1.0, "edit_ms_cuts_only": 1.0, "move_ms": 2.0,
+                "move_ms_cuts_only": 2.0, "rays_share_edit": 0.0, "rays_share_move": 0.1, "rays_per_move": 3.0
+            })
+        };
+        let rows: Vec<_> = builtin_maps(true).iter().flat_map(|(m, _)| [row(m, "rest"), row(m, "moved")]).collect();
+        let knob = serde_json::json!({"scene": "teapot", "preset": "fast", "map": "studio", "target": 0.002,
+            "leaves": 3, "estimate": 0.001, "rel_l2_exact": 0.01, "rays_per_vertex": 5.0, "choice_ms": 1.0});
+        let earlier = serde_json::json!({"rows": rows, "skipped": ["old"], "knob": [knob]});
+        std::fs::write(out.join("accuracy.json"), earlier.to_string()).unwrap();
+        let data = out.join("data");
+        let section = run(true, true, true, &data, &out).unwrap();
+        assert_eq!(section.rows.len(), rows.len());
+        assert_eq!(section.knob.len(), 1);
+        assert!(section.skipped.is_empty(), "{:?}", section.skipped);
+        assert!(std::fs::read_dir(&data).unwrap().next().is_none(), "precomputed what was measured before");
+        assert!(std::fs::read_to_string(out.join("accuracy.md")).unwrap().contains("Worst at `fast`"));
+        std::fs::remove_dir_all(&out).unwrap();
+    }
 }

@@ -144,8 +144,12 @@ impl AccuracySection {
                 format!("{} / {}", pct(r.rays_share_edit), pct(r.rays_share_move)),
             ]));
         }
-        let mut presets: Vec<&str> = self.rows.iter().map(|r| r.preset.as_str()).collect();
-        presets.dedup();
+        let mut presets: Vec<&str> = Vec::new();
+        for r in &self.rows {
+            if !presets.contains(&r.preset.as_str()) {
+                presets.push(&r.preset);
+            }
+        }
         for p in presets {
             if let Some(w) = self.worst(p) {
                 md.push_str(&format!(
@@ -363,4 +367,56 @@ pub fn measure_knob(frame: &mut Frame, s: &Subject<'_>, map: &str, env: &EnvMap)
     frame.set_sun_rays(before);
     frame.set_deferred_merges(true)?;
     Ok(rows)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn row(scene: &str, preset: &str, rel_l2_exact: f64) -> AccuracyRow {
+        AccuracyRow {
+            scene: scene.into(),
+            preset: preset.into(),
+            map: "m".into(),
+            pose: "rest".into(),
+            sun_leaves: 0,
+            light_concentration: 0.0,
+            light_concentration_left: 0.0,
+            rel_l2_exact,
+            max_err_exact: 0.0,
+            rel_l2_mc: None,
+            max_err_mc: None,
+            rel_l2_exact_cuts_only: rel_l2_exact,
+            edit_ms: 1.0,
+            edit_ms_cuts_only: 1.0,
+            move_ms: 1.0,
+            move_ms_cuts_only: 1.0,
+            rays_share_edit: 0.0,
+            rays_share_move: 0.0,
+            rays_per_move: 0.0,
+            light_target: 0.002,
+            light_estimate_cuts: 0.0,
+            light_estimate: 0.0,
+            estimate_ms: 0.0,
+            rays_per_vertex: 0.0,
+            cast_us_per_vertex: 0.0,
+        }
+    }
+
+    #[test]
+    fn the_table_names_one_worst_row_per_preset_over_every_scene() {
+        let section = AccuracySection {
+            rows: vec![row("teapot", "fast", 0.02), row("teapot", "paper", 0.004), row("bunny", "fast", 0.03)],
+            ..AccuracySection::default()
+        };
+        let table = section.table();
+        let worst: Vec<&str> = table.lines().filter(|l| l.starts_with("Worst at")).collect();
+        assert_eq!(
+            worst,
+            [
+                "Worst at `fast`: bunny under m (rest), 3.00 % against the exact reference.",
+                "Worst at `paper`: teapot under m (rest), 0.40 % against the exact reference."
+            ]
+        );
+    }
 }
