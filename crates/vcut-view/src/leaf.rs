@@ -150,6 +150,11 @@ impl LeafSession {
         self.dirty = true;
     }
 
+    /// Vertices the last sun map cast edge rays for ([`Shader::edge_vertices`]).
+    pub fn edge_vertices(&self) -> usize {
+        self.shader.edge_vertices()
+    }
+
     /// The sun's elevation and azimuth, degrees.
     pub fn sun(&self) -> (f32, f32) {
         self.sun

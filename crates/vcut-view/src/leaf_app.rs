@@ -131,6 +131,12 @@ fn leaf_panel(
                 s.set_sun(e, a);
                 *changed = true;
             }
+            let mut rays = s.edge_rays();
+            if ui.add(egui::Slider::new(&mut rays, 0..=16).text("rays per shadow-edge vertex")).changed() {
+                s.set_edge_rays(rays);
+                *changed = true;
+            }
+            ui.label(format!("shadow-edge vertices: {}", s.edge_vertices()));
             ui.separator();
 
             ui.strong("method");

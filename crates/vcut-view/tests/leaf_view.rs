@@ -84,3 +84,20 @@ fn the_leaf_screenshot_matches_the_cpu_renderer_and_follows_every_edit() {
     s.update(h).unwrap();
     assert_eq!(s.leaves_per_level()[0], 0, "{:?}", s.leaves_per_level());
 }
+
+/// The window's edge-ray setting reaches the shader: with rays, the shadow edges between the
+/// sun's neighbouring maps are cast; with none, the maps are only blended, and the picture
+/// differs there.
+#[test]
+fn the_edge_ray_setting_reaches_the_sun_map() {
+    let mut s = session();
+    s.set_sun(37.3, 51.7);
+    s.update(240).unwrap();
+    let (cast, with_rays) = (s.edge_vertices(), s.radiance().to_vec());
+    assert_eq!(s.edge_rays(), 4);
+    assert!(cast > 0, "a sun between the maps' directions has shadow edges");
+    s.set_edge_rays(0);
+    assert!(s.update(240).unwrap());
+    assert_eq!(s.edge_vertices(), 0);
+    assert_ne!(s.radiance(), &with_rays[..], "blended only: the edge vertices change");
+}
