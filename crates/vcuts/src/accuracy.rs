@@ -53,7 +53,7 @@ pub struct AccuracyRow {
     /// The move with no rays.
     pub move_ms_cuts_only: f64,
     /// The rays' share of an edit: (edit − edit without rays) / edit, at least 0 (a difference of
-    /// two medians of 11: noisy where the rays cost little).
+    /// two medians of 11: noisy where the rays cost little); 0 where no leaf is cast.
     pub rays_share_edit: f64,
     /// The rays' share of a move: the step's time casting them (`MoveTiming::sun_s`, the mean
     /// step) over the median step.
@@ -304,7 +304,8 @@ pub fn measure_map(
             edit_ms_cuts_only: edit_cuts,
             move_ms: mv,
             move_ms_cuts_only: mv_cuts,
-            rays_share_edit: share(edit - edit_cuts, edit),
+            // No leaf cast, no ray: the two edits' difference is the machine's noise.
+            rays_share_edit: if sun_leaves == 0 { 0.0 } else { share(edit - edit_cuts, edit) },
             rays_share_move: share(sun_ms, mv),
             rays_per_move,
             light_target: choice.target,

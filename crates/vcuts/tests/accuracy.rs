@@ -35,7 +35,7 @@ fn a_constant_map_casts_nothing_and_the_sun_is_cast_by_rays() {
         let c = row("constant", pose);
         assert_eq!(c.sun_leaves, 0, "{c:?}");
         assert_eq!(c.rel_l2_exact, c.rel_l2_exact_cuts_only, "no leaf cast: the same shading, bit for bit");
-        assert_eq!(c.rays_per_move, 0.0);
+        assert_eq!((c.rays_per_move, c.rays_share_edit, c.rays_share_move), (0.0, 0.0, 0.0));
         let sky = row("sky-30", pose);
         assert!(sky.sun_leaves >= 1, "{sky:?}");
         assert!(sky.rel_l2_exact < sky.rel_l2_exact_cuts_only, "{sky:?}");
