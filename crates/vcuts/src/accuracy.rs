@@ -370,44 +370,50 @@ pub fn measure_knob(frame: &mut Frame, s: &Subject<'_>, map: &str, env: &EnvMap)
     Ok(rows)
 }
 
+/// A row of `scene` at `preset` under `map`, at rest, erring `e` (for tests).
+#[cfg(test)]
+pub(crate) fn test_row(scene: &str, preset: &str, map: &str, e: f64) -> AccuracyRow {
+    AccuracyRow {
+        scene: scene.into(),
+        preset: preset.into(),
+        map: map.into(),
+        pose: "rest".into(),
+        sun_leaves: 1,
+        light_concentration: 0.5,
+        light_concentration_left: 0.1,
+        rel_l2_exact: e,
+        max_err_exact: 0.0,
+        rel_l2_mc: None,
+        max_err_mc: None,
+        rel_l2_exact_cuts_only: e,
+        edit_ms: 1.0,
+        edit_ms_cuts_only: 1.0,
+        move_ms: 1.0,
+        move_ms_cuts_only: 1.0,
+        rays_share_edit: 0.0,
+        rays_share_move: 0.0,
+        rays_per_move: 0.0,
+        light_target: 0.002,
+        light_estimate_cuts: 0.01,
+        light_estimate: 0.001,
+        estimate_ms: 1.0,
+        rays_per_vertex: 1.0,
+        cast_us_per_vertex: 1.0,
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
 
-    fn row(scene: &str, preset: &str, rel_l2_exact: f64) -> AccuracyRow {
-        AccuracyRow {
-            scene: scene.into(),
-            preset: preset.into(),
-            map: "m".into(),
-            pose: "rest".into(),
-            sun_leaves: 0,
-            light_concentration: 0.0,
-            light_concentration_left: 0.0,
-            rel_l2_exact,
-            max_err_exact: 0.0,
-            rel_l2_mc: None,
-            max_err_mc: None,
-            rel_l2_exact_cuts_only: rel_l2_exact,
-            edit_ms: 1.0,
-            edit_ms_cuts_only: 1.0,
-            move_ms: 1.0,
-            move_ms_cuts_only: 1.0,
-            rays_share_edit: 0.0,
-            rays_share_move: 0.0,
-            rays_per_move: 0.0,
-            light_target: 0.002,
-            light_estimate_cuts: 0.0,
-            light_estimate: 0.0,
-            estimate_ms: 0.0,
-            rays_per_vertex: 0.0,
-            cast_us_per_vertex: 0.0,
-        }
-    }
-
     #[test]
     fn the_table_names_one_worst_row_per_preset_over_every_scene() {
         let section = AccuracySection {
-            rows: vec![row("teapot", "fast", 0.02), row("teapot", "paper", 0.004), row("bunny", "fast", 0.03)],
+            rows: vec![
+                test_row("teapot", "fast", "m", 0.02),
+                test_row("teapot", "paper", "m", 0.004),
+                test_row("bunny", "fast", "m", 0.03),
+            ],
             ..AccuracySection::default()
         };
         let table = section.table();

@@ -333,33 +333,7 @@ mod tests {
         // A sweep with no points draws nothing and is no error.
         scaling(&section, "tessellation", "vertices", &dir.join("none.png")).unwrap();
         assert!(!dir.join("none.png").exists());
-        let row = |map: &str, preset: &str, e: f64| crate::accuracy::AccuracyRow {
-            scene: "teapot".into(),
-            preset: preset.into(),
-            map: map.into(),
-            pose: "rest".into(),
-            sun_leaves: 1,
-            light_concentration: 0.5,
-            light_concentration_left: 0.1,
-            rel_l2_exact: e,
-            max_err_exact: 0.0,
-            rel_l2_mc: None,
-            max_err_mc: None,
-            rel_l2_exact_cuts_only: e,
-            edit_ms: 1.0,
-            edit_ms_cuts_only: 1.0,
-            move_ms: 1.0,
-            move_ms_cuts_only: 1.0,
-            rays_share_edit: 0.0,
-            rays_share_move: 0.0,
-            rays_per_move: 0.0,
-            light_target: 0.002,
-            light_estimate_cuts: 0.01,
-            light_estimate: 0.001,
-            estimate_ms: 1.0,
-            rays_per_vertex: 1.0,
-            cast_us_per_vertex: 1.0,
-        };
+        let row = |map: &str, preset: &str, e: f64| crate::accuracy::test_row("teapot", preset, map, e);
         let acc = AccuracySection {
             rows: vec![row("sky-30", "fast", 0.02), row("studio", "fast", 0.03), row("sky-30", "paper", 0.004)],
             skipped: Vec::new(),
