@@ -3,7 +3,8 @@
 //! shared assets, at rest and moved — measured by `vcuts::accuracy::measure_map`; written to
 //! `accuracy.json` after every map (a stopped run keeps what it measured), `accuracy.md` and
 //! `accuracy.png` (the error per map at rest, with the goals); then the target-error sweep under
-//! the map whose bright leaves err most, per scene and preset (`vcuts::accuracy::measure_knob`).
+//! the map whose bright leaves err most where the cost cap does not bind, per scene and preset
+//! (`vcuts::accuracy::measure_knob`).
 //! With `--reuse`, the rows and sweeps an earlier run wrote to `accuracy.json` are kept and only
 //! what is missing is measured (a run of hours resumes from its last map).
 
@@ -14,7 +15,10 @@ use vcut_scene::Scene;
 use vcut_shade::Frame;
 use vcut_shade::measure::first_movable;
 use vcut_shade::reference::MonteCarloParams;
-use vcuts::accuracy::{AccuracySection, McCache, Subject, asset_maps, builtin_maps, measure_knob, measure_map};
+use vcut_shade::sun::DEFAULT_MAX_LEAVES;
+use vcuts::accuracy::{
+    AccuracyRow, AccuracySection, McCache, Subject, asset_maps, builtin_maps, measure_knob, measure_map,
+};
 use vcuts::report::{write_atomic, write_json};
 
 /// The rows and sweeps of an earlier run's `accuracy.json` (none without one); its skipped list
@@ -31,6 +35,18 @@ fn earlier(out: &Path) -> Result<AccuracySection> {
         }
         Err(_) => Ok(AccuracySection::default()),
     }
+}
+
+/// The map the target-error sweep of `scene` at `preset` runs under: of the maps at rest whose
+/// choice stopped short of the cost cap (so the target decides how many leaves are cast), the
+/// one whose bright leaves err most through the cuts (the estimate with none cast); if the cap
+/// bound every map, the one erring most.
+fn sweep_map(rows: &[AccuracyRow], scene: &str, preset: &str) -> Option<String> {
+    let rest = || rows.iter().filter(|r| r.scene == scene && r.preset == preset && r.pose == "rest");
+    let most = |r: &mut dyn Iterator<Item = &AccuracyRow>| {
+        r.max_by(|a, b| a.light_estimate_cuts.total_cmp(&b.light_estimate_cuts)).map(|r| r.map.clone())
+    };
+    most(&mut rest().filter(|r| r.sun_leaves < DEFAULT_MAX_LEAVES)).or_else(|| most(&mut rest()))
 }
 
 /// Runs the section; `reuse` keeps what an earlier run measured.
@@ -88,18 +104,12 @@ pub fn run(quick: bool, no_mc: bool, reuse: bool, data_dir: &Path, out: &Path) -
                 section.rows.extend(measure_map(&mut frame, &subject, map, env, cache)?);
                 write_json(&out.join("accuracy.json"), &section)?;
             }
-            // The target-error sweep under the map whose bright leaves err most through the cuts
-            // (the choice's estimate with none cast) at rest: where the target matters most.
-            let worst = section
-                .rows
-                .iter()
-                .filter(|r| r.scene == name && r.preset == preset && r.pose == "rest")
-                .max_by(|a, b| a.light_estimate_cuts.total_cmp(&b.light_estimate_cuts))
-                .map(|r| r.map.clone());
             if swept {
                 continue;
             }
-            if let Some((map, env)) = worst.and_then(|w| maps.iter().find(|(m, _)| *m == w)) {
+            if let Some((map, env)) =
+                sweep_map(&section.rows, name, preset).and_then(|w| maps.iter().find(|(m, _)| *m == w))
+            {
                 section.knob.extend(measure_knob(&mut frame, &subject, map, env)?);
                 write_json(&out.join("accuracy.json"), &section)?;
             }
@@ -116,21 +126,40 @@ pub fn run(quick: bool, no_mc: bool, reuse: bool, data_dir: &Path, out: &Path) -
 mod tests {
     use super::*;
 
+    /// A teapot row at `fast` under `map` in `pose`, `leaves` cast, `estimate` with none cast.
+    fn row(map: &str, pose: &str, leaves: usize, estimate: f64) -> serde_json::Value {
+        serde_json::json!({
+            "scene": "teapot", "preset": "fast", "map": map, "pose": pose, "sun_leaves": leaves,
+            "light_concentration": 0.5, "light_concentration_left": 0.1, "rel_l2_exact": 0.01,
+            "max_err_exact": 0.1, "rel_l2_mc": null, "max_err_mc": null,
+            "rel_l2_exact_cuts_only": 0.02, "edit_ms": 1.0, "edit_ms_cuts_only": 1.0, "move_ms": 2.0,
+            "move_ms_cuts_only": 2.0, "rays_share_edit": 0.0, "rays_share_move": 0.1, "rays_per_move": 3.0,
+            "light_estimate_cuts": estimate
+        })
+    }
+
+    #[test]
+    fn the_sweep_runs_where_the_target_decides_not_the_cap() {
+        let rows = |r: Vec<serde_json::Value>| -> Vec<AccuracyRow> { serde_json::from_value(r.into()).unwrap() };
+        let capped = row("windows", "rest", DEFAULT_MAX_LEAVES, 0.09);
+        let all = rows(vec![
+            capped.clone(),
+            row("sun", "rest", 2, 0.05),
+            row("dim", "rest", 0, 0.001),
+            row("sun", "moved", 2, 0.5),
+        ]);
+        assert_eq!(sweep_map(&all, "teapot", "fast").as_deref(), Some("sun"));
+        assert_eq!(sweep_map(&rows(vec![capped]), "teapot", "fast").as_deref(), Some("windows"));
+        assert_eq!(sweep_map(&all, "bunny", "fast"), None);
+    }
+
     /// What `--reuse` finds complete is not measured again: the run neither precomputes nor
     /// opens a frame, and keeps the rows and sweeps it read.
     #[test]
     fn a_reused_run_measures_only_what_is_missing() {
         let out = std::env::temp_dir().join(format!("xtask-accuracy-reuse-{}", std::process::id()));
         std::fs::create_dir_all(&out).unwrap();
-        let row = |map: &str, pose: &str| {
-            serde_json::json!({
-                "scene": "teapot", "preset": "fast", "map": map, "pose": pose, "sun_leaves": 1,
-                "light_concentration": 0.5, "light_concentration_left": 0.1, "rel_l2_exact": 0.01,
-                "max_err_exact": 0.1, "rel_l2_mc": null, "max_err_mc": null,
-                "rel_l2_exact_cuts_only": 0.02, "edit_ms": 1.0, "edit_ms_cuts_only": 1.0, "move_ms": 2.0,
-                "move_ms_cuts_only": 2.0, "rays_share_edit": 0.0, "rays_share_move": 0.1, "rays_per_move": 3.0
-            })
-        };
+        let row = |map: &str, pose: &str| row(map, pose, 1, 0.01);
         let rows: Vec<_> = builtin_maps(true).iter().flat_map(|(m, _)| [row(m, "rest"), row(m, "moved")]).collect();
         let knob = serde_json::json!({"scene": "teapot", "preset": "fast", "map": "studio", "target": 0.002,
             "leaves": 3, "estimate": 0.001, "rel_l2_exact": 0.01, "rays_per_vertex": 5.0, "choice_ms": 1.0});

@@ -112,7 +112,7 @@ pub struct AccuracySection {
     /// Maps or scenes not measured, and why.
     pub skipped: Vec<String>,
     /// The target-error sweep, per scene and preset under the map whose bright leaves err most
-    /// through the cuts.
+    /// through the cuts where the cost cap does not bind.
     #[serde(default)]
     pub knob: Vec<KnobRow>,
 }
@@ -163,7 +163,7 @@ impl AccuracySection {
         }
         if !self.knob.is_empty() {
             md.push_str(
-                "\nThe target error (`--light-error`) under the map whose bright leaves err most through the cuts (per scene and preset), at rest:\n\n\
+                "\nThe target error (`--light-error`) under the map whose bright leaves err most through the cuts where the cost cap does not bind (per scene and preset), at rest:\n\n\
                  | scene | preset | map | target % | leaves cast | estimate % | rel. L2 exact % | rays per vertex | choice ms |\n\
                  |---|---|---|---:|---:|---:|---:|---:|---:|\n",
             );
