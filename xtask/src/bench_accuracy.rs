@@ -21,8 +21,8 @@ use vcuts::accuracy::{
 };
 use vcuts::report::{write_atomic, write_json};
 
-/// The rows and sweeps of an earlier run's `accuracy.json` (none without one); its skipped list
-/// is measured again.
+/// The rows and sweeps of an earlier run's `accuracy.json` (none where there is no such file);
+/// its skipped list is measured again.
 fn earlier(out: &Path) -> Result<AccuracySection> {
     let path = out.join("accuracy.json");
     match std::fs::read_to_string(&path) {
@@ -33,7 +33,8 @@ fn earlier(out: &Path) -> Result<AccuracySection> {
             println!("accuracy: reusing {} rows of {}", s.rows.len(), path.display());
             Ok(s)
         }
-        Err(_) => Ok(AccuracySection::default()),
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => Ok(AccuracySection::default()),
+        Err(e) => Err(e).with_context(|| format!("reading {}", path.display())),
     }
 }
 
@@ -172,6 +173,10 @@ mod tests {
         assert!(section.skipped.is_empty(), "{:?}", section.skipped);
         assert!(std::fs::read_dir(&data).unwrap().next().is_none(), "precomputed what was measured before");
         assert!(std::fs::read_to_string(out.join("accuracy.md")).unwrap().contains("Worst at `fast`"));
+        // A file that is not an accuracy section is refused by name, not measured over.
+        std::fs::write(out.join("accuracy.json"), "{\"rows\": 3}").unwrap();
+        let e = format!("{:#}", run(true, true, true, &data, &out).unwrap_err());
+        assert!(e.contains("accuracy.json: not an accuracy section"), "{e}");
         std::fs::remove_dir_all(&out).unwrap();
     }
 }
