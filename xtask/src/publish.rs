@@ -59,7 +59,8 @@ pub fn run(args: &PublishArgs) -> Result<()> {
     let accuracy = Some(report.join("accuracy.md")).filter(|s| s.exists()).unwrap_or_else(|| kept.join("accuracy.md"));
     let worst = match std::fs::read_to_string(&accuracy) {
         Ok(md) => Some(worst_cases(&md).with_context(|| format!("{}: no `Worst at` lines", accuracy.display()))?),
-        Err(_) => None,
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => None,
+        Err(e) => return Err(e).with_context(|| format!("reading {}", accuracy.display())),
     };
     let mut stale: Vec<String> = crate_readmes(args.check)?;
     for doc in DOCS {
