@@ -2,12 +2,9 @@
 
 use glam::Vec3;
 use std::path::{Path, PathBuf};
-use std::sync::atomic::AtomicBool;
 use vcut_data::{InsideSamples, Precomputed};
 use vcut_envmap::EnvMap;
-use vcut_precompute::PrecomputeParams;
-use vcut_precompute::run::{Job, NoProgress, precompute};
-use vcut_scene::{Material, Scene, SceneDesc};
+use vcut_scene::Material;
 use vcut_shade::reference::{errors, exact_direction};
 use vcut_shade::{FIELD_REACH, Frame, FrameCaches, MergeAlgorithm, SunRays};
 
@@ -37,21 +34,8 @@ fn scratch(name: &str) -> PathBuf {
 }
 
 fn data(text: &str, params: &[(&str, &str)], out: &Path) -> Precomputed {
-    let file = Path::new("test.toml");
-    let scene: Scene = SceneDesc::parse(text, file).unwrap().instantiate(Path::new("."), file).unwrap();
-    let mut p = PrecomputeParams::fast();
-    for (k, v) in [("directions", "1024"), ("field_spheres", "12"), ("field_resolution", "8")].iter().chain(params) {
-        p.set(k, v).unwrap();
-    }
-    let job = Job {
-        scene: &scene,
-        scene_source: "test.toml".into(),
-        environment: "constant".into(),
-        params: p,
-        cache_dir: None,
-        output: out.into(),
-    };
-    precompute(&job, &NoProgress, &AtomicBool::new(false)).unwrap();
+    let base = [("directions", "1024"), ("field_spheres", "12"), ("field_resolution", "8")];
+    vcut_tests::precompute_text(text, &[&base[..], params].concat(), out);
     Precomputed::open(out).unwrap()
 }
 

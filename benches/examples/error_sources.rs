@@ -2,11 +2,12 @@
 //!
 //! - `frame`: the frame as rendered (SVC × interpolated fields, merged, shaded);
 //! - `exact_fields`: the SVC times each field's exact cut at the vertex itself (no trilinear
-//!   interpolation between field samples), shaded the same way: what denser fields could reach;
+//!   interpolation between field samples) and each flat object's cut (exact in the frame too),
+//!   shaded the same way: what denser fields could reach;
 //! - `exact_visibility`: the frame's merged cut with every node's value replaced by the exact
 //!   mean of V·max(0, n·ω) over its leaves: the clustering error alone.
 //!
-//! `cargo run --release -p vcut-benches --example error_sources -- FILE.vcuts [--env builtin:constant]
+//! `cargo run --release -p vcut-benches --example error_sources -- FILE.vcuts [--env builtin:constant|MAP]
 //! [--eye X,Y,Z] [--move OBJECT=DX,DY,DZ] [--scene SPEC]` prints `key=value` lines (`--scene
 //! builtin:teapot`: that scene's environment and camera, the frame `cargo xtask bench` measures). With `--bins` it prints
 //! instead, per object, where the frame's squared error is: the share of its worst 1/5/20 % of
@@ -51,7 +52,7 @@ fn vec3(s: &str) -> Result<Vec3, String> {
 fn main() -> Result<(), String> {
     let args: Vec<String> = std::env::args().skip(1).collect();
     let file = args.first().ok_or(
-        "usage: error_sources FILE.vcuts [--env builtin:sky|builtin:constant] [--eye X,Y,Z] [--move OBJECT=DX,DY,DZ] [--scene SPEC] [--sun-rays] [--bins | --layouts SxR[iINNER][@OBJECT],... [--inside-surface]]",
+        "usage: error_sources FILE.vcuts [--env builtin:sky|builtin:constant|MAP] [--eye X,Y,Z] [--move OBJECT=DX,DY,DZ] [--scene SPEC] [--sun-rays] [--bins | --layouts SxR[iINNER][@OBJECT],... [--inside-surface]]",
     )?;
     let bins_only = args.iter().any(|a| a == "--bins");
     let option = |name: &str| args.iter().position(|a| a == name).and_then(|i| args.get(i + 1)).cloned();
@@ -61,7 +62,11 @@ fn main() -> Result<(), String> {
         (None, Some(scene)) => scene.environment.clone(),
         (None | Some("builtin:sky"), _) => procedural::PreethamSky::default().bake(1024),
         (Some("builtin:constant"), _) => EnvMap::constant([1.0; 3]),
-        (Some(other), _) => return Err(format!("--env {other}: builtin:sky or builtin:constant")),
+        (Some(path), _) => {
+            vcut_envmap::load(Path::new(path), vcut_envmap::InvalidTexels::Reject)
+                .map_err(|e| format!("--env {path}: {e}"))?
+                .0
+        }
     };
     let scene_eye = scene.as_ref().and_then(|s| s.cameras.first()).map(|c| c.position);
     let eye = option("--eye").map(|e| vec3(&e)).transpose()?.or(scene_eye).unwrap_or(Vec3::new(0.0, 2.0, 6.0));
@@ -134,6 +139,7 @@ fn main() -> Result<(), String> {
                     let centre = layout.center + frame.object(j).translation;
                     cuts.push(exact_point_cut(&alone[j], tree, x, centre, layout.radius).0);
                 }
+                cuts.extend(flat_cuts(&frame, o, v));
                 let mut product = MergedCut::default();
                 merge_product(&cuts.iter().collect::<Vec<_>>(), &mut product).unwrap_or_else(|e| panic!("{e}"));
                 // The frame's cut with exact node means.
@@ -262,6 +268,8 @@ fn layout_frame(
                             kept.iter().map(|x| x.weight).collect(),
                         ));
                     }
+                    let flats = flat_cuts(frame, o, v);
+                    factors.extend(flats.iter().map(|c| (vec![c], vec![1.0])));
                     let mut groups = vec![Group::single(&svc_ref)];
                     groups.extend(factors.iter().map(|(c, w)| Group { cuts: c, weights: w }));
                     let mut out = MergedCut::default();
@@ -271,6 +279,12 @@ fn layout_frame(
                 .collect()
         })
         .collect()
+}
+
+/// The exact cuts of the flat convex objects that shadow vertex `v` of object `o`, as the
+/// frame merges them (a flat object has no field to interpolate).
+fn flat_cuts(frame: &Frame, o: usize, v: usize) -> Vec<vcut_cut::Cut> {
+    frame.flat_sources(o, v).into_iter().filter_map(|(j, at)| frame.flat_cut(j, at)).collect()
 }
 
 /// Shares of an object's squared error by where its vertices sit in the fields around them.

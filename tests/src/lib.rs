@@ -1,5 +1,6 @@
-//! Helpers shared by the cross-crate tests: where the shared assets are, scratch folders, and
-//! small hand-built files (RGBE, GLB) for malformed-input tests.
+//! Helpers shared by the cross-crate tests: where the shared assets are, scratch folders, a
+//! scene file's text precomputed, and small hand-built files (RGBE, GLB) for malformed-input
+//! tests.
 
 use std::path::{Path, PathBuf};
 
@@ -125,4 +126,25 @@ pub fn base64(bytes: &[u8]) -> String {
         }
     }
     out
+}
+
+/// The scene file `text` precomputed into `out` at the `fast` preset with `params` set on top
+/// (each `(key, value)` as `precompute --set` takes it), under a constant environment.
+pub fn precompute_text(text: &str, params: &[(&str, &str)], out: &Path) -> vcut_precompute::run::Summary {
+    use vcut_precompute::run::{Job, NoProgress, precompute};
+    let file = Path::new("test.toml");
+    let scene = vcut_scene::SceneDesc::parse(text, file).unwrap().instantiate(Path::new("."), file).unwrap();
+    let mut p = vcut_precompute::PrecomputeParams::fast();
+    for (k, v) in params {
+        p.set(k, v).unwrap();
+    }
+    let job = Job {
+        scene: &scene,
+        scene_source: "test.toml".into(),
+        environment: "constant".into(),
+        params: p,
+        cache_dir: None,
+        output: out.into(),
+    };
+    precompute(&job, &NoProgress, &std::sync::atomic::AtomicBool::new(false)).unwrap()
 }

@@ -5,7 +5,9 @@
 //! own geometry if it is movable; if it is static, its own geometry *and every other static
 //! object* (static–static shadows are baked, so frames never merge fields for them). Object X
 //! gets a field when some other object Y exists with X or Y movable: only then does anything
-//! move relative to X. A scene with one object, or with nothing movable, builds no field.
+//! move relative to X. A scene with one object, or with nothing movable, builds no field. Nor
+//! does a flat convex object ([`vcut_scene::flat::FlatOutline`]: a ground plane, a floor): a
+//! frame cuts its shadow exactly at each vertex instead.
 //!
 //! **Order.** `params`, `directions`, one `mesh` per object, one `field-layout` per field, the
 //! `svc` chunks (`svc_chunk` vertices each), then one `field` section per sphere. Each section is
@@ -31,6 +33,7 @@ use vcut_data::file::{FileError, Reader, SectionId, SectionKind, Writer};
 use vcut_data::shard::ShardPlan;
 use vcut_data::{FieldLayout, sections};
 use vcut_dirtree::DirectionTree;
+use vcut_scene::flat::FlatOutline;
 use vcut_scene::{Motion, Scene};
 use vcut_sphere::{DirectionSet, RepulsionParams};
 
@@ -210,7 +213,12 @@ pub struct Summary {
 /// Which objects get a field (see the module docs).
 pub fn objects_needing_fields(scene: &Scene) -> Vec<bool> {
     let movable: Vec<bool> = scene.objects.iter().map(|o| o.motion == Motion::Movable).collect();
-    (0..movable.len()).map(|x| (0..movable.len()).any(|y| y != x && (movable[x] || movable[y]))).collect()
+    (0..movable.len())
+        .map(|x| {
+            (0..movable.len()).any(|y| y != x && (movable[x] || movable[y]))
+                && FlatOutline::of(&scene.objects[x].mesh).is_none()
+        })
+        .collect()
 }
 
 /// The direction set of `params` (from `cache_dir` when given) and its tree.

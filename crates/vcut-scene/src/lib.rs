@@ -30,6 +30,7 @@ pub mod assets;
 pub mod budget;
 pub mod check;
 pub mod desc;
+pub mod flat;
 pub mod loaders;
 pub mod material;
 pub mod mesh;

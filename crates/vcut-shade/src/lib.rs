@@ -29,6 +29,7 @@
 //! ```
 
 pub mod brdf;
+pub mod flat;
 pub mod frame;
 pub mod glb;
 pub mod image;

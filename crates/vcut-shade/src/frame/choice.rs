@@ -166,7 +166,7 @@ impl Frame {
 
     /// Where object `o`'s sun rays start along the normal (the SVCs' offset).
     pub(super) fn sun_origin_offset(&self, o: usize) -> f32 {
-        vcut_rays::origin_offset(self.origin_offset, &self.objects[o].mesh)
+        self.objects[o].ray_offset
     }
 }
 

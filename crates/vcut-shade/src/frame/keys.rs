@@ -6,12 +6,38 @@ use super::Frame;
 use vcut_data::{FieldLayout, FieldSample};
 use vcut_scene::Motion;
 
-/// One field's contribution to a vertex: the object, and its 8 samples (`None`: all inside it,
-/// the vertex is fully occluded).
+/// One occluder's contribution to a vertex: the object, and what gives its shadow there.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub(super) struct FieldKey {
     pub(super) object: u32,
-    pub(super) samples: Option<[FieldSample; 8]>,
+    pub(super) input: Input,
+}
+
+/// Where an occluder's shadow at a vertex comes from.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(super) enum Input {
+    /// Its field's 8 samples.
+    Samples([FieldSample; 8]),
+    /// Its field's samples are all inside it: the vertex is fully occluded.
+    Inside,
+    /// A flat convex object ([`vcut_scene::flat::FlatOutline`]): its exact cut
+    /// ([`crate::flat::flat_cut`]) at this ray origin, relative to the object's placement.
+    Flat(glam::Vec3),
+}
+
+impl FieldKey {
+    /// The key of an occluder that hides the whole sphere of directions.
+    pub(super) fn inside(object: u32) -> FieldKey {
+        FieldKey { object, input: Input::Inside }
+    }
+
+    /// The ray origin of a flat occluder's cut, if it is one.
+    pub(super) fn flat(&self) -> Option<glam::Vec3> {
+        match self.input {
+            Input::Flat(p) => Some(p),
+            _ => None,
+        }
+    }
 }
 
 /// A field lookup's kept samples — (object, sphere, point), in lookup order, the order of the
@@ -25,7 +51,9 @@ pub(super) struct CellKey {
 impl CellKey {
     /// The cell of lookup `k` and the kept samples' weights (`None`: no samples kept).
     pub(super) fn of(k: &FieldKey) -> Option<(CellKey, [f32; 8])> {
-        let samples = k.samples?;
+        let Input::Samples(samples) = k.input else {
+            return None;
+        };
         let mut cell = CellKey { samples: [(0, 0, 0); 8], len: 0 };
         let mut weights = [0.0f32; 8];
         for x in samples.iter().filter(|x| x.weight > 0.0) {
@@ -55,12 +83,35 @@ pub(super) fn take_held<K: Ord, V>(keys: Vec<K>, held: Vec<V>, wanted: &[K]) -> 
 }
 
 impl Frame {
+    /// Object `j`'s exact visibility cut at world point `at` when it is flat and convex
+    /// ([`crate::flat::flat_cut`] of its outline where it stands); `None` for any other object.
+    pub fn flat_cut(&self, j: usize, at: glam::Vec3) -> Option<vcut_cut::Cut> {
+        self.flat_cut_at_rest(j, at - self.objects.get(j)?.translation)
+    }
+
+    /// [`Frame::flat_cut`] at `at` relative to object `j`'s placement (what a key holds).
+    pub(super) fn flat_cut_at_rest(&self, j: usize, at: glam::Vec3) -> Option<vcut_cut::Cut> {
+        let outline = self.objects.get(j)?.flat.as_ref()?;
+        Some(crate::flat::flat_cut(&self.tree, outline.corners(), at))
+    }
+
     /// The objects whose fields shadow vertex `v` of object `o` at the current translations,
-    /// with their layouts (centre at rest; add the object's translation).
+    /// with their layouts (centre at rest; add the object's translation). Flat convex objects
+    /// shadow it by their exact cut instead ([`Frame::flat_sources`]).
     pub fn field_sources(&self, o: usize, v: usize) -> Vec<(usize, FieldLayout)> {
         self.objects[o].keys[v]
             .iter()
+            .filter(|k| k.flat().is_none())
             .filter_map(|k| self.objects.get(k.object as usize)?.layout.map(|l| (k.object as usize, l)))
+            .collect()
+    }
+
+    /// The flat convex objects that shadow vertex `v` of object `o` by their exact cut
+    /// ([`crate::flat::flat_cut`]), with the cut's ray origin in world space.
+    pub fn flat_sources(&self, o: usize, v: usize) -> Vec<(usize, glam::Vec3)> {
+        let keys = &self.objects[o].keys[v];
+        keys.iter()
+            .filter_map(|k| Some((k.object as usize, k.flat()? + self.objects[k.object as usize].translation)))
             .collect()
     }
 
@@ -74,11 +125,22 @@ impl Frame {
     /// (`None`: j has no field, casts no shadow there, or its shadow is baked into the SVC).
     pub(super) fn key_of(&self, o: usize, v: usize, j: usize) -> Option<FieldKey> {
         let (me, other) = (&self.objects[o], &self.objects[j]);
-        let layout = other.layout?;
         if j == o || (me.motion == Motion::Static && other.motion == Motion::Static) {
             return None;
         }
         let p = me.mesh.positions()[v] + me.translation;
+        if let Some(outline) = &other.flat {
+            // The cut where the vertex's rays start, as the SVC's and the reference's do; none
+            // when the whole polygon lies below the vertex's horizon (it hides nothing the cut
+            // weighs).
+            let n = me.mesh.normals()[v];
+            let at = vcut_rays::origin(p, n, me.ray_offset) - other.translation;
+            if self.horizon_culling && outline.corners().iter().all(|c| (*c - at).dot(n) <= 0.0) {
+                return None;
+            }
+            return Some(FieldKey { object: j as u32, input: Input::Flat(at) });
+        }
+        let layout = other.layout?;
         if self.field_reach.is_some_and(|r| p.distance(layout.center + other.translation) > r * layout.radius) {
             return None;
         }
@@ -89,7 +151,7 @@ impl Frame {
         }
         let mut samples = layout.lookup(p - other.translation)?;
         let kept = self.inside.apply(&mut samples, |x| other.field[x.sphere as usize].inside(x.point as usize));
-        Some(FieldKey { object: j as u32, samples: (kept > 0).then_some(samples) })
+        Some(FieldKey { object: j as u32, input: if kept > 0 { Input::Samples(samples) } else { Input::Inside } })
     }
 
     /// Vertex `v` of object `o`'s field inputs if they differ from those it keeps (`None`: the

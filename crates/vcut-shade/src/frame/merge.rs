@@ -4,7 +4,7 @@
 //! move's batch and a merge on the spot, whichever [`super::MergeAlgorithm`] prepared its
 //! inputs (the seam is `vcut_merge::prepared`).
 
-use super::keys::{CellKey, Changed, FAILED, FieldKey, take_held};
+use super::keys::{CellKey, Changed, FAILED, FieldKey, Input, take_held};
 use super::lists::ShadeList;
 use super::object::placed;
 use super::{CutFailure, Frame, FrameError, MoveTiming};
@@ -225,13 +225,13 @@ impl Frame {
         };
         let result =
             slots.into_par_iter().zip(lists.par_iter_mut()).enumerate().filter(|(v, _)| changed[*v]).try_for_each_init(
-                || (Prepared::default(), Vec::new(), MergedCut::default()),
-                |(scratch, below, spare), (v, (slot, list))| {
+                || (Prepared::default(), Vec::new(), MergedCut::default(), Vec::new()),
+                |(scratch, below, spare, flats), (v, (slot, list))| {
                     let cell = |c: &CellKey| {
                         &refined[cells.binary_search(c).unwrap_or_else(|_| unreachable!("collected above"))]
                     };
                     let out = slot.unwrap_or(spare);
-                    let svc = self.merge_vertex(o, offset + v, &keys[v], &cell, scratch, out)?;
+                    let svc = self.merge_vertex(o, offset + v, &keys[v], &cell, scratch, flats, out)?;
                     nodes.fetch_add(out.heights.len(), std::sync::atomic::Ordering::Relaxed);
                     // The list while the cut is still in cache.
                     match svc {
@@ -252,8 +252,9 @@ impl Frame {
     /// through refinements, for a move's batch and for a merge on the spot alike): a cut of
     /// one zero node when a field's samples are all inside its object, else the vertex's SVC
     /// (kept decoded, or decoded into `scratch`) times each field cell's refinement (`cell`
-    /// gives it) into `out`. Returns the SVC's node ends (for its shading list), `None` for
-    /// the occluded vertex.
+    /// gives it) and each flat occluder's exact cut (prepared into `flats`) into `out`.
+    /// Returns the SVC's node ends (for its shading list), `None` for the occluded vertex.
+    #[allow(clippy::too_many_arguments)]
     fn merge_vertex<'r>(
         &'r self,
         o: usize,
@@ -261,9 +262,10 @@ impl Frame {
         keys: &[FieldKey],
         cell: &dyn Fn(&CellKey) -> &'r Prepared,
         scratch: &'r mut Prepared,
+        flats: &mut Vec<Prepared>,
         out: &mut MergedCut,
     ) -> Result<Option<Cow<'r, [u32]>>, FrameError> {
-        if keys.iter().any(|k| k.samples.is_none()) {
+        if keys.iter().any(|k| k.input == Input::Inside) {
             *out = full_zero(self.tree.height());
             return Ok(None);
         }
@@ -278,10 +280,19 @@ impl Frame {
             }
         };
         let lookups: Vec<(CellKey, [f32; 8])> = keys.iter().filter_map(CellKey::of).collect();
-        let mut factors: Vec<(&Prepared, &[f32])> = Vec::with_capacity(1 + lookups.len());
+        let planes: Vec<(usize, Vec3)> = keys.iter().filter_map(|k| Some((k.object as usize, k.flat()?))).collect();
+        flats.resize_with(planes.len(), Prepared::default);
+        for (&(j, at), prepared) in planes.iter().zip(flats.iter_mut()) {
+            let cut = self.flat_cut_at_rest(j, at).unwrap_or_else(|| unreachable!("a flat key is a flat object's"));
+            self.algorithm.prepare_into(&[&cut], prepared).map_err(|e| err(e.into()))?;
+        }
+        let mut factors: Vec<(&Prepared, &[f32])> = Vec::with_capacity(1 + lookups.len() + planes.len());
         factors.push((svc, &[1.0]));
         for (c, weights) in &lookups {
             factors.push((cell(c), &weights[..usize::from(c.len)]));
+        }
+        for prepared in &flats[..planes.len()] {
+            factors.push((prepared, &[1.0]));
         }
         merge_prepared(&factors, out).map_err(|e| err(e.into()))?;
         Ok(Some(svc.ends()))
@@ -300,7 +311,7 @@ impl Frame {
     ) -> Result<(), FrameError> {
         let err = |e: CutFailure| FrameError::cut(o, v, e);
         let mut local: Vec<(CellKey, Prepared)> = Vec::new();
-        for (cell, _) in keys.iter().filter(|k| k.samples.is_some()).filter_map(CellKey::of) {
+        for (cell, _) in keys.iter().filter_map(CellKey::of) {
             let cuts = cell
                 .samples()
                 .iter()
@@ -310,7 +321,7 @@ impl Frame {
             local.push((cell, self.algorithm.prepare(&cuts.iter().collect::<Vec<_>>()).map_err(|e| err(e.into()))?));
         }
         let cell = |c: &CellKey| &local.iter().find(|(k, _)| k == c).unwrap_or_else(|| unreachable!("refined above")).1;
-        self.merge_vertex(o, v, keys, &cell, &mut Prepared::default(), out)?;
+        self.merge_vertex(o, v, keys, &cell, &mut Prepared::default(), &mut Vec::new(), out)?;
         Ok(())
     }
 
@@ -397,7 +408,7 @@ impl Frame {
             if result.is_err() {
                 // Some changed vertices may hold new cuts: key them as failed so that any
                 // later move merges them again.
-                let failed = vec![FieldKey { object: FAILED, samples: None }];
+                let failed = vec![FieldKey::inside(FAILED)];
                 for (v, m) in merge.iter().enumerate() {
                     if *m {
                         keys[v] = failed.clone();

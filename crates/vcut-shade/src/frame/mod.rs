@@ -346,6 +346,8 @@ impl Frame {
                 svc_starts,
                 layout: data.layouts[o],
                 field,
+                flat: vcut_scene::flat::FlatOutline::of(&stored.mesh),
+                ray_offset: vcut_rays::origin_offset(data.svc_origin_offset(), &stored.mesh),
                 merged: Vec::new(),
                 lists: Vec::new(),
                 keys: Vec::new(),

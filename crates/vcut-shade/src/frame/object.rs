@@ -36,6 +36,12 @@ pub(super) struct ObjectState {
     pub(super) svc_starts: Vec<usize>,
     pub(super) layout: Option<FieldLayout>,
     pub(super) field: Vec<CutArray>,
+    /// Its outline when it is flat and convex: then its shadow is cut exactly at each vertex
+    /// ([`crate::flat`]) and its field, if the file has one, is not read.
+    pub(super) flat: Option<vcut_scene::flat::FlatOutline>,
+    /// How far along the normal its vertices' rays start ([`vcut_rays::origin_offset`] of the
+    /// file's SVC offset).
+    pub(super) ray_offset: f32,
     pub(super) merged: Vec<MergedCut>,
     pub(super) lists: Vec<ShadeList>,
     pub(super) keys: Vec<Vec<FieldKey>>,

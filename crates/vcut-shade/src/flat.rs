@@ -1,0 +1,174 @@
+//! The exact visibility cut of a flat convex occluder ([`vcut_scene::flat::FlatOutline`]) at
+//! a point: the leaves whose direction from the point passes through the polygon are blocked
+//! (value 0), the others visible (1) — what casting every leaf's ray against the polygon gives,
+//! found top-down with the direction tree's bounding cones instead of rays, and coarsened as a
+//! field's threshold-0 cut is (a node holds one value only where all its leaves share it).
+//!
+//! A field interpolates such an object's shadow between samples on spheres around it, and near
+//! the plane its samples lie on both sides of it (those below see the sky above hidden): a
+//! vertex close to a ground plane reads a mix of the two. This cut has no samples to mix.
+//!
+//! # Example
+//! ```
+//! use glam::Vec3;
+//! use vcut_dirtree::DirectionTree;
+//! use vcut_shade::flat::flat_cut;
+//! let dirs: Vec<Vec3> = (0..8)
+//!     .map(|i| Vec3::new([-1.0, 1.0][i & 1], [-1.0, 1.0][(i >> 1) & 1], [-1.0, 1.0][i >> 2]).normalize())
+//!     .collect();
+//! let tree = DirectionTree::build(&dirs, &[std::f64::consts::PI / 2.0; 8]).unwrap();
+//! // A large square below the point hides exactly the four directions pointing down.
+//! let square = [Vec3::new(-9.0, 0.0, -9.0), Vec3::new(-9.0, 0.0, 9.0), Vec3::new(9.0, 0.0, 9.0), Vec3::new(9.0, 0.0, -9.0)];
+//! let cut = flat_cut(&tree, &square, Vec3::new(0.0, 1.0, 0.0));
+//! let hidden = cut.expand().iter().filter(|v| **v == 0.0).count();
+//! assert_eq!(hidden, 4);
+//! ```
+
+use glam::{DVec3, Vec3};
+use vcut_cut::Cut;
+use vcut_dirtree::DirectionTree;
+
+/// The visibility cut at `p` of the convex polygon `corners` (in order, either way round;
+/// both in world space): see the module documentation. A point in the polygon's plane (or a
+/// polygon of no area seen from it) is hidden from nothing: the root, visible.
+pub fn flat_cut(tree: &DirectionTree, corners: &[Vec3], p: Vec3) -> Cut {
+    let h = tree.height();
+    let root = || Cut::root(h, 1.0).unwrap_or_else(|e| unreachable!("a tree's height is a valid root height: {e}"));
+    let Some(planes) = edge_planes(corners, p) else {
+        return root();
+    };
+    let (mut heights, mut values) = (Vec::new(), Vec::new());
+    walk(tree, &planes, 0, &mut heights, &mut values);
+    Cut::new(h, heights, values).unwrap_or_else(|e| unreachable!("a walk of the tree covers it once: {e}"))
+}
+
+/// The inward unit normals of the planes through `p` and each edge of the polygon: a direction
+/// passes through the polygon when it is on the inner side of every one. `None` when `p` lies
+/// (numerically) in the polygon's plane.
+fn edge_planes(corners: &[Vec3], p: Vec3) -> Option<Vec<Vec3>> {
+    let q: Vec<DVec3> = corners.iter().map(|c| (*c - p).as_dvec3()).collect();
+    let n = q.len();
+    let scale = q.iter().map(|v| v.length_squared()).fold(0.0, f64::max);
+    let inner = q.iter().sum::<DVec3>() / n.max(1) as f64;
+    let mut planes: Vec<DVec3> = (0..n).map(|i| q[i].cross(q[(i + 1) % n])).collect();
+    // Oriented so the polygon's centre is inside; too thin a wedge (the point in the plane).
+    let sign = if planes.iter().map(|m| m.dot(inner)).sum::<f64>() < 0.0 { -1.0 } else { 1.0 };
+    if n < 3 || planes.iter().any(|m| m.length_squared() <= 1e-20 * scale * scale || sign * m.dot(inner) <= 0.0) {
+        return None;
+    }
+    for m in &mut planes {
+        *m = *m * sign / m.length();
+    }
+    Some(planes.iter().map(|m| m.as_vec3()).collect())
+}
+
+/// Appends the cut of node `index`'s subtree: a node wholly inside the polygon's cone or
+/// wholly outside one of its planes is one node; a leaf is decided by its direction; a node
+/// whose two children came out as one value each, the same, is that node.
+fn walk(tree: &DirectionTree, planes: &[Vec3], index: u32, heights: &mut Vec<u8>, values: &mut Vec<f32>) {
+    let (h, offset) = tree.node(index);
+    let value = if h == 0 {
+        let d = tree.leaf_directions()[offset as usize];
+        Some(if planes.iter().all(|m| m.dot(d) >= 0.0) { 0.0 } else { 1.0 })
+    } else {
+        classify(tree.cone(index), planes)
+    };
+    if let Some(v) = value {
+        heights.push(h as u8);
+        values.push(v);
+        return;
+    }
+    let start = heights.len();
+    walk(tree, planes, 2 * index + 1, heights, values);
+    walk(tree, planes, 2 * index + 2, heights, values);
+    if heights.len() == start + 2 && values[start] == values[start + 1] {
+        heights.truncate(start);
+        heights.push(h as u8);
+        values.truncate(start + 1);
+    }
+}
+
+/// 0 when every direction of `cone` is inside all the planes, 1 when all are outside one,
+/// `None` when the cone straddles.
+fn classify(cone: vcut_dirtree::Cone, planes: &[Vec3]) -> Option<f32> {
+    let c = cone.cos_half_angle;
+    if c <= 0.0 {
+        return None;
+    }
+    let s = (1.0 - c * c).max(0.0).sqrt();
+    let mut inside = true;
+    for m in planes {
+        let d = m.dot(cone.axis);
+        if d < -s {
+            return Some(1.0);
+        }
+        inside &= d >= s;
+    }
+    inside.then_some(0.0)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use vcut_rays::Occluder;
+    use vcut_scene::flat::FlatOutline;
+    use vcut_sphere::{DirectionSet, RepulsionParams};
+
+    fn tree(n: usize) -> DirectionTree {
+        let set = DirectionSet::generate(n, &RepulsionParams::default(), |_, _| {}).unwrap();
+        DirectionTree::build(set.directions(), &set.cell_areas()).unwrap()
+    }
+
+    /// The cut's leaves against every leaf's ray cast at the mesh, and the cut as coarse as a
+    /// threshold-0 cut: no two sibling nodes of one value side by side.
+    fn check(tree: &DirectionTree, mesh: &vcut_scene::Mesh, p: Vec3) -> Cut {
+        let outline = FlatOutline::of(mesh).unwrap();
+        let cut = flat_cut(tree, outline.corners(), p);
+        let occ = Occluder::new(&[mesh]);
+        let leaves = cut.expand();
+        let dirs = tree.leaf_directions();
+        let wrong = (0..dirs.len()).filter(|&l| (leaves[l] == 0.0) != occ.occluded(p, dirs[l], f32::INFINITY)).count();
+        // Rays grazing an edge may go either way: at most a few leaves in thousands.
+        assert!(wrong <= 2, "{wrong} leaves differ from the rays at {p}");
+        let offsets: Vec<u64> = cut.offsets().collect();
+        for i in 1..cut.len() {
+            let (h, o) = (cut.heights()[i - 1], offsets[i - 1]);
+            let siblings = cut.heights()[i] == h && o % (2u64 << h) == 0;
+            assert!(!(siblings && cut.values()[i] == cut.values()[i - 1]), "nodes {} and {i} are one node", i - 1);
+        }
+        cut
+    }
+
+    #[test]
+    fn the_cut_is_what_every_leafs_ray_says() {
+        let t = tree(4096);
+        let ground = vcut_scene::shapes::plane(14.0, 8).unwrap();
+        for p in [
+            Vec3::new(0.0, 1.0, 0.0),
+            Vec3::new(6.5, 0.05, -6.0),
+            Vec3::new(2.0, 3.0, 1.0),
+            Vec3::new(9.0, 2.0, 0.0),
+            Vec3::new(1.0, -0.5, 2.0),
+        ] {
+            let cut = check(&t, &ground, p);
+            let hidden = cut.expand().iter().filter(|v| **v == 0.0).count();
+            assert!(hidden > 0 && hidden < t.leaf_count(), "{p}: {hidden} hidden");
+        }
+        // A small tilted triangle far away hides a few leaves.
+        let p = vec![Vec3::new(3.0, 0.0, 0.0), Vec3::new(3.0, 1.0, 0.2), Vec3::new(3.2, 0.3, 1.0)];
+        let n = (p[1] - p[0]).cross(p[2] - p[0]).normalize();
+        let tri = vcut_scene::Mesh::from_valid_parts(p, vec![n; 3], vec![[0, 1, 2]]).unwrap();
+        check(&t, &tri, Vec3::ZERO);
+    }
+
+    #[test]
+    fn a_point_in_the_plane_sees_everything() {
+        let t = tree(256);
+        let ground = vcut_scene::shapes::plane(4.0, 2).unwrap();
+        let outline = FlatOutline::of(&ground).unwrap();
+        assert_eq!(flat_cut(&t, outline.corners(), Vec3::new(0.5, 0.0, 0.5)), Cut::root(8, 1.0).unwrap());
+        // Above it, but beside it in the plane's extension and level: nothing hidden either.
+        let beside = flat_cut(&t, outline.corners(), Vec3::new(5.0, 0.0, 0.0));
+        assert_eq!(beside, Cut::root(8, 1.0).unwrap());
+    }
+}

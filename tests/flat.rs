@@ -1,0 +1,81 @@
+//! Flat convex occluders: a ground plane gets no field, and a frame multiplies each vertex's
+//! SVC by the ground's exact cut at it ([`vcut_shade::flat`]) — at rest and after any move.
+
+use glam::Vec3;
+use std::path::Path;
+use vcut_data::Precomputed;
+use vcut_envmap::EnvMap;
+use vcut_shade::Frame;
+use vcut_shade::reference::{errors, exact_direction};
+
+/// A ball resting on a ground plane (it touches it) and free to move.
+const BALL_ON_GROUND: &str = r#"
+[[object]]
+name = "ground"
+source = "builtin:plane"
+size = 4.0
+resolution = 12
+
+[[object]]
+name = "ball"
+source = "builtin:sphere"
+size = 0.5
+resolution = 16
+translation = [0.0, 0.5, 0.0]
+moves = true
+"#;
+
+fn frame(out: &Path) -> (Frame, f32) {
+    let params = [("directions", "2048"), ("field_spheres", "8"), ("field_resolution", "8")];
+    let summary = vcut_tests::precompute_text(BALL_ON_GROUND, &params, out);
+    assert_eq!(summary.fields, ["ball"], "the flat ground gets no field");
+    let mut data = Precomputed::open(out).unwrap();
+    let offset = data.svc_origin_offset();
+    (Frame::new(&mut data, &EnvMap::constant([1.0; 3])).unwrap(), offset)
+}
+
+/// Every ball vertex's merged cut is its SVC times the ground's exact cut where its rays start
+/// (leaf by leaf), for the vertices the ground can shadow; the others are their SVC alone.
+fn check_products(frame: &Frame, ball: usize, ground: usize) -> usize {
+    let mut shadowed = 0;
+    for v in 0..frame.object(ball).mesh.vertex_count() {
+        let merged = frame.merged(ball, v).unwrap().to_cut().unwrap().expand();
+        let mut product = frame.svc(ball, v).unwrap().expand();
+        let sources = frame.flat_sources(ball, v);
+        assert!(frame.field_sources(ball, v).is_empty(), "the ground has no field");
+        if let Some(&(j, at)) = sources.first() {
+            assert_eq!((j, sources.len()), (ground, 1));
+            for (p, g) in product.iter_mut().zip(frame.flat_cut(ground, at).unwrap().expand()) {
+                *p *= g;
+            }
+            shadowed += 1;
+        }
+        assert_eq!(merged, product, "vertex {v}");
+    }
+    shadowed
+}
+
+#[test]
+fn a_flat_ground_shadows_a_moving_ball_by_its_exact_cut() {
+    let dir = vcut_tests::scratch("flat");
+    let (mut frame, offset) = frame(&dir.join("ball.vcuts"));
+    frame.set_deferred_merges(false).unwrap();
+    frame.set_sun_rays(None);
+    let (ball, ground) = (frame.object_index("ball").unwrap(), frame.object_index("ground").unwrap());
+    let n = frame.object(ball).mesh.vertex_count();
+    let eye = Vec3::new(3.0, 4.0, 5.0);
+    let mut worst: f64 = 0.0;
+    for (step, at) in [Vec3::ZERO, Vec3::new(0.6, 0.0, 0.3), Vec3::new(1.45, 0.2, -1.2)].into_iter().enumerate() {
+        frame.translate(ball, at).unwrap();
+        // The ground lies wholly below the horizon of the vertices near the top only.
+        let shadowed = check_products(&frame, ball, ground);
+        assert!(shadowed > n / 2 && shadowed < n, "step {step}: {shadowed} of {n}");
+        let shaded = frame.shade(eye);
+        let exact = exact_direction(&frame, eye, offset);
+        let (ball_error, _) = errors(&[shaded[ball].clone()], &[exact[ball].clone()]);
+        worst = worst.max(ball_error);
+    }
+    // What is left is the clustering of 2,048 directions and the SVCs' own error.
+    println!("the ball's worst error against the exact reference: {worst}");
+    assert!(worst < 0.02, "the ball errs {worst} against the exact reference");
+}
