@@ -67,7 +67,7 @@ impl Frame {
             _ => brdf::Pow::Exact(material.exponent),
         };
         let lobe = brdf::Lobe::with_pow(material, n, wo, pow);
-        let sun = self.sun.as_ref().map_or(Parts::default(), |sun| sun.parts(o, v, material, n, wo));
+        let sun = self.sun.as_ref().map_or(Parts::default(), |sun| sun.parts(o, v, &lobe, n));
         // One loop per lobe kind, so the match leaves the inner loop.
         let specular = match lobe {
             brdf::Lobe::None => Vec3::ZERO,
