@@ -20,7 +20,7 @@ fn frame(c: &mut Criterion) {
     let scene = plant(&PlantParams::default(), &LeafMaterial::default()).expect("built-in plant");
     let lvc = Lvc::compute(&scene, &LvcParams::default(), |_, _| {});
     let transfer = Transfer::compute(&scene, &PrtParams { rays: 64, ..PrtParams::default() }, |_, _| {});
-    let data = LeafData { lvc, transfer };
+    let data = LeafData::new(lvc, transfer).unwrap();
     let (light, _) = Lighting::from_map(&PreethamSky::default().bake(256));
     let sun = light.sun.expect("the sky has a sun");
     let j = data.lvc.sun_index(sun.dir);

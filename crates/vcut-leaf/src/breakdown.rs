@@ -102,7 +102,7 @@ pub fn breakdown(
 }
 
 /// `scene` with every leaf's gloss removed.
-fn matte(scene: &LeafScene) -> LeafScene {
+pub fn matte(scene: &LeafScene) -> LeafScene {
     let objects = scene
         .objects()
         .iter()
@@ -140,10 +140,9 @@ mod tests {
             Lvc::compute(&scene, &LvcParams { resolution: 4, disk_samples: 4, ..LvcParams::default() }, |_, _| {});
         // The sun on a direction the maps were computed for: on the grid already.
         let sun_dir = lvc.directions().direction(lvc.sun_index(Vec3::new(0.3, 1.0, 0.2)));
-        let data = LeafData {
-            lvc,
-            transfer: Transfer::compute(&scene, &PrtParams { rays: 16, ..PrtParams::default() }, |_, _| {}),
-        };
+        let data =
+            LeafData::new(lvc, Transfer::compute(&scene, &PrtParams { rays: 16, ..PrtParams::default() }, |_, _| {}))
+                .unwrap();
         let env = EnvMap::constant([0.2; 3]);
         let light = Lighting::new(&env, Some(crate::shade::SunLight { dir: sun_dir, irradiance: Vec3::splat(3.0) }));
         let eye = Vec3::new(0.5, 2.0, 1.0);

@@ -36,6 +36,7 @@
 
 pub mod breakdown;
 pub mod image;
+pub mod lobe;
 pub mod lod;
 pub mod lvc;
 pub mod material;

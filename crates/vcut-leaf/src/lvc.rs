@@ -483,6 +483,11 @@ impl Lvc {
         rle::decode(&self.data[self.offsets[j]..self.offsets[j + 1]], out)
     }
 
+    /// Sun direction `j`'s map read a span of vertices at a time.
+    pub fn cursor(&self, j: usize) -> rle::Cursor<'_> {
+        rle::Cursor::new(&self.data[self.offsets[j]..self.offsets[j + 1]])
+    }
+
     /// Bytes of every map uncompressed: directions × vertices (for the directions computed).
     pub fn raw_bytes(&self) -> usize {
         (0..self.directions().len()).filter(|&j| self.has(j)).count() * self.vertices

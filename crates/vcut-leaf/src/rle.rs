@@ -185,6 +185,61 @@ pub fn decode(data: &[u8], out: &mut [u8]) -> Result<(), RleError> {
     Ok(())
 }
 
+/// Decodes a stream a span at a time, in order: what [`decode`] writes, without the whole map
+/// in memory (a reader of many maps at once keeps one cursor per map).
+#[derive(Debug, Clone)]
+pub struct Cursor<'a> {
+    data: &'a [u8],
+    /// Next control byte.
+    at: usize,
+    /// The control being emitted, and how many of its bytes are left.
+    control: usize,
+    left: usize,
+}
+
+impl<'a> Cursor<'a> {
+    /// A cursor at the start of `data`.
+    pub fn new(data: &'a [u8]) -> Cursor<'a> {
+        Cursor { data, at: 0, control: 0, left: 0 }
+    }
+
+    /// Fills `out` with the next `out.len()` decoded bytes.
+    pub fn next_into(&mut self, out: &mut [u8]) -> Result<(), RleError> {
+        let mut o = 0;
+        while o < out.len() {
+            if self.left == 0 {
+                let i = self.at;
+                let c = *self.data.get(i).ok_or(RleError::Length { got: o, expected: out.len() })?;
+                let n = usize::from(c & 63);
+                let (len, used) = match c >> 6 {
+                    0 | 1 => (n + 1, 1),
+                    2 => (n + 1, 1 + n + 1),
+                    _ => (n + MIN_RUN, 2),
+                };
+                if i + used > self.data.len() {
+                    return Err(RleError::Truncated { at: i });
+                }
+                (self.control, self.left, self.at) = (i, len, i + used);
+            }
+            let c = self.data[self.control];
+            let take = self.left.min(out.len() - o);
+            let dst = &mut out[o..o + take];
+            match c >> 6 {
+                0 => dst.fill(0),
+                1 => dst.fill(255),
+                2 => {
+                    let from = self.control + 1 + (usize::from(c & 63) + 1 - self.left);
+                    dst.copy_from_slice(&self.data[from..from + take]);
+                }
+                _ => dst.fill(self.data[self.control + 1]),
+            }
+            self.left -= take;
+            o += take;
+        }
+        Ok(())
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -196,7 +251,20 @@ mod tests {
             let e = encode(&bytes);
             let mut out = vec![0u8; bytes.len()];
             decode(&e, &mut out).unwrap();
-            prop_assert_eq!(out, bytes.clone());
+            prop_assert_eq!(&out, &bytes);
+            // A cursor gives the same bytes in spans of any length.
+            let mut cursor = Cursor::new(&e);
+            let mut spans = Vec::new();
+            for (k, chunk) in bytes.chunks(37).enumerate() {
+                let mut span = vec![0u8; chunk.len().min(1 + k % 37)];
+                cursor.next_into(&mut span).unwrap();
+                let mut rest = vec![0u8; chunk.len() - span.len()];
+                cursor.next_into(&mut rest).unwrap();
+                spans.extend(span);
+                spans.extend(rest);
+            }
+            prop_assert_eq!(&spans, &bytes);
+            prop_assert!(cursor.next_into(&mut [0u8]).is_err());
             // Never worse than one control byte per 64 literals.
             prop_assert!(e.len() <= bytes.len() + bytes.len().div_ceil(64));
         }

@@ -6,6 +6,7 @@
 //! For comparison, [`SunMethod::ShOnly`] sends the sun through the SH transfer too (no LVC): the
 //! low-frequency rendering whose lost shadow detail the paper's Fig. 8 shows.
 
+use crate::lobe::LobeVisibility;
 use crate::lvc::{Content, Lvc};
 use crate::material::Scatter;
 use crate::prt::Transfer;
@@ -86,6 +87,9 @@ impl Lighting {
 struct GlossTables {
     /// A(μ_v, m): rows of m, columns of μ_v.
     albedo: Vec<f32>,
+    /// The angle from the normal of the lobe's centre (the BRDF × cosine-weighted mean
+    /// direction), toward the mirror direction; laid out as `albedo`.
+    tilt: Vec<f32>,
     /// g_l per m row.
     bands: Vec<[f32; 5]>,
 }
@@ -106,6 +110,7 @@ impl GlossTables {
     fn build() -> GlossTables {
         use crate::material::{CUTICLE_IOR, fresnel_dielectric};
         let mut albedo = Vec::with_capacity(GLOSS_M * GLOSS_MU);
+        let mut tilt = Vec::with_capacity(GLOSS_M * GLOSS_MU);
         let mut bands = Vec::with_capacity(GLOSS_M);
         let strata = 24;
         for k in 0..GLOSS_M {
@@ -114,6 +119,7 @@ impl GlossTables {
                 let nv = ((j as f32 + 0.5) / GLOSS_MU as f32).max(1e-3);
                 let v = Vec3::new((1.0 - nv * nv).sqrt(), nv, 0.0);
                 let mut sum = 0.0f64;
+                let mut centre = glam::DVec2::ZERO;
                 for a in 0..strata {
                     for b in 0..strata {
                         let (u1, u2) = ((a as f32 + 0.5) / strata as f32, (b as f32 + 0.5) / strata as f32);
@@ -128,10 +134,14 @@ impl GlossTables {
                             continue;
                         }
                         let g = (2.0 * ch * nv / vh).min(2.0 * ch * l.y / vh).min(1.0);
-                        sum += f64::from(g * fresnel_dielectric(vh, CUTICLE_IOR) * vh / (ch * nv));
+                        let w = f64::from(g * fresnel_dielectric(vh, CUTICLE_IOR) * vh / (ch * nv));
+                        sum += w;
+                        centre += w * glam::DVec2::new(f64::from(l.x), f64::from(l.y));
                     }
                 }
                 albedo.push((sum / (strata * strata) as f64) as f32);
+                // The mirror direction lies toward −x: the tilt is positive toward it.
+                tilt.push((-centre.x).atan2(centre.y.max(1e-12)) as f32);
             }
             let n = ((2.0 / (m * m) - 2.0) / 4.0).max(0.0);
             let mom = |k: f32| (n + 1.0) / (n + k + 1.0);
@@ -143,11 +153,12 @@ impl GlossTables {
                 (35.0 * mom(4.0) - 30.0 * mom(2.0) + 3.0) / 8.0,
             ]);
         }
-        GlossTables { albedo, bands }
+        GlossTables { albedo, tilt, bands }
     }
 
-    /// Directional albedo and band weights for roughness `m` and cosine `nv`.
-    fn lookup(&self, m: f32, nv: f32) -> (f32, [f32; 5]) {
+    /// Directional albedo, band weights and the lobe centre's tilt for roughness `m` and cosine
+    /// `nv`.
+    fn lookup(&self, m: f32, nv: f32) -> (f32, [f32; 5], f32) {
         let x = ((m - 0.02) / (1.0 - 0.02) * (GLOSS_M - 1) as f32).clamp(0.0, (GLOSS_M - 1) as f32);
         let k0 = x.floor() as usize;
         let k1 = (k0 + 1).min(GLOSS_M - 1);
@@ -156,13 +167,14 @@ impl GlossTables {
         let j0 = y.floor() as usize;
         let j1 = (j0 + 1).min(GLOSS_MU - 1);
         let g = y - j0 as f32;
-        let at = |k: usize| self.albedo[k * GLOSS_MU + j0] * (1.0 - g) + self.albedo[k * GLOSS_MU + j1] * g;
-        let albedo = at(k0) * (1.0 - f) + at(k1) * f;
+        let at = |t: &[f32], k: usize| t[k * GLOSS_MU + j0] * (1.0 - g) + t[k * GLOSS_MU + j1] * g;
+        let albedo = at(&self.albedo, k0) * (1.0 - f) + at(&self.albedo, k1) * f;
+        let tilt = at(&self.tilt, k0) * (1.0 - f) + at(&self.tilt, k1) * f;
         let mut bands = [0.0; 5];
         for (l, b) in bands.iter_mut().enumerate() {
             *b = self.bands[k0][l] * (1.0 - f) + self.bands[k1][l] * f;
         }
-        (albedo, bands)
+        (albedo, bands, tilt)
     }
 }
 
@@ -182,6 +194,17 @@ pub struct LeafData {
     pub lvc: Lvc,
     /// The SH transfer vectors.
     pub transfer: Transfer,
+    /// Per vertex, how open a gloss lobe is toward any direction (from `lvc`; `None` when the
+    /// maps lack directions).
+    pub lobe: Option<LobeVisibility>,
+}
+
+impl LeafData {
+    /// The data of `lvc` and `transfer`, with the lobe visibility derived from the maps.
+    pub fn new(lvc: Lvc, transfer: Transfer) -> Result<LeafData, RleError> {
+        let lobe = LobeVisibility::from_lvc(&lvc)?;
+        Ok(LeafData { lvc, transfer, lobe })
+    }
 }
 
 /// Shades frames, keeping the map of the last sun direction.
@@ -342,6 +365,7 @@ impl Shader {
             map,
             sun: lighting.sun.filter(|_| map.is_some()),
             tables: GlossTables::get(),
+            lobe: data.lobe.as_ref(),
             sky_share: 1.0 / (PI * crate::sh::basis(Vec3::Y)[0]),
             eye,
         }
@@ -423,6 +447,7 @@ struct FrameContext<'a> {
     map: Option<(&'a [u8], Content)>,
     sun: Option<SunLight>,
     tables: &'static GlossTables,
+    lobe: Option<&'a LobeVisibility>,
     sky_share: f32,
     eye: Vec3,
 }
@@ -460,7 +485,7 @@ impl FrameContext<'_> {
             let ns = if side == 0 { nrm } else { -nrm };
             let vs = if ns.dot(view) > 0.0 { view } else { (view - 2.0 * ns.dot(view) * ns).normalize_or(ns) };
             let nv = ns.dot(vs).max(1e-3);
-            let (albedo, bands) = tables.lookup(g.roughness, nv);
+            let (albedo, bands, tilt) = tables.lookup(g.roughness, nv);
             let mirror = 2.0 * nv * ns - vs;
             // The basis at the mirror direction filtered by the lobe's band weights.
             let y = crate::sh::basis(mirror);
@@ -470,7 +495,15 @@ impl FrameContext<'_> {
                 filtered += *t * *yb;
             }
             let open = (direct[side][0] * sky_share).clamp(0.0, 1.0);
-            let visible = lobe_visibility(&direct[side], &yb, ns.dot(mirror), &bands).unwrap_or(open);
+            // How open the lobe is: the LVC-derived table at the lobe's centre (its cosine-weighted
+            // mean direction, tilted from the mirror direction toward the normal), else the SH.
+            let visible = match self.lobe {
+                Some(table) => {
+                    let along = (mirror - ns * ns.dot(mirror)).normalize_or_zero();
+                    table.at(v, (ns * tilt.cos() + along * tilt.sin()).normalize_or(ns))
+                }
+                None => lobe_visibility(&direct[side], &yb, ns.dot(mirror), &bands).unwrap_or(open),
+            };
             // The occluders' mean radiance: the bounced irradiance over the occluded part of the
             // cosine-weighted hemisphere.
             let occluded = Vec3::from(e_ind[side]) / (PI * (1.0 - open).max(0.05));

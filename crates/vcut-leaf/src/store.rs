@@ -86,6 +86,9 @@ pub enum StoreError {
     /// LVC checkpoints that do not make maps.
     #[error(transparent)]
     Lvc(#[from] LvcError),
+    /// Maps the lobe visibility cannot be read from.
+    #[error("the gloss lobes' visibility from the maps: {0}")]
+    Lobe(#[from] crate::rle::RleError),
 }
 
 /// What to precompute: the scene, both passes' parameters, the sun directions (`None`: all).
@@ -257,7 +260,7 @@ pub fn precompute(
     };
     outcome.prt_s = t.elapsed().as_secs_f64();
     outcome.file_bytes = w.finish()?;
-    Ok((LeafData { lvc, transfer }, outcome))
+    Ok((LeafData::new(lvc, transfer)?, outcome))
 }
 
 /// Whether the finished file at `path` was computed from `inputs` (its `params` section only):
@@ -298,7 +301,7 @@ pub fn open(path: &Path, inputs: &Inputs<'_>) -> Result<LeafData, StoreError> {
     )?;
     let mut read = |id| r.section(id);
     let transfer = read_transfer(&mut read, path, n, inputs.prt)?;
-    Ok(LeafData { lvc, transfer })
+    Ok(LeafData::new(lvc, transfer)?)
 }
 
 /// Transfer section `k`'s bytes.

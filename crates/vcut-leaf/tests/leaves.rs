@@ -60,7 +60,7 @@ fn an_open_leaf_is_lit_from_both_sides_as_the_reference_says() {
     }
     assert!(lvc.compressed_bytes() * 4 <= lvc.raw_bytes(), "{} of {}", lvc.compressed_bytes(), lvc.raw_bytes());
     let t = Transfer::compute(&scene, &PrtParams { rays: 1024, ..PrtParams::default() }, |_, _| {});
-    let data = LeafData { lvc, transfer: t };
+    let data = LeafData::new(lvc, t).unwrap();
     let (light, rest) = sky();
     let eye = Vec3::new(1.0, 2.0, 3.0);
     let verts: Vec<usize> = (0..scene.vertex_count()).collect();
@@ -99,7 +99,7 @@ fn a_leaf_shadows_the_leaf_below_and_passes_it_green_light() {
     assert!(map[low.clone()].iter().all(|&b| b == 255), "from below the lower leaf is lit");
 
     let t = Transfer::compute(&scene, &PrtParams { rays: 400, ..PrtParams::default() }, |_, _| {});
-    let data = LeafData { lvc, transfer: t };
+    let data = LeafData::new(lvc, t).unwrap();
     let (light, rest) = sky();
     let light = light.with_sun_dir(Vec3::new(0.1, 1.0, 0.05).normalize());
     let eye = Vec3::new(0.3, 3.0, 0.5);
@@ -132,10 +132,9 @@ fn a_sun_between_cube_directions_blends_their_maps() {
     let lower = square("lower", 0.0, 1.2, 6, Surface::Leaf(Box::default()));
     let scene = LeafScene::new(vec![upper, lower]).unwrap();
     let lvc = Lvc::compute(&scene, &LVC, |_, _| {});
-    let data = LeafData {
-        lvc,
-        transfer: Transfer::compute(&scene, &PrtParams { rays: 16, ..PrtParams::default() }, |_, _| {}),
-    };
+    let data =
+        LeafData::new(lvc, Transfer::compute(&scene, &PrtParams { rays: 16, ..PrtParams::default() }, |_, _| {}))
+            .unwrap();
     let (light, _) = sky();
     let dirs = data.lvc.directions();
     // Two neighbouring directions of the +Y face whose maps differ.
@@ -206,10 +205,9 @@ fn a_glossy_leaf_reflects_what_its_mirror_direction_sees() {
     };
     let scene = LeafScene::new(vec![leaf, wall]).unwrap();
     let lvc = Lvc::compute(&scene, &LvcParams { resolution: 4, ..LVC }, |_, _| {});
-    let data = LeafData {
-        lvc,
-        transfer: Transfer::compute(&scene, &PrtParams { rays: 1024, ..PrtParams::default() }, |_, _| {}),
-    };
+    let data =
+        LeafData::new(lvc, Transfer::compute(&scene, &PrtParams { rays: 1024, ..PrtParams::default() }, |_, _| {}))
+            .unwrap();
     let sky = vcut_envmap::EnvMap::constant([1.0; 3]);
     let light = Lighting::new(&sky, None);
     let verts: Vec<usize> = scene.vertex_range(0).collect();
@@ -229,7 +227,7 @@ fn leaf_edits_change_the_frame_without_a_new_precompute() {
     let mut scene = LeafScene::new(vec![square("leaf", 0.0, 1.0, 1, Surface::Leaf(Box::default()))]).unwrap();
     let lvc = Lvc::compute(&scene, &LVC, |_, _| {});
     let t = Transfer::compute(&scene, &PrtParams { rays: 64, ..PrtParams::default() }, |_, _| {});
-    let data = LeafData { lvc, transfer: t };
+    let data = LeafData::new(lvc, t).unwrap();
     let (light, _) = sky();
     let eye = Vec3::new(1.0, 2.0, 3.0);
     let before = frame(&scene, &data, &light, SunMethod::Lvc, eye);
@@ -278,7 +276,7 @@ fn the_shared_potted_plant_renders_as_leaves() {
     assert!((mean_r - mean_t).abs().max_element() < 0.01, "mean {mean_r} vs {mean_t}");
     let lvc = Lvc::compute(&scene, &LvcParams { resolution: 4, ..LVC }, |_, _| {});
     let t = Transfer::compute(&scene, &PrtParams { rays: 16, ..PrtParams::default() }, |_, _| {});
-    let data = LeafData { lvc, transfer: t };
+    let data = LeafData::new(lvc, t).unwrap();
     let (light, _) = sky();
     let (c, r) = scene.bounds();
     let got = frame(&scene, &data, &light, SunMethod::Lvc, c + Vec3::new(0.0, 0.5, 2.0) * r);
@@ -298,7 +296,7 @@ fn coarser_leaves_keep_their_light_and_far_leaves_get_them() {
     let scene = plant(&PlantParams { maps: false, ..PlantParams::default() }, &LeafMaterial::default()).unwrap();
     let lvc = Lvc::compute(&scene, &LvcParams { resolution: 8, ..LVC }, |_, _| {});
     let t = Transfer::compute(&scene, &PrtParams { rays: 64, ..PrtParams::default() }, |_, _| {});
-    let data = LeafData { lvc, transfer: t };
+    let data = LeafData::new(lvc, t).unwrap();
     let lod = Lod::build(&scene, &data.transfer, &LodParams::default());
     assert_eq!(lod.leaf_count(), 48);
     assert_eq!(lod.level_count(), 3);

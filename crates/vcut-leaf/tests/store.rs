@@ -62,7 +62,7 @@ fn saved_data_loads_back_as_computed_and_is_reused_only_for_its_inputs() {
     assert!(!first.loaded && first.file_bytes > 0 && first.replaced.is_none());
     assert!(!vcut_container::partial_path(&path).exists());
     let memory =
-        LeafData { lvc: Lvc::compute(&scene, &LVC, |_, _| {}), transfer: Transfer::compute(&scene, &PRT, |_, _| {}) };
+        LeafData::new(Lvc::compute(&scene, &LVC, |_, _| {}), Transfer::compute(&scene, &PRT, |_, _| {})).unwrap();
     assert_same(&saved, &memory, n);
     // The same inputs load the file; what is read is what was computed.
     let (loaded, again) = precompute(&inputs, &path, Reuse::IfMatching, &quiet).unwrap();

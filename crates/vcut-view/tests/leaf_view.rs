@@ -28,7 +28,7 @@ fn session() -> LeafSession {
         fov_y_deg: 40.0,
     };
     let env = PreethamSky::default().bake(256);
-    LeafSession::new(scene, LeafData { lvc, transfer }, env, OrbitCamera::from_camera(&camera))
+    LeafSession::new(scene, LeafData::new(lvc, transfer).unwrap(), env, OrbitCamera::from_camera(&camera))
 }
 
 fn cpu_image(s: &LeafSession, w: u32, h: u32) -> Vec<u8> {

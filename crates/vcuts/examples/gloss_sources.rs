@@ -1,0 +1,143 @@
+//! Where the leaves' gloss error is: the environment's unscattered light (no sun, no bounces) at
+//! a subset of the plant's vertices, the frame against a Monte Carlo truth of the gloss alone.
+//!
+//! `cargo run --release -p vcuts --example gloss_sources -- [PLANT OPTIONS of vcuts leaves]
+//! [--reference-vertices N] [--samples S] [--reference-paths P]` prints `key=value` lines:
+//! - `gloss_rel_l2_lobe_table`: the frame's gloss (the frame minus the same frame with every
+//!   leaf matte) against the truth — ∫ f·cos·V·L over the BRDF's own lobe, `S` Beckmann samples
+//!   per vertex side with a shadow ray each — with the lobe's visibility from the LVC-derived
+//!   table (`vcut_leaf::lobe`, what a frame uses);
+//! - `gloss_rel_l2_lobe_sh`: the same with the order-5 SH visibility (no table);
+//! - `env_direct_rel_l2_lobe_table`, `env_direct_rel_l2_lobe_sh`: the whole unscattered
+//!   environment part (diffuse + transmission + gloss) against the path tracer at depth 0;
+//!   `env_direct_rel_l2_true_gloss`: the matte frame plus the Monte Carlo gloss — what a
+//!   perfect gloss would leave (the diffuse part's own error and the reference's noise).
+
+use anyhow::{Context, Result};
+use clap::Parser;
+use glam::Vec3;
+use rayon::prelude::*;
+use std::f32::consts::PI;
+use vcut_leaf::material::{Gloss, beckmann};
+use vcut_leaf::reference::{ReferenceParams, reference};
+use vcut_leaf::scene::LeafScene;
+use vcut_leaf::shade::{LeafData, Lighting, Shader, SunMethod};
+use vcut_sphere::rng::SplitMix64;
+use vcuts::leaves::{PlantArgs, camera, data_path, lighting, material, params, precompute, scene, subset};
+
+#[derive(Parser)]
+struct Cli {
+    #[command(flatten)]
+    plant: PlantArgs,
+    /// Environment (its sun is split off and left out).
+    #[arg(long, default_value = "builtin:sky")]
+    env: String,
+    /// Vertices measured (evenly spread over the plant).
+    #[arg(long, default_value_t = 1500)]
+    reference_vertices: usize,
+    /// Beckmann samples per vertex side of the gloss truth.
+    #[arg(long, default_value_t = 1024)]
+    samples: u32,
+    /// Paths per vertex side of the path-traced unscattered reference.
+    #[arg(long, default_value_t = 2048)]
+    reference_paths: u32,
+}
+
+/// Relative L2 of `a` against `b`.
+fn rel(a: &[Vec3], b: &[Vec3]) -> f64 {
+    let d: f64 = a.iter().zip(b).map(|(x, y)| f64::from((*x - *y).length_squared())).sum();
+    let r: f64 = b.iter().map(|y| f64::from(y.length_squared())).sum();
+    (d / r.max(f64::MIN_POSITIVE)).sqrt()
+}
+
+/// Side `side` of vertex `v` seen from `eye`: its normal and the view mirrored into its side.
+fn side_frame(scene: &LeafScene, v: usize, side: usize, eye: Vec3) -> (Vec3, Vec3) {
+    let (p, n) = (scene.positions()[v], scene.normals()[v]);
+    let ns = if side == 0 { n } else { -n };
+    let view = (eye - p).normalize_or_zero();
+    let vs = if ns.dot(view) > 0.0 { view } else { (view - 2.0 * ns.dot(view) * ns).normalize_or(ns) };
+    (ns, vs)
+}
+
+/// The gloss of side `side` of vertex `v` under `env`, by Beckmann sampling with shadow rays.
+fn gloss_truth(
+    scene: &LeafScene,
+    env: &vcut_envmap::EnvMap,
+    (v, side): (usize, usize),
+    eye: Vec3,
+    samples: u32,
+) -> Vec3 {
+    let g: Gloss = scene.scatter()[v].gloss[side];
+    if g.rho_s == Vec3::ZERO {
+        return Vec3::ZERO;
+    }
+    let (ns, vs) = side_frame(scene, v, side, eye);
+    let origin = scene.positions()[v] + ns * scene.ray_offset();
+    let m = g.roughness.max(0.02);
+    let (t1, t2) = ns.any_orthonormal_pair();
+    let mut rng = SplitMix64::new((v as u64) << 1 | side as u64);
+    let mut seen = Vec3::ZERO;
+    for _ in 0..samples {
+        let (u1, u2) = (rng.next_f64() as f32, rng.next_f64() as f32);
+        let ch = 1.0 / (1.0 - m * m * (1.0 - u1).ln()).sqrt();
+        let sh = (1.0 - ch * ch).max(0.0).sqrt();
+        let h = (t1 * (sh * (2.0 * PI * u2).cos()) + t2 * (sh * (2.0 * PI * u2).sin()) + ns * ch).normalize();
+        let vh = vs.dot(h);
+        let l = 2.0 * vh * h - vs;
+        if vh <= 0.0 || ns.dot(l) <= 1e-6 {
+            continue;
+        }
+        let pdf = beckmann(ch, m) * ch / (4.0 * vh);
+        if !scene.occluder().occluded(origin, l, f32::INFINITY) {
+            seen += g.eval(ns, l, vs) * ns.dot(l) / pdf * env.radiance(l);
+        }
+    }
+    seen / samples as f32
+}
+
+fn main() -> Result<()> {
+    let cli = Cli::parse();
+    let p = &cli.plant;
+    let scene = scene(p, &material(p)?)?;
+    let (light, rest) = lighting(p, &cli.env)?;
+    let (lvc, prt) = params(p);
+    let inputs = vcut_leaf::store::Inputs { scene: &scene, lvc, prt, suns: None };
+    let reuse = vcut_leaf::store::Reuse::IfMatching;
+    let pre = precompute(&scene, (&lvc, &prt), None, &data_path(p, &inputs), reuse, p.estimate)?
+        .context("the leaf data was not computed")?;
+    anyhow::ensure!(pre.data.lobe.is_some(), "the leaf data has no lobe table (its maps lack directions)");
+    let eye = camera(&scene).position;
+    let verts = subset(scene.vertex_count(), cli.reference_vertices);
+    // The environment's unscattered light only.
+    let mut direct = pre.data.clone();
+    for t in &mut direct.transfer.indirect {
+        *t = [[Vec3::ZERO; 25]; 2];
+    }
+    let env_only = Lighting { sun: None, sun_sh: [Vec3::ZERO; 25], ..light.clone() };
+    let matte = vcut_leaf::breakdown::matte(&scene);
+    let frame = |s: &LeafScene, d: &LeafData| -> Vec<Vec3> {
+        let mut out = Vec::new();
+        Shader::new().shade(s, d, &env_only, SunMethod::Lvc, eye, &mut out);
+        verts.iter().flat_map(|&v| out[v]).collect()
+    };
+    let without_table = LeafData { lobe: None, ..direct.clone() };
+    let matte_frame = frame(&matte, &direct);
+    let (with_table, with_sh) = (frame(&scene, &direct), frame(&scene, &without_table));
+    let gloss = |f: &[Vec3]| -> Vec<Vec3> { f.iter().zip(&matte_frame).map(|(a, b)| *a - *b).collect() };
+    let truth: Vec<Vec3> = verts
+        .par_iter()
+        .flat_map_iter(|&v| (0..2).map(move |side| (v, side)))
+        .map(|vs| gloss_truth(&scene, &rest, vs, eye, cli.samples))
+        .collect();
+    let seen: Vec<Vec3> = truth;
+    println!("vertices={}", verts.len());
+    println!("gloss_rel_l2_lobe_table={:.4}", rel(&gloss(&with_table), &seen));
+    println!("gloss_rel_l2_lobe_sh={:.4}", rel(&gloss(&with_sh), &seen));
+    let rp = ReferenceParams { paths: cli.reference_paths, depth: 0, ..ReferenceParams::default() };
+    let want: Vec<Vec3> = reference(&scene, &rest, None, eye, &verts, &rp).radiance.into_iter().flatten().collect();
+    println!("env_direct_rel_l2_lobe_table={:.4}", rel(&with_table, &want));
+    println!("env_direct_rel_l2_lobe_sh={:.4}", rel(&with_sh, &want));
+    let perfect: Vec<Vec3> = matte_frame.iter().zip(&seen).map(|(a, b)| *a + *b).collect();
+    println!("env_direct_rel_l2_true_gloss={:.4}", rel(&perfect, &want));
+    Ok(())
+}
