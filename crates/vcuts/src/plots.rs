@@ -237,8 +237,9 @@ pub fn accuracy(section: &AccuracySection, path: &Path) -> Result<()> {
         return Ok(());
     }
     let y0 = rest.iter().map(|r| r.rel_l2_exact * 100.0).fold(0.5f64, f64::min) / 2.0;
-    let y1 = rest.iter().map(|r| r.rel_l2_exact * 100.0).fold(1.0f64, f64::max) * 2.0;
-    chart_png(path, (1000, 600), |root, text| {
+    // Room above the highest point for the legend.
+    let y1 = rest.iter().map(|r| r.rel_l2_exact * 100.0).fold(1.0f64, f64::max) * 6.0;
+    chart_png(path, (1200, 700), |root, text| {
         let caption = "error against the exact reference per map, at rest";
         let n = maps.len() as f64;
         let mut chart =
@@ -251,10 +252,20 @@ pub fn accuracy(section: &AccuracySection, path: &Path) -> Result<()> {
                 .x_label_formatter(&move |x| {
                     let k = x.round();
                     if (x - k).abs() < 1e-6 && k >= 0.0 {
-                        names.get(k as usize).map_or(String::new(), |s| s.to_string())
+                        // A map file's name without its extension and resolution suffix.
+                        names.get(k as usize).map_or(String::new(), |s| {
+                            let stem = s.rsplit_once('.').map_or(*s, |(stem, _)| stem);
+                            stem.trim_end_matches("_1k").to_string()
+                        })
                     } else {
                         String::new()
                     }
+                })
+                .y_label_formatter(&|y| {
+                    // Two significant digits, no float noise: 0.15, 0.5, 2, 10.
+                    let digits = (1 - y.abs().max(1e-9).log10().floor() as i32).max(0) as usize;
+                    let s = format!("{y:.digits$}");
+                    if s.contains('.') { s.trim_end_matches('0').trim_end_matches('.').to_string() } else { s }
                 })
                 .y_desc("rel. L2 %")
                 .draw()
