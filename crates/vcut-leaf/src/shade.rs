@@ -89,7 +89,8 @@ struct GlossTables {
     albedo: Vec<f32>,
     /// The angle from the normal of the lobe's centre (the BRDF × cosine-weighted mean
     /// direction), toward the mirror direction; laid out as `albedo`.
-    tilt: Vec<f32>,
+    /// Its cosine and sine (interpolated apart: a frame needs no trigonometry).
+    tilt: [Vec<f32>; 2],
     /// g_l per m row.
     bands: Vec<[f32; 5]>,
 }
@@ -110,7 +111,7 @@ impl GlossTables {
     fn build() -> GlossTables {
         use crate::material::{CUTICLE_IOR, fresnel_dielectric};
         let mut albedo = Vec::with_capacity(GLOSS_M * GLOSS_MU);
-        let mut tilt = Vec::with_capacity(GLOSS_M * GLOSS_MU);
+        let mut tilt = [Vec::with_capacity(GLOSS_M * GLOSS_MU), Vec::with_capacity(GLOSS_M * GLOSS_MU)];
         let mut bands = Vec::with_capacity(GLOSS_M);
         let strata = 24;
         for k in 0..GLOSS_M {
@@ -141,7 +142,9 @@ impl GlossTables {
                 }
                 albedo.push((sum / (strata * strata) as f64) as f32);
                 // The mirror direction lies toward −x: the tilt is positive toward it.
-                tilt.push((-centre.x).atan2(centre.y.max(1e-12)) as f32);
+                let angle = (-centre.x).atan2(centre.y.max(1e-12));
+                tilt[0].push(angle.cos() as f32);
+                tilt[1].push(angle.sin() as f32);
             }
             let n = ((2.0 / (m * m) - 2.0) / 4.0).max(0.0);
             let mom = |k: f32| (n + 1.0) / (n + k + 1.0);
@@ -156,9 +159,9 @@ impl GlossTables {
         GlossTables { albedo, tilt, bands }
     }
 
-    /// Directional albedo, band weights and the lobe centre's tilt for roughness `m` and cosine
-    /// `nv`.
-    fn lookup(&self, m: f32, nv: f32) -> (f32, [f32; 5], f32) {
+    /// Directional albedo, band weights and the lobe centre's tilt (cosine, sine) for roughness
+    /// `m` and cosine `nv`.
+    fn lookup(&self, m: f32, nv: f32) -> (f32, [f32; 5], [f32; 2]) {
         let x = ((m - 0.02) / (1.0 - 0.02) * (GLOSS_M - 1) as f32).clamp(0.0, (GLOSS_M - 1) as f32);
         let k0 = x.floor() as usize;
         let k1 = (k0 + 1).min(GLOSS_M - 1);
@@ -169,7 +172,7 @@ impl GlossTables {
         let g = y - j0 as f32;
         let at = |t: &[f32], k: usize| t[k * GLOSS_MU + j0] * (1.0 - g) + t[k * GLOSS_MU + j1] * g;
         let albedo = at(&self.albedo, k0) * (1.0 - f) + at(&self.albedo, k1) * f;
-        let tilt = at(&self.tilt, k0) * (1.0 - f) + at(&self.tilt, k1) * f;
+        let tilt = self.tilt.each_ref().map(|t| at(t, k0) * (1.0 - f) + at(t, k1) * f);
         let mut bands = [0.0; 5];
         for (l, b) in bands.iter_mut().enumerate() {
             *b = self.bands[k0][l] * (1.0 - f) + self.bands[k1][l] * f;
@@ -500,7 +503,7 @@ impl FrameContext<'_> {
             let visible = match self.lobe {
                 Some(table) => {
                     let along = (mirror - ns * ns.dot(mirror)).normalize_or_zero();
-                    table.at(v, (ns * tilt.cos() + along * tilt.sin()).normalize_or(ns))
+                    table.at(v, (ns * tilt[0] + along * tilt[1]).normalize_or(ns))
                 }
                 None => lobe_visibility(&direct[side], &yb, ns.dot(mirror), &bands).unwrap_or(open),
             };

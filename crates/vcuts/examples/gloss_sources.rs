@@ -11,7 +11,9 @@
 //! - `env_direct_rel_l2_lobe_table`, `env_direct_rel_l2_lobe_sh`: the whole unscattered
 //!   environment part (diffuse + transmission + gloss) against the path tracer at depth 0;
 //!   `env_direct_rel_l2_true_gloss`: the matte frame plus the Monte Carlo gloss — what a
-//!   perfect gloss would leave (the diffuse part's own error and the reference's noise).
+//!   perfect gloss would leave (the diffuse part's own error and the reference's noise);
+//! - `shade_ms_lobe_table`, `shade_ms_lobe_sh`: a whole frame (sun and sky, every vertex) with
+//!   each, medians of 9 alternated frames — the table's cost against the SH's in one run.
 
 use anyhow::{Context, Result};
 use clap::Parser;
@@ -133,6 +135,20 @@ fn main() -> Result<()> {
     println!("vertices={}", verts.len());
     println!("gloss_rel_l2_lobe_table={:.4}", rel(&gloss(&with_table), &seen));
     println!("gloss_rel_l2_lobe_sh={:.4}", rel(&gloss(&with_sh), &seen));
+    // What the table costs a frame: the whole lighting, both ways, alternated.
+    let mut shader = Shader::new();
+    shader.prepare(&scene, &pre.data.lvc, &light)?;
+    let sh_only = LeafData { lobe: None, ..pre.data.clone() };
+    let (mut table_ms, mut sh_ms, mut out) = (Vec::new(), Vec::new(), Vec::new());
+    for _ in 0..9 {
+        for (data, times) in [(&pre.data, &mut table_ms), (&sh_only, &mut sh_ms)] {
+            let t = std::time::Instant::now();
+            shader.shade(&scene, data, &light, SunMethod::Lvc, eye, &mut out);
+            times.push(t.elapsed().as_secs_f64() * 1e3);
+        }
+    }
+    println!("shade_ms_lobe_table={:.3}", vcut_shade::measure::median(table_ms));
+    println!("shade_ms_lobe_sh={:.3}", vcut_shade::measure::median(sh_ms));
     let rp = ReferenceParams { paths: cli.reference_paths, depth: 0, ..ReferenceParams::default() };
     let want: Vec<Vec3> = reference(&scene, &rest, None, eye, &verts, &rp).radiance.into_iter().flatten().collect();
     println!("env_direct_rel_l2_lobe_table={:.4}", rel(&with_table, &want));
