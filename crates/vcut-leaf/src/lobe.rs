@@ -88,16 +88,18 @@ impl Filter {
         let taps = (0..RESOLUTION * RESOLUTION)
             .map(|k| {
                 let node = node_direction(k / RESOLUTION, k % RESOLUTION);
+                // Lobe × solid angle per bin; a bin holds the sum of its texels' bytes, so its
+                // weight is shared by them (normalised: 255 everywhere filters to 1).
                 let mut t: Vec<(u32, f32)> = Vec::new();
+                let mut total = 0.0f32;
                 for (c, (s, &o)) in sum.iter().zip(&omega).enumerate() {
                     let w = s.normalize_or(Vec3::Y).dot(node).max(0.0).powf(KERNEL);
                     if w >= CUTOFF && !members[c].is_empty() {
-                        // A bin holds the sum of its texels' bytes: weigh their mean.
-                        t.push((c as u32, w * o / members[c].len() as f32));
+                        t.push((c as u32, w * o));
+                        total += w * o;
                     }
                 }
-                let total: f32 = t.iter().map(|(c, w)| w * members[*c as usize].len() as f32).sum();
-                t.iter_mut().for_each(|(_, w)| *w /= total * 255.0);
+                t.iter_mut().for_each(|(c, w)| *w /= total * 255.0 * members[*c as usize].len() as f32);
                 t
             })
             .collect();
@@ -157,11 +159,11 @@ impl LobeVisibility {
         let (i0, j0) = ((x as usize).min(RESOLUTION - 2), (y as usize).min(RESOLUTION - 2));
         let (a, b) = (x - i0 as f32, y - j0 as f32);
         let at = |i: usize, j: usize| f32::from(t[i * RESOLUTION + j]);
-        let v = at(i0, j0) * (1.0 - a) * (1.0 - b)
+        let value = at(i0, j0) * (1.0 - a) * (1.0 - b)
             + at(i0 + 1, j0) * a * (1.0 - b)
             + at(i0, j0 + 1) * (1.0 - a) * b
             + at(i0 + 1, j0 + 1) * a * b;
-        v / 255.0
+        value / 255.0
     }
 
     /// Bytes it takes.

@@ -87,9 +87,9 @@ impl Lighting {
 struct GlossTables {
     /// A(μ_v, m): rows of m, columns of μ_v.
     albedo: Vec<f32>,
-    /// The angle from the normal of the lobe's centre (the BRDF × cosine-weighted mean
-    /// direction), toward the mirror direction; laid out as `albedo`.
-    /// Its cosine and sine (interpolated apart: a frame needs no trigonometry).
+    /// The cosine and sine of the lobe centre's tilt (the BRDF × cosine-weighted mean direction's
+    /// angle from the normal, toward the mirror direction), each laid out as `albedo` and
+    /// interpolated apart, so a frame needs no trigonometry.
     tilt: [Vec<f32>; 2],
     /// g_l per m row.
     bands: Vec<[f32; 5]>,
