@@ -37,12 +37,7 @@ pub fn estimates(quick: bool, seconds: f64) -> Result<Vec<(String, LeafEstimate)
     let sun_dir = vcut_envmap::procedural::PreethamSky::default().sun_dir.normalize();
     let sun = [vcut_leaf::lvc::CubeDirections { resolution: lvc.resolution }.nearest(sun_dir)];
     let one = vcut_leaf::store::estimate(
-        &Inputs {
-            scene: &huge_scene,
-            lvc,
-            prt: PrtParams { rays: 16, bounces: 2, ..PrtParams::default() },
-            suns: Some(&sun),
-        },
+        &Inputs { scene: &huge_scene, lvc, prt: PrtParams { rays: 16, ..PrtParams::default() }, suns: Some(&sun) },
         budget,
     );
     Ok(vec![
@@ -112,7 +107,7 @@ pub fn run(quick: bool, out: &Path) -> Result<LeavesSection> {
     // The 500k plant: shading needs the current sun direction's map only.
     let huge_scene = plant(&PlantParams::with_vertices(huge), &m)?;
     let j = pre.data.lvc.sun_index(sun.dir);
-    let huge_prt = PrtParams { rays: 16, bounces: 2, ..PrtParams::default() };
+    let huge_prt = PrtParams { rays: 16, ..PrtParams::default() };
     let huge_pre = precompute(
         &huge_scene,
         (&lvc_params, &huge_prt),

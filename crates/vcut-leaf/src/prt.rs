@@ -29,7 +29,8 @@ use vcut_sphere::rng::SplitMix64;
 pub struct PrtParams {
     /// Rays per vertex side (rounded down to a square).
     pub rays: u32,
-    /// Scatterings carried by the indirect transfer (the issue asks for ≥ 2).
+    /// Scatterings carried by the indirect transfer (default 3, as deep as the reference's paths:
+    /// on the 100k plant the third adds 0.2 points of accuracy for ~2 % of the precompute).
     pub bounces: u32,
     /// Seed of the per-vertex rotations.
     pub seed: u64,
@@ -37,7 +38,7 @@ pub struct PrtParams {
 
 impl Default for PrtParams {
     fn default() -> PrtParams {
-        PrtParams { rays: 256, bounces: 2, seed: 1 }
+        PrtParams { rays: 256, bounces: 3, seed: 1 }
     }
 }
 
@@ -150,7 +151,10 @@ fn trace(scene: &LeafScene, params: &PrtParams, (pattern, weight): (&[Vec3], f32
 }
 
 /// One bounce at a vertex whose rays made `hits`: what the previous order's transfer at the hit
-/// points sends back. What leaves a hit point's facing side is R_side/π·E_side + T/π·E_other.
+/// points sends back. What leaves a hit point's facing side is (R_side + G_side)/π·E_side +
+/// T/π·E_other, G the side's gloss as it reflects light from everywhere
+/// ([`crate::shade::gloss_reflectance`]): without it a glossy plant's bounced light was a quarter
+/// short of the path tracer's (`cargo run -p vcuts --example gloss_gather`).
 fn bounce(
     scene: &LeafScene,
     weight: f32,
@@ -167,7 +171,8 @@ fn bounce(
             for (c, &vi) in t.iter().enumerate() {
                 let vi = vi as usize;
                 let s = &scatter[vi];
-                let rf = Vec3A::from(s.r[facing] * (w[c] * weight / PI));
+                let reflect = s.r[facing] + crate::shade::gloss_reflectance(&s.gloss[facing]);
+                let rf = Vec3A::from(reflect * (w[c] * weight / PI));
                 let tf = Vec3A::from(s.t * (w[c] * weight / PI));
                 let (pf, po) = (&previous[vi][facing], &previous[vi][1 - facing]);
                 for i in 0..COEFFS {
@@ -290,6 +295,51 @@ mod tests {
                 assert!(t.indirect[v][side].iter().all(|c| *c == Vec3::ZERO));
             }
         }
+    }
+
+    #[test]
+    fn a_glossy_leaf_passes_on_what_its_gloss_reflects() {
+        // A leaf lying on an opaque ground (its underside sees nothing), a small ceiling facing
+        // down at it: the ceiling's first bounce is the leaf's upper side reflecting the sky,
+        // (R + G)/π·E with the gloss and R/π·E without it.
+        let ceiling = {
+            let pos = vec![
+                Vec3::new(-0.1, 0.3, -0.1),
+                Vec3::new(0.1, 0.3, -0.1),
+                Vec3::new(0.1, 0.3, 0.1),
+                Vec3::new(-0.1, 0.3, 0.1),
+            ];
+            let mesh = Mesh::build(pos, None, vec![[0, 1, 2], [0, 2, 3]], MeshOptions::default()).unwrap().0;
+            LeafObject { name: "ceiling".into(), mesh, uv: None, surface: Surface::Opaque(Vec3::splat(0.5)) }
+        };
+        let built = |gloss: bool| {
+            let mut m = crate::material::LeafMaterial::default();
+            if !gloss {
+                m.gloss = [crate::material::Gloss::NONE; 2];
+            }
+            let leaf =
+                LeafObject { name: "leaf".into(), mesh: quad(0.0, 4.0), uv: None, surface: Surface::Leaf(Box::new(m)) };
+            let ground = LeafObject {
+                name: "ground".into(),
+                mesh: quad(-0.05, 8.0),
+                uv: None,
+                surface: Surface::Opaque(Vec3::splat(0.5)),
+            };
+            let scene = LeafScene::new(vec![leaf, ground, ceiling.clone()]).unwrap();
+            let t = Transfer::compute(&scene, &PrtParams { rays: 400, bounces: 1, seed: 5 }, |_, _| {});
+            (scene, t)
+        };
+        let ((glossy, a), (matte, b)) = (built(true), built(false));
+        let sky = project_env(&EnvMap::constant([1.0; 3]));
+        let c = glossy.vertex_range(2).start;
+        let (with, without) = (dot_each(&a.indirect[c][0], &sky), dot_each(&b.indirect[c][0], &sky));
+        let s = glossy.scatter()[0];
+        let g = crate::shade::gloss_reflectance(&s.gloss[0]);
+        assert!(g.min_element() > 0.01, "the default leaf's top is glossy: {g}");
+        assert_eq!(matte.scatter()[0].r, s.r);
+        let want = (s.r[0] + g) / s.r[0];
+        let got = with / without;
+        assert!((got - want).abs().max_element() < 0.03 * want.max_element(), "{got} against {want}");
     }
 
     #[test]

@@ -93,6 +93,9 @@ struct GlossTables {
     tilt: [Vec<f32>; 2],
     /// g_l per m row.
     bands: Vec<[f32; 5]>,
+    /// Per m row, the hemispherical albedo 2∫A(μ)μ dμ: what the gloss reflects of light from
+    /// every direction (the bounces' gloss, [`gloss_reflectance`]).
+    hemispherical: Vec<f32>,
 }
 
 const GLOSS_MU: usize = 32;
@@ -156,7 +159,14 @@ impl GlossTables {
                 (35.0 * mom(4.0) - 30.0 * mom(2.0) + 3.0) / 8.0,
             ]);
         }
-        GlossTables { albedo, tilt, bands }
+        let hemispherical = albedo
+            .chunks(GLOSS_MU)
+            .map(|row| {
+                let mu = |j: usize| (j as f32 + 0.5) / GLOSS_MU as f32;
+                row.iter().enumerate().map(|(j, a)| 2.0 * a * mu(j) / GLOSS_MU as f32).sum()
+            })
+            .collect();
+        GlossTables { albedo, tilt, bands, hemispherical }
     }
 
     /// Directional albedo, band weights and the lobe centre's tilt (cosine, sine) for roughness
@@ -179,6 +189,20 @@ impl GlossTables {
         }
         (albedo, bands, tilt)
     }
+}
+
+/// What gloss `g` reflects of light arriving from every direction alike, per channel: ρ_s times
+/// its hemispherical albedo. Light passed on by a glossy leaf leaves it in every direction its
+/// lobe spreads it; [`crate::prt`]'s bounces carry it as if diffuse.
+pub fn gloss_reflectance(g: &crate::material::Gloss) -> Vec3 {
+    if g.rho_s == Vec3::ZERO {
+        return Vec3::ZERO;
+    }
+    let t = GlossTables::get();
+    let x = ((g.roughness - 0.02) / (1.0 - 0.02) * (GLOSS_M - 1) as f32).clamp(0.0, (GLOSS_M - 1) as f32);
+    let (k0, f) = (x.floor() as usize, x.fract());
+    let k1 = (k0 + 1).min(GLOSS_M - 1);
+    g.rho_s * (t.hemispherical[k0] * (1.0 - f) + t.hemispherical[k1] * f)
 }
 
 /// How the sun's direct light is computed.
@@ -226,16 +250,23 @@ impl Default for Shader {
     }
 }
 
-/// Rays over the sun's disk (Vogel's spiral, area-uniform) toward its true direction.
+/// Rays over the sun's disk (Vogel's spiral, area-uniform) toward its true direction: a first
+/// look, and [`PENUMBRA_FACTOR`] times as many where the first look is split.
 struct DiskRays {
     dir: Vec3,
     rays: Vec<Vec3>,
+    fine: Vec<Vec3>,
 }
+
+/// A vertex whose first rays over the sun's disk disagree lies in the penumbra; it casts this
+/// many times as many rays again (a denser spiral of its own) and takes their share.
+pub const PENUMBRA_FACTOR: u32 = 4;
 
 impl DiskRays {
     fn new(dir: Vec3, diameter_deg: f32, count: u32) -> DiskRays {
         let radius = (diameter_deg * 0.5).to_radians().max(0.0);
-        DiskRays { dir, rays: crate::lvc::disk_directions(dir, radius, count).collect() }
+        let spiral = |n: u32| crate::lvc::disk_directions(dir, radius, n).collect();
+        DiskRays { dir, rays: spiral(count), fine: spiral(count * PENUMBRA_FACTOR) }
     }
 
     /// Vertex `v`'s map byte toward the sun: the share of the rays that reach it (times the
@@ -244,8 +275,14 @@ impl DiskRays {
         let (p, nrm) = (scene.positions()[v], scene.normals()[v]);
         let side = if nrm.dot(self.dir) >= 0.0 { nrm } else { -nrm };
         let origin = p + side * scene.ray_offset();
-        let open = self.rays.iter().filter(|&&d| !scene.occluder().occluded(origin, d, f32::INFINITY)).count();
-        let mut share = open as f32 / self.rays.len() as f32;
+        let open =
+            |rays: &[Vec3]| rays.iter().filter(|&&d| !scene.occluder().occluded(origin, d, f32::INFINITY)).count();
+        let first = open(&self.rays);
+        let mut share = if first == 0 || first == self.rays.len() {
+            first as f32 / self.rays.len() as f32
+        } else {
+            open(&self.fine) as f32 / self.fine.len() as f32
+        };
         if content == Content::CosineBaked {
             share *= nrm.dot(self.dir).abs();
         }
@@ -265,9 +302,11 @@ impl Shader {
     /// Makes the map of `lighting`'s sun direction unless it is the one already made: the
     /// decoded maps of the computed directions around it blended by angle
     /// ([`Lvc::sun_weights`]), so shadows move with the sun between the cube's directions;
-    /// then every vertex whose neighbouring maps disagree — a shadow edge passes between the
-    /// directions, where a blend is a guess — casts [`Shader::edge_rays`] rays over the sun's
-    /// disk in its true direction and takes what they see. Returns whether it made a map.
+    /// then every vertex where a shadow edge passes — the maps around the sun disagree there
+    /// (a blend is a guess), or its triangle's bytes do (a map samples one direction per texel,
+    /// so a vertex in the penumbra reads all or nothing) — casts [`Shader::edge_rays`] rays over
+    /// the sun's disk in its true direction, [`PENUMBRA_FACTOR`] times as many more where those
+    /// disagree, and takes the share that reach it. Returns whether it made a map.
     pub fn prepare(&mut self, scene: &LeafScene, lvc: &Lvc, lighting: &Lighting) -> Result<bool, RleError> {
         let Some(sun) = lighting.sun else { return Ok(false) };
         if self.map_sun == Some(sun.dir) {
@@ -278,6 +317,8 @@ impl Shader {
         self.map.resize(n, 0);
         self.edge_vertices = 0;
         let weights = lvc.sun_weights(sun.dir);
+        // Vertices where a shadow edge passes: the maps around the sun disagree there.
+        let mut edge = vec![false; n];
         if let [(j, _)] = weights[..] {
             lvc.decode(j, &mut self.map)?;
         } else {
@@ -294,16 +335,28 @@ impl Shader {
             for (m, acc) in self.map.iter_mut().zip(&sum) {
                 *m = acc.round().clamp(0.0, 255.0) as u8;
             }
-            if self.edge_rays > 0 && scene.vertex_count() == n {
-                let edges: Vec<usize> = (0..n).filter(|&v| lo[v] != hi[v]).collect();
-                let disk = DiskRays::new(sun.dir, lvc.params().sun_diameter_deg, self.edge_rays);
-                let content = lvc.params().content;
-                let seen: Vec<u8> = edges.par_iter().with_min_len(256).map(|&v| disk.byte(scene, v, content)).collect();
-                for (&v, b) in edges.iter().zip(seen) {
-                    self.map[v] = b;
-                }
-                self.edge_vertices = edges.len();
+            for (e, (l, h)) in edge.iter_mut().zip(lo.iter().zip(&hi)) {
+                *e = l != h;
             }
+        }
+        if self.edge_rays > 0 && scene.vertex_count() == n {
+            // ... or a triangle's vertices disagree: the edge crosses the triangle, and a vertex
+            // in its penumbra sees part of the disk, which a map's one direction per texel
+            // cannot tell from all or nothing.
+            for t in scene.triangles() {
+                let [a, b, c] = t.map(|v| v as usize);
+                if self.map[a] != self.map[b] || self.map[b] != self.map[c] {
+                    (edge[a], edge[b], edge[c]) = (true, true, true);
+                }
+            }
+            let edges: Vec<usize> = (0..n).filter(|&v| edge[v]).collect();
+            let disk = DiskRays::new(sun.dir, lvc.params().sun_diameter_deg, self.edge_rays);
+            let content = lvc.params().content;
+            let seen: Vec<u8> = edges.par_iter().with_min_len(256).map(|&v| disk.byte(scene, v, content)).collect();
+            for (&v, b) in edges.iter().zip(seen) {
+                self.map[v] = b;
+            }
+            self.edge_vertices = edges.len();
         }
         self.map_sun = Some(sun.dir);
         Ok(true)

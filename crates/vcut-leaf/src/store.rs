@@ -116,7 +116,7 @@ impl Inputs<'_> {
         format!(
             "# vcut-leaf {}\nformat = {}\nvertices = {}\nscene_crc32 = {:#010x}\nlvc_resolution = {}\n\
              lvc_sun_diameter_deg = {:?}\nlvc_disk_samples = {}\nlvc_content = \"{:?}\"\nlvc_suns = \"{suns}\"\n\
-             prt_rays = {}\nprt_bounces = {}\nprt_seed = {}\n",
+             prt_rays = {}\nprt_bounces = {}\nprt_seed = {}\nprt_bounce_gloss = \"hemispherical\"\n",
             env!("CARGO_PKG_VERSION"),
             VLEAF.version,
             self.scene.vertex_count(),

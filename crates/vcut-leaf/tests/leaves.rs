@@ -168,12 +168,19 @@ fn a_sun_between_cube_directions_blends_their_maps() {
     // The same sun again decodes nothing.
     assert!(!shader.prepare(&scene, &data.lvc, &light.with_sun_dir(between)).unwrap());
     assert_eq!(shader.edge_vertices(), 0);
-    // With rays, the vertices where the two maps disagree see the true sun: lit or not as a
-    // ray from them toward it says; the others keep the blend.
+    // With rays, the vertices where the two maps disagree, or whose triangle's blended bytes do,
+    // see the true sun: lit or not as a ray from them toward it says; the others keep the blend.
     shader.set_edge_rays(4);
     let exact = made(&mut shader, between);
-    let edges: Vec<usize> =
-        (0..scene.vertex_count()).filter(|&v| maps.iter().any(|(m, _)| m[v] != maps[0].0[v])).collect();
+    let mut edge: Vec<bool> =
+        (0..scene.vertex_count()).map(|v| maps.iter().any(|(m, _)| m[v] != maps[0].0[v])).collect();
+    for t in scene.triangles() {
+        let t = t.map(|v| v as usize);
+        if half[t[0]] != half[t[1]] || half[t[1]] != half[t[2]] {
+            t.iter().for_each(|&v| edge[v] = true);
+        }
+    }
+    let edges: Vec<usize> = (0..scene.vertex_count()).filter(|&v| edge[v]).collect();
     assert_eq!(shader.edge_vertices(), edges.len());
     assert!(!edges.is_empty());
     for v in 0..scene.vertex_count() {
@@ -185,6 +192,74 @@ fn a_sun_between_cube_directions_blends_their_maps() {
         let side = if n.dot(between) >= 0.0 { n } else { -n };
         let lit = !scene.occluder().occluded(p + side * scene.ray_offset(), between, f32::INFINITY);
         assert!(if lit { exact[v] > 127 } else { exact[v] < 128 }, "vertex {v}: {} lit {lit}", exact[v]);
+    }
+}
+
+#[test]
+fn a_vertex_in_the_penumbra_sees_part_of_the_sun() {
+    // A wide sun (2°) behind the edge of a roof: the floor's vertices under the edge see part of
+    // its disk. The maps sample one direction per texel (the disk fits in one), so alone they say
+    // all or nothing there; the vertices whose triangles straddle the shadow's edge cast rays
+    // over the disk, and those whose first rays disagree cast more and take their share.
+    let roof = {
+        let pos = vec![
+            Vec3::new(-2.0, 1.0, -2.0),
+            Vec3::new(0.0, 1.0, -2.0),
+            Vec3::new(0.0, 1.0, 2.0),
+            Vec3::new(-2.0, 1.0, 2.0),
+        ];
+        let mesh = Mesh::build(pos, None, vec![[0, 2, 1], [0, 3, 2]], MeshOptions::default()).unwrap().0;
+        LeafObject { name: "roof".into(), mesh, uv: None, surface: Surface::Opaque(Vec3::splat(0.3)) }
+    };
+    let floor = square("floor", 0.0, 1.0, 40, Surface::Opaque(Vec3::splat(0.5)));
+    let scene = LeafScene::new(vec![roof, floor]).unwrap();
+    let params = LvcParams { resolution: 8, sun_diameter_deg: 2.0, disk_samples: 16, content: Content::Visibility };
+    let lvc = Lvc::compute(&scene, &params, |_, _| {});
+    let data =
+        LeafData::new(lvc, Transfer::compute(&scene, &PrtParams { rays: 16, ..PrtParams::default() }, |_, _| {}))
+            .unwrap();
+    // The sun near the zenith at a texel's centre: one map, no blend.
+    let sun = data.lvc.directions().direction(data.lvc.sun_index(Vec3::Y));
+    assert!(sun.y > 0.95, "{sun}");
+    let light = sky().0.with_sun_dir(sun);
+    let floor_verts = scene.vertex_range(1);
+    // The share of the disk each floor vertex sees, by 4,096 rays.
+    let radius = 1.0f32.to_radians();
+    let (a, b) = sun.any_orthonormal_pair();
+    let truth: Vec<f32> = floor_verts
+        .clone()
+        .map(|v| {
+            let o = scene.positions()[v] + Vec3::Y * scene.ray_offset();
+            let open = (0..4096)
+                .filter(|&k| {
+                    let r = radius * ((k as f32 + 0.5) / 4096.0).sqrt();
+                    let phi = k as f32 * 2.399_963;
+                    let d = (sun * r.cos() + (a * phi.cos() + b * phi.sin()) * r.sin()).normalize();
+                    !scene.occluder().occluded(o, d, f32::INFINITY)
+                })
+                .count();
+            open as f32 / 4096.0
+        })
+        .collect();
+    let penumbra: Vec<usize> = (0..truth.len()).filter(|&i| truth[i] > 0.1 && truth[i] < 0.9).collect();
+    assert!(penumbra.len() >= 20, "the penumbra holds vertices: {}", penumbra.len());
+    let map_of = |rays: u32| {
+        let mut shader = Shader::with_edge_rays(rays);
+        assert!(shader.prepare(&scene, &data.lvc, &light).unwrap());
+        (shader.sun_map().unwrap()[floor_verts.clone()].to_vec(), shader.edge_vertices())
+    };
+    let (alone, none) = map_of(0);
+    assert_eq!(none, 0);
+    assert!(penumbra.iter().all(|&i| alone[i] == 0 || alone[i] == 255), "the map alone: all or nothing");
+    let (cast, edges) = map_of(4);
+    assert!(edges >= penumbra.len() && edges < scene.vertex_count() / 2, "{edges} vertices cast");
+    for &i in &penumbra {
+        let got = f32::from(cast[i]) / 255.0;
+        assert!((got - truth[i]).abs() < 0.1, "floor vertex {i}: {got} for {}", truth[i]);
+    }
+    // Away from the edge the map's bytes stand.
+    for i in (0..truth.len()).filter(|&i| truth[i] == 0.0 || truth[i] == 1.0) {
+        assert_eq!(cast[i], (truth[i] * 255.0) as u8, "floor vertex {i}");
     }
 }
 

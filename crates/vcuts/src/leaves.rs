@@ -64,7 +64,7 @@ pub struct PlantArgs {
     #[arg(long, default_value_t = 4)]
     pub sun_edge_rays: u32,
     /// PRT scatterings in the indirect transfer.
-    #[arg(long, default_value_t = 2)]
+    #[arg(long, default_value_t = 3)]
     pub bounces: u32,
     /// Leaf reflectance R,G,B (with --transmittance and --thickness: the tissue is fitted).
     #[arg(long)]
