@@ -15,16 +15,17 @@
 //! - `shade_ms_lobe_table`, `shade_ms_lobe_sh`: a whole frame (sun and sky, every vertex) with
 //!   each, medians of 9 alternated frames — the table's cost against the SH's in one run.
 
+#[path = "shared/lobe.rs"]
+mod lobe;
+
 use anyhow::{Context, Result};
 use clap::Parser;
 use glam::Vec3;
+use lobe::{Reads, gather, rel};
 use rayon::prelude::*;
-use std::f32::consts::PI;
-use vcut_leaf::material::{Gloss, beckmann};
 use vcut_leaf::reference::{ReferenceParams, reference};
 use vcut_leaf::scene::LeafScene;
 use vcut_leaf::shade::{LeafData, Lighting, Shader, SunMethod};
-use vcut_sphere::rng::SplitMix64;
 use vcuts::leaves::{PlantArgs, camera, data_path, lighting, material, params, precompute, scene, subset};
 
 #[derive(Parser)]
@@ -43,58 +44,6 @@ struct Cli {
     /// Paths per vertex side of the path-traced unscattered reference.
     #[arg(long, default_value_t = 2048)]
     reference_paths: u32,
-}
-
-/// Relative L2 of `a` against `b`.
-fn rel(a: &[Vec3], b: &[Vec3]) -> f64 {
-    let d: f64 = a.iter().zip(b).map(|(x, y)| f64::from((*x - *y).length_squared())).sum();
-    let r: f64 = b.iter().map(|y| f64::from(y.length_squared())).sum();
-    (d / r.max(f64::MIN_POSITIVE)).sqrt()
-}
-
-/// Side `side` of vertex `v` seen from `eye`: its normal and the view mirrored into its side.
-fn side_frame(scene: &LeafScene, v: usize, side: usize, eye: Vec3) -> (Vec3, Vec3) {
-    let (p, n) = (scene.positions()[v], scene.normals()[v]);
-    let ns = if side == 0 { n } else { -n };
-    let view = (eye - p).normalize_or_zero();
-    let vs = if ns.dot(view) > 0.0 { view } else { (view - 2.0 * ns.dot(view) * ns).normalize_or(ns) };
-    (ns, vs)
-}
-
-/// The gloss of side `side` of vertex `v` under `env`, by Beckmann sampling with shadow rays.
-fn gloss_truth(
-    scene: &LeafScene,
-    env: &vcut_envmap::EnvMap,
-    (v, side): (usize, usize),
-    eye: Vec3,
-    samples: u32,
-) -> Vec3 {
-    let g: Gloss = scene.scatter()[v].gloss[side];
-    if g.rho_s == Vec3::ZERO {
-        return Vec3::ZERO;
-    }
-    let (ns, vs) = side_frame(scene, v, side, eye);
-    let origin = scene.positions()[v] + ns * scene.ray_offset();
-    let m = g.roughness.max(0.02);
-    let (t1, t2) = ns.any_orthonormal_pair();
-    let mut rng = SplitMix64::new((v as u64) << 1 | side as u64);
-    let mut seen = Vec3::ZERO;
-    for _ in 0..samples {
-        let (u1, u2) = (rng.next_f64() as f32, rng.next_f64() as f32);
-        let ch = 1.0 / (1.0 - m * m * (1.0 - u1).ln()).sqrt();
-        let sh = (1.0 - ch * ch).max(0.0).sqrt();
-        let h = (t1 * (sh * (2.0 * PI * u2).cos()) + t2 * (sh * (2.0 * PI * u2).sin()) + ns * ch).normalize();
-        let vh = vs.dot(h);
-        let l = 2.0 * vh * h - vs;
-        if vh <= 0.0 || ns.dot(l) <= 1e-6 {
-            continue;
-        }
-        let pdf = beckmann(ch, m) * ch / (4.0 * vh);
-        if !scene.occluder().occluded(origin, l, f32::INFINITY) {
-            seen += g.eval(ns, l, vs) * ns.dot(l) / pdf * env.radiance(l);
-        }
-    }
-    seen / samples as f32
 }
 
 fn main() -> Result<()> {
@@ -129,7 +78,7 @@ fn main() -> Result<()> {
     let truth: Vec<Vec3> = verts
         .par_iter()
         .flat_map_iter(|&v| (0..2).map(move |side| (v, side)))
-        .map(|vs| gloss_truth(&scene, &rest, vs, eye, cli.samples))
+        .map(|vs| gather(&scene, &rest, vs, eye, cli.samples, Reads::Constant(Vec3::ZERO, None)))
         .collect();
     let seen: Vec<Vec3> = truth;
     println!("vertices={}", verts.len());

@@ -1,0 +1,79 @@
+//! What `gloss_sources` and `gloss_gather` share: a relative error, and a gloss lobe sampled
+//! with rays (included by both with `#[path]`).
+
+#![allow(dead_code)] // each example uses part of it
+
+use glam::Vec3;
+use std::f32::consts::PI;
+use vcut_envmap::EnvMap;
+use vcut_leaf::material::{Gloss, beckmann};
+use vcut_leaf::scene::LeafScene;
+use vcut_sphere::rng::SplitMix64;
+
+/// Relative L2 of `a` against `b`.
+pub fn rel(a: &[Vec3], b: &[Vec3]) -> f64 {
+    let d: f64 = a.iter().zip(b).map(|(x, y)| f64::from((*x - *y).length_squared())).sum();
+    let r: f64 = b.iter().map(|y| f64::from(y.length_squared())).sum();
+    (d / r.max(f64::MIN_POSITIVE)).sqrt()
+}
+
+/// What a lobe sample reads.
+#[derive(Clone, Copy)]
+pub enum Reads<'a> {
+    /// Open: the map; blocked: the hit's facing side, interpolated from these vertex values.
+    Gather(&'a [[Vec3; 2]]),
+    /// Open: the map, or (`true`) its order-5 SH `sh`; blocked: a constant per vertex side.
+    Constant(Vec3, Option<&'a [Vec3; 25]>),
+}
+
+/// The gloss of side `side` of vertex `v` by `samples` Beckmann samples of its lobe.
+pub fn gather(
+    scene: &LeafScene,
+    env: &EnvMap,
+    (v, side): (usize, usize),
+    eye: Vec3,
+    samples: u32,
+    reads: Reads<'_>,
+) -> Vec3 {
+    let g: Gloss = scene.scatter()[v].gloss[side];
+    if g.rho_s == Vec3::ZERO {
+        return Vec3::ZERO;
+    }
+    let (p, n) = (scene.positions()[v], scene.normals()[v]);
+    let ns = if side == 0 { n } else { -n };
+    let view = (eye - p).normalize_or_zero();
+    let vs = if ns.dot(view) > 0.0 { view } else { (view - 2.0 * ns.dot(view) * ns).normalize_or(ns) };
+    let origin = p + ns * scene.ray_offset();
+    let m = g.roughness.max(0.02);
+    let (t1, t2) = ns.any_orthonormal_pair();
+    let mut rng = SplitMix64::new((v as u64) << 1 | side as u64);
+    let mut sum = Vec3::ZERO;
+    for _ in 0..samples {
+        let (u1, u2) = (rng.next_f64() as f32, rng.next_f64() as f32);
+        let ch = 1.0 / (1.0 - m * m * (1.0 - u1).ln()).sqrt();
+        let sh = (1.0 - ch * ch).max(0.0).sqrt();
+        let h = (t1 * (sh * (2.0 * PI * u2).cos()) + t2 * (sh * (2.0 * PI * u2).sin()) + ns * ch).normalize();
+        let vh = vs.dot(h);
+        let l = 2.0 * vh * h - vs;
+        if vh <= 0.0 || ns.dot(l) <= 1e-6 {
+            continue;
+        }
+        let w = g.eval(ns, l, vs) * ns.dot(l) / (beckmann(ch, m) * ch / (4.0 * vh));
+        let seen = match (scene.occluder().closest_hit(origin, l, f32::INFINITY), reads) {
+            (None, Reads::Constant(_, Some(sky))) => {
+                let y = vcut_leaf::sh::basis(l);
+                (0..25).map(|i| sky[i] * y[i]).sum::<Vec3>().max(Vec3::ZERO)
+            }
+            (None, _) => env.radiance(l),
+            (Some(_), Reads::Constant(c, _)) => c,
+            (Some((tri, dist)), Reads::Gather(rad)) => {
+                let b = scene.barycentric(tri, origin + l * dist);
+                let facing = usize::from(scene.hit_normal(tri, b).dot(l) > 0.0);
+                let t = scene.triangles()[tri];
+                (0..3).map(|c| rad[t[c] as usize][facing] * b[c].max(0.0)).sum()
+            }
+        };
+        sum += w * seen;
+    }
+    sum / samples as f32
+}
