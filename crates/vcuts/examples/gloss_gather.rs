@@ -20,37 +20,27 @@
 //! - with `--parts`, per light path (`sun_direct`, `sun`, `env_direct`, `env_direct_matte`,
 //!   `env`, `env_matte`, against references of 512 paths): `ratio_PART` and `rel_l2_PART`.
 
-#[path = "shared/lobe.rs"]
-mod lobe;
+#[path = "shared/gloss.rs"]
+mod gloss;
 
-use anyhow::{Context, Result};
+use anyhow::Result;
 use clap::Parser;
 use glam::Vec3;
-use lobe::{Reads, gather, rel};
+use gloss::{Measured, Plant, Reads, gather, load, rel};
 use rayon::prelude::*;
 use std::f32::consts::PI;
 use vcut_envmap::EnvMap;
 use vcut_leaf::reference::{ReferenceParams, reference};
 use vcut_leaf::scene::LeafScene;
 use vcut_leaf::shade::{LeafData, Lighting, Shader, SunMethod};
-use vcuts::leaves::{PlantArgs, camera, data_path, lighting, material, params, precompute, scene, subset};
 
 #[derive(Parser)]
 struct Cli {
     #[command(flatten)]
-    plant: PlantArgs,
-    /// Environment (its sun split off as the disk light).
-    #[arg(long, default_value = "builtin:sky")]
-    env: String,
-    /// Vertices measured (evenly spread over the plant).
-    #[arg(long, default_value_t = 1500)]
-    reference_vertices: usize,
+    measured: Measured,
     /// Beckmann samples per vertex side of each gather.
     #[arg(long, default_value_t = 256)]
     samples: u32,
-    /// Paths per vertex side of the path-traced reference.
-    #[arg(long, default_value_t = 2048)]
-    reference_paths: u32,
     /// Also each light path's ratio and error.
     #[arg(long)]
     parts: bool,
@@ -64,20 +54,11 @@ fn ratio(a: &[Vec3], b: &[Vec3]) -> f64 {
 
 fn main() -> Result<()> {
     let cli = Cli::parse();
-    let p = &cli.plant;
-    let scene = scene(p, &material(p)?)?;
-    let (light, rest) = lighting(p, &cli.env)?;
-    let (lvc, prt) = params(p);
-    let inputs = vcut_leaf::store::Inputs { scene: &scene, lvc, prt, suns: None };
-    let reuse = vcut_leaf::store::Reuse::IfMatching;
-    let pre = precompute(&scene, (&lvc, &prt), None, &data_path(p, &inputs), reuse, p.estimate)?
-        .context("the leaf data was not computed")?;
-    let data = &pre.data;
-    let eye = camera(&scene).position;
-    let verts = subset(scene.vertex_count(), cli.reference_vertices);
+    let Plant { scene, light, rest, data, eye, verts } = load(&cli.measured)?;
+    let data = &data;
     let matte = vcut_leaf::breakdown::matte(&scene);
     let frame = |s: &LeafScene, l: &Lighting, d: &LeafData| -> Result<Vec<[Vec3; 2]>> {
-        let mut shader = Shader::with_edge_rays(p.sun_edge_rays);
+        let mut shader = Shader::with_edge_rays(cli.measured.plant.sun_edge_rays);
         shader.prepare(s, &d.lvc, l)?;
         let mut out = Vec::new();
         shader.shade(s, d, l, SunMethod::Lvc, eye, &mut out);
@@ -97,7 +78,7 @@ fn main() -> Result<()> {
     let env_only = Lighting { sun: None, sun_sh: [Vec3::ZERO; 25], ..light.clone() };
     let black = EnvMap::constant([0.0; 3]);
     let default_depth = ReferenceParams::default().depth;
-    let want = traced(&scene, &rest, light.sun, default_depth, cli.reference_paths);
+    let want = traced(&scene, &rest, light.sun, default_depth, cli.measured.reference_paths);
     println!("vertices={}", verts.len());
     println!("whole_rel_l2_frame={:.4}", rel(&pick(&whole), &want));
     println!("whole_ratio_frame={:.4}", ratio(&pick(&whole), &want));
@@ -119,7 +100,7 @@ fn main() -> Result<()> {
     // The sun's direct gloss as the frame has it (the sun alone, no bounces, glossy less matte),
     // and the sun's unscattered part as the path tracer has it.
     let (sun_gloss, sun_matte) = (frame(&scene, &sun_only, &direct)?, frame(&matte, &sun_only, &direct)?);
-    let sun_true = traced(&scene, &black, light.sun, 0, cli.reference_paths);
+    let sun_true = traced(&scene, &black, light.sun, 0, cli.measured.reference_paths);
     let true_sun = |got: &[Vec3]| -> Vec<Vec3> {
         got.iter().zip(pick(&sun_gloss)).zip(&sun_true).map(|((g, f), t)| *g - f + *t).collect()
     };

@@ -15,52 +15,33 @@
 //! - `shade_ms_lobe_table`, `shade_ms_lobe_sh`: a whole frame (sun and sky, every vertex) with
 //!   each, medians of 9 alternated frames — the table's cost against the SH's in one run.
 
-#[path = "shared/lobe.rs"]
-mod lobe;
+#[path = "shared/gloss.rs"]
+mod gloss;
 
-use anyhow::{Context, Result};
+use anyhow::Result;
 use clap::Parser;
 use glam::Vec3;
-use lobe::{Reads, gather, rel};
+use gloss::{Measured, Plant, Reads, gather, load, rel};
 use rayon::prelude::*;
 use vcut_leaf::reference::{ReferenceParams, reference};
 use vcut_leaf::scene::LeafScene;
 use vcut_leaf::shade::{LeafData, Lighting, Shader, SunMethod};
-use vcuts::leaves::{PlantArgs, camera, data_path, lighting, material, params, precompute, scene, subset};
 
 #[derive(Parser)]
 struct Cli {
     #[command(flatten)]
-    plant: PlantArgs,
-    /// Environment (its sun is split off and left out).
-    #[arg(long, default_value = "builtin:sky")]
-    env: String,
-    /// Vertices measured (evenly spread over the plant).
-    #[arg(long, default_value_t = 1500)]
-    reference_vertices: usize,
+    measured: Measured,
     /// Beckmann samples per vertex side of the gloss truth.
     #[arg(long, default_value_t = 1024)]
     samples: u32,
-    /// Paths per vertex side of the path-traced unscattered reference.
-    #[arg(long, default_value_t = 2048)]
-    reference_paths: u32,
 }
 
 fn main() -> Result<()> {
     let cli = Cli::parse();
-    let p = &cli.plant;
-    let scene = scene(p, &material(p)?)?;
-    let (light, rest) = lighting(p, &cli.env)?;
-    let (lvc, prt) = params(p);
-    let inputs = vcut_leaf::store::Inputs { scene: &scene, lvc, prt, suns: None };
-    let reuse = vcut_leaf::store::Reuse::IfMatching;
-    let pre = precompute(&scene, (&lvc, &prt), None, &data_path(p, &inputs), reuse, p.estimate)?
-        .context("the leaf data was not computed")?;
-    anyhow::ensure!(pre.data.lobe.is_some(), "the leaf data has no lobe table (its maps lack directions)");
-    let eye = camera(&scene).position;
-    let verts = subset(scene.vertex_count(), cli.reference_vertices);
+    let Plant { scene, light, rest, data, eye, verts } = load(&cli.measured)?;
+    anyhow::ensure!(data.lobe.is_some(), "the leaf data has no lobe table (its maps lack directions)");
     // The environment's unscattered light only.
-    let mut direct = pre.data.clone();
+    let mut direct = data.clone();
     for t in &mut direct.transfer.indirect {
         *t = [[Vec3::ZERO; 25]; 2];
     }
@@ -86,11 +67,11 @@ fn main() -> Result<()> {
     println!("gloss_rel_l2_lobe_sh={:.4}", rel(&gloss(&with_sh), &seen));
     // What the table costs a frame: the whole lighting, both ways, alternated.
     let mut shader = Shader::new();
-    shader.prepare(&scene, &pre.data.lvc, &light)?;
-    let sh_only = LeafData { lobe: None, ..pre.data.clone() };
+    shader.prepare(&scene, &data.lvc, &light)?;
+    let sh_only = LeafData { lobe: None, ..data.clone() };
     let (mut table_ms, mut sh_ms, mut out) = (Vec::new(), Vec::new(), Vec::new());
     for _ in 0..9 {
-        for (data, times) in [(&pre.data, &mut table_ms), (&sh_only, &mut sh_ms)] {
+        for (data, times) in [(&data, &mut table_ms), (&sh_only, &mut sh_ms)] {
             let t = std::time::Instant::now();
             shader.shade(&scene, data, &light, SunMethod::Lvc, eye, &mut out);
             times.push(t.elapsed().as_secs_f64() * 1e3);
@@ -98,7 +79,7 @@ fn main() -> Result<()> {
     }
     println!("shade_ms_lobe_table={:.3}", vcut_shade::measure::median(table_ms));
     println!("shade_ms_lobe_sh={:.3}", vcut_shade::measure::median(sh_ms));
-    let rp = ReferenceParams { paths: cli.reference_paths, depth: 0, ..ReferenceParams::default() };
+    let rp = ReferenceParams { paths: cli.measured.reference_paths, depth: 0, ..ReferenceParams::default() };
     let want: Vec<Vec3> = reference(&scene, &rest, None, eye, &verts, &rp).radiance.into_iter().flatten().collect();
     println!("env_direct_rel_l2_lobe_table={:.4}", rel(&with_table, &want));
     println!("env_direct_rel_l2_lobe_sh={:.4}", rel(&with_sh, &want));

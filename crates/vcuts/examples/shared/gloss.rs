@@ -1,14 +1,60 @@
-//! What `gloss_sources` and `gloss_gather` share: a relative error, and a gloss lobe sampled
-//! with rays (included by both with `#[path]`).
+//! What `gloss_sources` and `gloss_gather` share (included by both with `#[path]`): their
+//! plant options and the plant they load, a relative error, and a gloss lobe sampled with rays.
 
 #![allow(dead_code)] // each example uses part of it
 
+use anyhow::{Context, Result};
 use glam::Vec3;
 use std::f32::consts::PI;
 use vcut_envmap::EnvMap;
 use vcut_leaf::material::{Gloss, beckmann};
 use vcut_leaf::scene::LeafScene;
+use vcut_leaf::shade::{LeafData, Lighting};
 use vcut_sphere::rng::SplitMix64;
+use vcuts::leaves::{PlantArgs, camera, data_path, lighting, material, params, precompute, scene, subset};
+
+/// The plant, its light and the vertices measured.
+#[derive(clap::Args)]
+pub struct Measured {
+    #[command(flatten)]
+    pub plant: PlantArgs,
+    /// Environment (its sun split off as the disk light).
+    #[arg(long, default_value = "builtin:sky")]
+    pub env: String,
+    /// Vertices measured (evenly spread over the plant).
+    #[arg(long, default_value_t = 1500)]
+    pub reference_vertices: usize,
+    /// Paths per vertex side of the path-traced reference.
+    #[arg(long, default_value_t = 2048)]
+    pub reference_paths: u32,
+}
+
+/// What [`load`] makes of [`Measured`].
+pub struct Plant {
+    pub scene: LeafScene,
+    pub light: Lighting,
+    /// The environment without its sun.
+    pub rest: EnvMap,
+    pub data: LeafData,
+    pub eye: Vec3,
+    pub verts: Vec<usize>,
+}
+
+/// The plant's scene and light, its leaf data (loaded or computed), the camera's eye and the
+/// measured vertices.
+pub fn load(m: &Measured) -> Result<Plant> {
+    let p = &m.plant;
+    let scene = scene(p, &material(p)?)?;
+    let (light, rest) = lighting(p, &m.env)?;
+    let (lvc, prt) = params(p);
+    let inputs = vcut_leaf::store::Inputs { scene: &scene, lvc, prt, suns: None };
+    let reuse = vcut_leaf::store::Reuse::IfMatching;
+    let pre = precompute(&scene, (&lvc, &prt), None, &data_path(p, &inputs), reuse, p.estimate)?
+        .context("the leaf data was not computed")?;
+    let eye = camera(&scene).position;
+    let verts = subset(scene.vertex_count(), m.reference_vertices);
+    Ok(Plant { scene, light, rest, data: pre.data, eye, verts })
+}
 
 /// Relative L2 of `a` against `b`.
 pub fn rel(a: &[Vec3], b: &[Vec3]) -> f64 {
