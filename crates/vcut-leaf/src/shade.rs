@@ -172,10 +172,7 @@ impl GlossTables {
     /// Directional albedo, band weights and the lobe centre's tilt (cosine, sine) for roughness
     /// `m` and cosine `nv`.
     fn lookup(&self, m: f32, nv: f32) -> (f32, [f32; 5], [f32; 2]) {
-        let x = ((m - 0.02) / (1.0 - 0.02) * (GLOSS_M - 1) as f32).clamp(0.0, (GLOSS_M - 1) as f32);
-        let k0 = x.floor() as usize;
-        let k1 = (k0 + 1).min(GLOSS_M - 1);
-        let f = x - k0 as f32;
+        let (k0, k1, f) = m_rows(m);
         let y = (nv * GLOSS_MU as f32 - 0.5).clamp(0.0, (GLOSS_MU - 1) as f32);
         let j0 = y.floor() as usize;
         let j1 = (j0 + 1).min(GLOSS_MU - 1);
@@ -199,10 +196,15 @@ pub fn gloss_reflectance(g: &crate::material::Gloss) -> Vec3 {
         return Vec3::ZERO;
     }
     let t = GlossTables::get();
-    let x = ((g.roughness - 0.02) / (1.0 - 0.02) * (GLOSS_M - 1) as f32).clamp(0.0, (GLOSS_M - 1) as f32);
-    let (k0, f) = (x.floor() as usize, x.fract());
-    let k1 = (k0 + 1).min(GLOSS_M - 1);
+    let (k0, k1, f) = m_rows(g.roughness);
     g.rho_s * (t.hemispherical[k0] * (1.0 - f) + t.hemispherical[k1] * f)
+}
+
+/// The gloss tables' rows around roughness `m` and the fraction of the way to the second.
+fn m_rows(m: f32) -> (usize, usize, f32) {
+    let x = ((m - 0.02) / (1.0 - 0.02) * (GLOSS_M - 1) as f32).clamp(0.0, (GLOSS_M - 1) as f32);
+    let k0 = x.floor() as usize;
+    (k0, (k0 + 1).min(GLOSS_M - 1), x - k0 as f32)
 }
 
 /// How the sun's direct light is computed.
