@@ -26,7 +26,7 @@ mod gloss;
 use anyhow::Result;
 use clap::Parser;
 use glam::Vec3;
-use gloss::{Measured, Plant, Reads, gather, load, rel};
+use gloss::{Measured, Plant, Reads, gather, load, ratio, rel};
 use rayon::prelude::*;
 use std::f32::consts::PI;
 use vcut_envmap::EnvMap;
@@ -44,12 +44,6 @@ struct Cli {
     /// Also each light path's ratio and error.
     #[arg(long)]
     parts: bool,
-}
-
-/// Summed radiance of `a` over `b`'s.
-fn ratio(a: &[Vec3], b: &[Vec3]) -> f64 {
-    let sum = |x: &[Vec3]| x.iter().map(|c| f64::from(c.x + c.y + c.z)).sum::<f64>();
-    sum(a) / sum(b).max(f64::MIN_POSITIVE)
 }
 
 fn main() -> Result<()> {

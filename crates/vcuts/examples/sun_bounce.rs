@@ -13,7 +13,7 @@ mod gloss;
 use anyhow::{Context, Result};
 use clap::Parser;
 use glam::Vec3;
-use gloss::{Measured, Plant, load, rel};
+use gloss::{Measured, Plant, load, ratio, rel};
 use rayon::prelude::*;
 use std::f32::consts::PI;
 use vcut_envmap::EnvMap;
@@ -31,11 +31,6 @@ struct Cli {
     /// Rays per vertex side of the gather.
     #[arg(long, default_value_t = 1024)]
     rays: u32,
-}
-
-fn ratio(a: &[Vec3], b: &[Vec3]) -> f64 {
-    let sum = |x: &[Vec3]| x.iter().map(|c| f64::from(c.x + c.y + c.z)).sum::<f64>();
-    sum(a) / sum(b).max(f64::MIN_POSITIVE)
 }
 
 /// Per vertex and side, the radiance it sends on of the sun's direct light (diffusely, its

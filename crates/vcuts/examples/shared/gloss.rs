@@ -63,6 +63,12 @@ pub fn rel(a: &[Vec3], b: &[Vec3]) -> f64 {
     (d / r.max(f64::MIN_POSITIVE)).sqrt()
 }
 
+/// Summed radiance of `a` over `b`'s (below 1: too dark).
+pub fn ratio(a: &[Vec3], b: &[Vec3]) -> f64 {
+    let sum = |x: &[Vec3]| x.iter().map(|c| f64::from(c.x + c.y + c.z)).sum::<f64>();
+    sum(a) / sum(b).max(f64::MIN_POSITIVE)
+}
+
 /// What a lobe sample reads.
 #[derive(Clone, Copy)]
 pub enum Reads<'a> {
