@@ -26,13 +26,13 @@ mod gloss;
 use anyhow::Result;
 use clap::Parser;
 use glam::Vec3;
-use gloss::{Measured, Plant, Reads, gather, load, ratio, rel};
+use gloss::{Measured, Plant, Reads, gather, load, ratio, rel, shade_frame};
 use rayon::prelude::*;
 use std::f32::consts::PI;
 use vcut_envmap::EnvMap;
 use vcut_leaf::reference::{ReferenceParams, reference};
 use vcut_leaf::scene::LeafScene;
-use vcut_leaf::shade::{LeafData, Lighting, Shader, SunMethod};
+use vcut_leaf::shade::{LeafData, Lighting};
 
 #[derive(Parser)]
 struct Cli {
@@ -51,13 +51,8 @@ fn main() -> Result<()> {
     let Plant { scene, light, rest, data, eye, verts } = load(&cli.measured)?;
     let data = &data;
     let matte = vcut_leaf::breakdown::matte(&scene);
-    let frame = |s: &LeafScene, l: &Lighting, d: &LeafData| -> Result<Vec<[Vec3; 2]>> {
-        let mut shader = Shader::with_edge_rays(cli.measured.plant.sun_edge_rays);
-        shader.prepare(s, &d.lvc, l)?;
-        let mut out = Vec::new();
-        shader.shade(s, d, l, SunMethod::Lvc, eye, &mut out);
-        Ok(out)
-    };
+    let edge_rays = cli.measured.plant.sun_edge_rays;
+    let frame = |s: &LeafScene, l: &Lighting, d: &LeafData| shade_frame(s, l, d, edge_rays, eye);
     let pick = |f: &[[Vec3; 2]]| -> Vec<Vec3> { verts.iter().flat_map(|&v| f[v]).collect() };
     let traced = |s: &LeafScene, env: &EnvMap, sun, depth, paths| -> Vec<Vec3> {
         let rp = ReferenceParams { paths, depth, ..ReferenceParams::default() };

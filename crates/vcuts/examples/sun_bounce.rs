@@ -13,7 +13,7 @@ mod gloss;
 use anyhow::{Context, Result};
 use clap::Parser;
 use glam::Vec3;
-use gloss::{Measured, Plant, load, ratio, rel};
+use gloss::{Measured, Plant, load, ratio, rel, shade_frame};
 use rayon::prelude::*;
 use std::f32::consts::PI;
 use vcut_envmap::EnvMap;
@@ -21,7 +21,7 @@ use vcut_leaf::lvc::Content;
 use vcut_leaf::prt::{PrtParams, Transfer};
 use vcut_leaf::reference::{ReferenceParams, reference};
 use vcut_leaf::scene::LeafScene;
-use vcut_leaf::shade::{LeafData, Lighting, Shader, SunMethod};
+use vcut_leaf::shade::{LeafData, Lighting, Shader};
 use vcut_sphere::rng::SplitMix64;
 
 #[derive(Parser)]
@@ -87,13 +87,7 @@ fn main() -> Result<()> {
     let cli = Cli::parse();
     let Plant { scene, light, rest, data, eye, verts } = load(&cli.measured)?;
     let edge_rays = cli.measured.plant.sun_edge_rays;
-    let frame = |l: &Lighting, d: &LeafData| -> Result<Vec<[Vec3; 2]>> {
-        let mut shader = Shader::with_edge_rays(edge_rays);
-        shader.prepare(&scene, &d.lvc, l)?;
-        let mut out = Vec::new();
-        shader.shade(&scene, d, l, SunMethod::Lvc, eye, &mut out);
-        Ok(out)
-    };
+    let frame = |l: &Lighting, d: &LeafData| shade_frame(&scene, l, d, edge_rays, eye);
     let mut shader = Shader::with_edge_rays(edge_rays);
     shader.prepare(&scene, &data.lvc, &light)?;
     let map = shader.sun_map().context("no sun map")?.to_vec();

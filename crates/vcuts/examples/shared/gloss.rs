@@ -9,7 +9,7 @@ use std::f32::consts::PI;
 use vcut_envmap::EnvMap;
 use vcut_leaf::material::{Gloss, beckmann};
 use vcut_leaf::scene::LeafScene;
-use vcut_leaf::shade::{LeafData, Lighting};
+use vcut_leaf::shade::{LeafData, Lighting, Shader, SunMethod};
 use vcut_sphere::rng::SplitMix64;
 use vcuts::leaves::{PlantArgs, camera, data_path, lighting, material, params, precompute, scene, subset};
 
@@ -61,6 +61,22 @@ pub fn rel(a: &[Vec3], b: &[Vec3]) -> f64 {
     let d: f64 = a.iter().zip(b).map(|(x, y)| f64::from((*x - *y).length_squared())).sum();
     let r: f64 = b.iter().map(|y| f64::from(y.length_squared())).sum();
     (d / r.max(f64::MIN_POSITIVE)).sqrt()
+}
+
+/// Every vertex's two sides shaded as `vcuts leaves` shades them: the sun map prepared with
+/// `edge_rays` rays at its edges, the sun by the LVC maps.
+pub fn shade_frame(
+    scene: &LeafScene,
+    light: &Lighting,
+    data: &LeafData,
+    edge_rays: u32,
+    eye: Vec3,
+) -> Result<Vec<[Vec3; 2]>> {
+    let mut shader = Shader::with_edge_rays(edge_rays);
+    shader.prepare(scene, &data.lvc, light)?;
+    let mut out = Vec::new();
+    shader.shade(scene, data, light, SunMethod::Lvc, eye, &mut out);
+    Ok(out)
 }
 
 /// Summed radiance of `a` over `b`'s (below 1: too dark).
