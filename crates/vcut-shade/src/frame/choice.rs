@@ -127,10 +127,10 @@ impl Frame {
         // choice, before its merges; the merged cache off; a merge that waits).
         let mut merged = MergedCut::default();
         let cut = match s.merged.get(v).filter(|_| !s.pending.get(v).copied().unwrap_or(true)) {
-            Some(kept) => kept,
+            Some(kept) => kept.nodes(),
             None => {
                 self.merge_one(o, v, &self.keys(o, v), &mut merged).ok()?;
-                &merged
+                (&merged).into()
             }
         };
         let n = s.mesh.normals()[v];

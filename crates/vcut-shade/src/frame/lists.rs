@@ -2,12 +2,12 @@
 //! nodes of its merged cut that can reflect light with their weights and the diffuse sum — and
 //! the specular sums over them.
 
+use super::kept::CutNodes;
 use crate::brdf;
 use crate::sun;
 use glam::Vec3;
 use vcut_dirtree::DirectionTree;
 use vcut_lighttree::LightTree;
-use vcut_merge::MergedCut;
 
 /// Blinn-Phong's power argument n·ĥ, ĥ = (ω + wo)/|ω + wo|, as [`brdf::Lobe::eval`] forms it.
 pub(super) fn blinn_phong_argument(n: Vec3, wo: Vec3) -> impl Fn([f32; 3]) -> f32 {
@@ -134,7 +134,7 @@ pub(super) fn unpack(e: u32) -> (usize, f32) {
 
 impl ShadeList {
     /// The list of merged cut `cut` at normal `n` (`svc`: see [`ShadeList::rebuild`]).
-    pub(super) fn new(cut: &MergedCut, n: Vec3, table: &[ShadeNode], svc: Option<&[u32]>) -> ShadeList {
+    pub(super) fn new(cut: CutNodes<'_>, n: Vec3, table: &[ShadeNode], svc: Option<&[u32]>) -> ShadeList {
         let mut list = ShadeList::default();
         list.rebuild(cut, n, table, svc, &mut Vec::new());
         list
@@ -155,7 +155,7 @@ impl ShadeList {
     /// other and overlap instead of waiting on mispredicted branches.
     pub(super) fn rebuild(
         &mut self,
-        cut: &MergedCut,
+        cut: CutNodes<'_>,
         n: Vec3,
         table: &[ShadeNode],
         svc: Option<&[u32]>,
@@ -169,7 +169,7 @@ impl ShadeList {
         let mut packed = 0;
         match svc {
             None => {
-                for (&k, &v) in cut.indices.iter().zip(&cut.values) {
+                for (k, v, ..) in cut.iter() {
                     // The last zero nodes write past the non-zero ones: into the spare slot, if any.
                     if packed < len {
                         self.entries[packed] = k;
@@ -181,8 +181,8 @@ impl ShadeList {
             Some(ends) => {
                 let root = cut.root_height;
                 // The SVC node around the current one: its end and n·m (0 unless wholly above).
-                let (mut leaf, mut j, mut a_end, mut a_below) = (0u32, 0usize, 0u32, 0.0f32);
-                for ((&k, &v), &h) in cut.indices.iter().zip(&cut.values).zip(&cut.heights) {
+                let (mut j, mut a_end, mut a_below) = (0usize, 0u32, 0.0f32);
+                for (k, v, h, leaf) in cut.iter() {
                     let end = leaf + (1u32 << h);
                     if end > a_end {
                         while ends[j] < end {
@@ -200,7 +200,6 @@ impl ShadeList {
                         scratch[packed] = [v, a_below];
                     }
                     packed += usize::from(v != 0.0);
-                    leaf = end;
                 }
             }
         }

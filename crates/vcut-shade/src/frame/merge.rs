@@ -4,6 +4,7 @@
 //! move's batch and a merge on the spot, whichever [`super::MergeAlgorithm`] prepared its
 //! inputs (the seam is `vcut_merge::prepared`).
 
+use super::kept::KeptCut;
 use super::keys::{CellKey, Changed, FAILED, FieldKey, Input, take_held};
 use super::lists::ShadeList;
 use super::object::placed;
@@ -122,7 +123,7 @@ impl Frame {
         o: usize,
         keys: &[Vec<FieldKey>],
         changed: &[bool],
-        mut merged: Option<&mut [MergedCut]>,
+        mut merged: Option<&mut [KeptCut]>,
         lists: &mut [ShadeList],
         cache: &mut FieldCache,
         timing: &mut MoveTiming,
@@ -164,7 +165,7 @@ impl Frame {
         offset: usize,
         keys: &[Vec<FieldKey>],
         changed: &[bool],
-        merged: Option<&mut [MergedCut]>,
+        merged: Option<&mut [KeptCut]>,
         lists: &mut [ShadeList],
         cache: &mut FieldCache,
         timing: &mut MoveTiming,
@@ -219,7 +220,7 @@ impl Frame {
         timing.refine_s += start.elapsed().as_secs_f64();
         let start = Instant::now();
         let nodes = std::sync::atomic::AtomicUsize::new(0);
-        let slots: Vec<Option<&mut MergedCut>> = match merged {
+        let slots: Vec<Option<&mut KeptCut>> = match merged {
             Some(m) => m.iter_mut().map(Some).collect(),
             None => (0..changed.len()).map(|_| None).collect(),
         };
@@ -230,14 +231,16 @@ impl Frame {
                     let cell = |c: &CellKey| {
                         &refined[cells.binary_search(c).unwrap_or_else(|_| unreachable!("collected above"))]
                     };
-                    let out = slot.unwrap_or(spare);
-                    let svc = self.merge_vertex(o, offset + v, &keys[v], &cell, scratch, flats, out)?;
-                    nodes.fetch_add(out.heights.len(), std::sync::atomic::Ordering::Relaxed);
+                    let svc = self.merge_vertex(o, offset + v, &keys[v], &cell, scratch, flats, spare)?;
+                    nodes.fetch_add(spare.heights.len(), std::sync::atomic::Ordering::Relaxed);
                     // The list while the cut is still in cache.
                     match svc {
                         None => list.clear(),
                         Some(_) if !facing(v) => list.mark_stale(),
-                        Some(ends) => list.rebuild(out, normals[v], table, Some(&ends), below),
+                        Some(ends) => list.rebuild((&*spare).into(), normals[v], table, Some(&ends), below),
+                    }
+                    if let Some(slot) = slot {
+                        slot.keep(spare);
                     }
                     Ok(())
                 },

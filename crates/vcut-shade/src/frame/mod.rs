@@ -92,16 +92,18 @@
 //! decoded and its merged cut, and per object the field cells its last merge refined. Moves and BRDF edits need neither merged cuts nor lists rebuilt
 //! from them; a lighting change, a sun toggle and a camera turn do, and without the merged
 //! cache ([`Frame::set_merged_cache`]) they merge those vertices again at their kept inputs in
-//! one batch (the same cuts, bit for bit). On the teapot scene at `balanced` the frame holds
-//! 88 instead of 193 MB without it, a lighting change takes 125 instead of 46 ms and a camera
-//! turn after it 45 instead of 19 ms (`move_path` with `NO_MERGED_CACHE=1`).
-//! Without any cache (the SVCs decoded at each merge, no field cells kept between moves) it
-//! holds 47 MB, 4.1 KB a vertex, and a drag step 121–125 instead of 72–110 ms
-//! (`move_path` with `NO_CELL_CACHE=1 NO_SVC_CACHE=1` too; [`Frame::fit_memory`] drops
-//! caches to fit a budget; `vcuts render --memory-budget`).
+//! one batch (the same cuts, bit for bit). A kept merged cut is its heights and values, 5
+//! bytes a node (`kept.rs`: the level-order index follows from the heights). On the teapot
+//! scene at `balanced` (`move_path`, 2026-12-05) the frame holds 107 MB with every cache, 65 MB
+//! without the merged cuts (`NO_MERGED_CACHE=1`: a lighting change 246–383 instead of 67–89 ms,
+//! a camera turn after it 76–103 instead of 13–19 ms) and 36 MB without any cache
+//! (`NO_CELL_CACHE=1 NO_SVC_CACHE=1` too: the SVCs decoded at each merge, no field cells kept
+//! between moves). [`Frame::fit_memory`] drops caches to fit a budget (`vcuts render
+//! --memory-budget`).
 
 mod choice;
 mod deferral;
+mod kept;
 mod keys;
 mod lighting;
 mod lists;
@@ -116,6 +118,7 @@ use crate::brdf;
 use crate::sun::{Sun, SunRays};
 pub use choice::LightChoice;
 use glam::Vec3;
+use kept::KeptCut;
 use keys::FieldKey;
 use lists::{ShadeList, ShadeNode, SpecularNode};
 use merge::FieldCache;
@@ -392,7 +395,7 @@ impl Frame {
         for o in 0..frame.objects.len() {
             let n = frame.objects[o].mesh.vertex_count();
             let keys: Vec<Vec<FieldKey>> = (0..n).map(|v| frame.keys(o, v)).collect();
-            let mut merged = vec![MergedCut::default(); if caches.merged { n } else { 0 }];
+            let mut merged = vec![KeptCut::default(); if caches.merged { n } else { 0 }];
             let mut lists = vec![ShadeList::default(); n];
             let mut cache = FieldCache::default();
             let kept = caches.merged.then_some(&mut merged[..]);
@@ -541,7 +544,7 @@ impl Frame {
             let n = s.mesh.vertex_count();
             let (keys, mut lists, mut cache) =
                 (std::mem::take(&mut s.keys), std::mem::take(&mut s.lists), std::mem::take(&mut s.decoded));
-            let mut merged = vec![MergedCut::default(); n];
+            let mut merged = vec![KeptCut::default(); n];
             let result = self.merge_all(
                 o,
                 &keys,
@@ -605,11 +608,12 @@ impl Frame {
     /// The merged cut of vertex `v` of object `o`, as of its last merge: a vertex whose merge
     /// waits ([`Frame::set_deferred_merges`], [`Frame::pending_merges`]) still has the cut of
     /// its field inputs before the move. With the merged cache off ([`Frame::set_merged_cache`])
-    /// it is merged again here at those inputs (the same cut, bit for bit).
+    /// it is merged again here at those inputs (the same cut, bit for bit). The frame keeps
+    /// heights and values only: the level-order indices are derived here.
     pub fn merged(&self, o: usize, v: usize) -> Result<std::borrow::Cow<'_, MergedCut>, FrameError> {
         let s = &self.objects[o];
         if let Some(cut) = s.merged.get(v) {
-            return Ok(std::borrow::Cow::Borrowed(cut));
+            return Ok(std::borrow::Cow::Owned(cut.to_merged()));
         }
         let mut cut = MergedCut::default();
         self.merge_one(o, v, &s.keys[v], &mut cut)?;

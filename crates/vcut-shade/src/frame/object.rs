@@ -2,6 +2,7 @@
 //! its vertices' last merge left (merged cuts, shading lists, field inputs, the decoded field
 //! cuts and refined cells kept for the next move, which merges wait).
 
+use super::kept::KeptCut;
 use super::keys::FieldKey;
 use super::lists::{ShadeList, ShadeNode};
 use super::merge::FieldCache;
@@ -11,7 +12,7 @@ use glam::Vec3;
 use vcut_cut::Cut;
 use vcut_data::FieldLayout;
 use vcut_data::sections::CutArray;
-use vcut_merge::{MergedCut, Prepared};
+use vcut_merge::Prepared;
 use vcut_scene::{Material, Mesh, Motion};
 
 /// An object at run time.
@@ -42,7 +43,7 @@ pub(super) struct ObjectState {
     /// How far along the normal its vertices' rays start ([`vcut_rays::origin_offset`] of the
     /// file's SVC offset).
     pub(super) ray_offset: f32,
-    pub(super) merged: Vec<MergedCut>,
+    pub(super) merged: Vec<KeptCut>,
     pub(super) lists: Vec<ShadeList>,
     pub(super) keys: Vec<Vec<FieldKey>>,
     /// Decoded field cuts its vertices' last merge used.
@@ -150,7 +151,7 @@ impl ObjectState {
 
     /// Builds vertex `v`'s shading list from its kept merged cut into `list`.
     pub(super) fn relist(&self, v: usize, nodes: &[ShadeNode], list: &mut ShadeList, below: &mut Vec<[f32; 2]>) {
-        list.rebuild(&self.merged[v], self.mesh.normals()[v], nodes, self.svc_ends(v).as_deref(), below);
+        list.rebuild(self.merged[v].nodes(), self.mesh.normals()[v], nodes, self.svc_ends(v).as_deref(), below);
     }
 
     pub(super) fn svc_cut(&self, v: usize) -> Result<Cut, vcut_data::sections::CutDecodeError> {

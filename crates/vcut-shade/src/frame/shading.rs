@@ -39,7 +39,7 @@ impl Frame {
         if !s.seen(v, eye) {
             return Vec3::ZERO;
         }
-        let list = ShadeList::new(cut, s.mesh.normals()[v], &self.nodes, s.svc_ends(v).as_deref());
+        let list = ShadeList::new(cut.into(), s.mesh.normals()[v], &self.nodes, s.svc_ends(v).as_deref());
         self.shade_vertex(o, v, &list, eye).radiance(self.albedo(o, v))
     }
 
@@ -50,7 +50,7 @@ impl Frame {
         if !s.seen(v, eye) {
             return Vec3::ZERO;
         }
-        let list = ShadeList::new(cut, s.mesh.normals()[v], &self.nodes, None);
+        let list = ShadeList::new(cut.into(), s.mesh.normals()[v], &self.nodes, None);
         self.shade_vertex(o, v, &list, eye).radiance(self.albedo(o, v))
     }
 
@@ -150,7 +150,7 @@ impl Frame {
                                     return (Parts::default(), true);
                                 }
                                 let ends = s.svc_ends(v);
-                                built.rebuild(cut, s.mesh.normals()[v], &this.nodes, ends.as_deref(), below);
+                                built.rebuild((&*cut).into(), s.mesh.normals()[v], &this.nodes, ends.as_deref(), below);
                                 (this.shade_vertex(o, v, built, eye), true)
                             } else if list.stale {
                                 s.relist(v, &this.nodes, built, below);

@@ -1,11 +1,12 @@
 //! What the frame reports about itself: merge counts, the last move's timing, and the bytes
 //! of its shading lists, merged cuts and kept SVCs.
 
+use super::kept::KeptCut;
 use super::keys::FieldKey;
 use super::lists::ShadeList;
 use super::{Frame, MoveTiming};
 use glam::Vec3;
-use vcut_merge::{MergedCut, Prepared};
+use vcut_merge::Prepared;
 
 /// What a frame holds in memory, by part (bytes, counted from the buffers' capacities).
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
@@ -76,14 +77,10 @@ impl Frame {
         self.objects.iter().flat_map(|s| &s.lists).map(|l| l.entries.len() * size_of::<u32>() + size_of::<Vec3>()).sum()
     }
 
-    /// Bytes of every vertex's merged cut (height u8, value f32 and level-order index u32 per
-    /// node): streaming them is the floor under a shading pass.
+    /// Bytes of every vertex's kept merged cut (height u8 and value f32 per node; 0 with the
+    /// merged cache off): streaming them is the floor under a shading pass.
     pub fn merged_bytes(&self) -> usize {
-        self.objects
-            .iter()
-            .flat_map(|s| &s.merged)
-            .map(|m| m.heights.len() * (size_of::<u8>() + size_of::<f32>() + size_of::<u32>()))
-            .sum()
+        self.objects.iter().flat_map(|s| &s.merged).map(|m| m.len() * (size_of::<u8>() + size_of::<f32>())).sum()
     }
 
     /// What the frame holds in memory, by part.
@@ -95,13 +92,7 @@ impl Frame {
             m.meshes += s.mesh.vertex_count() * 2 * size_of::<Vec3>()
                 + s.mesh.triangle_count() * 3 * size_of::<u32>()
                 + s.cones.len() * size_of::<super::object::ViewCone>();
-            m.merged += s
-                .merged
-                .iter()
-                .map(|c| {
-                    size_of::<MergedCut>() + c.heights.capacity() + 4 * c.values.capacity() + 4 * c.indices.capacity()
-                })
-                .sum::<usize>();
+            m.merged += s.merged.iter().map(KeptCut::bytes).sum::<usize>();
             m.lists += s.lists.iter().map(|l| size_of::<ShadeList>() + 4 * l.entries.capacity()).sum::<usize>();
             m.svc_cache += s.svc_refined.iter().map(Prepared::bytes).sum::<usize>()
                 + s.svc_refined.capacity() * size_of::<Prepared>();

@@ -70,9 +70,9 @@ fn a_split_svc_node_takes_its_own_cosine() {
         let (g, leaf) = tree.node(k);
         *v = mean_cos(g, leaf);
     }
-    let split = ShadeList::new(&product, n, &table, Some(&svc_ends));
-    let exact = ShadeList::new(&own, n, &table, None);
-    let old = ShadeList::new(&product, n, &table, None);
+    let split = ShadeList::new((&product).into(), n, &table, Some(&svc_ends));
+    let exact = ShadeList::new((&own).into(), n, &table, None);
+    let old = ShadeList::new((&product).into(), n, &table, None);
     let unpacked = |l: &ShadeList| -> (Vec<usize>, Vec<f32>) { l.entries.iter().map(|&e| unpack(e)).unzip() };
     let ((split_nodes, split_w), (exact_nodes, exact_w), (_, old_w)) =
         (unpacked(&split), unpacked(&exact), unpacked(&old));
