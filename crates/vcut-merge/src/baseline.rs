@@ -52,7 +52,7 @@ pub struct IndexGroup<'a> {
 
 /// Decodes an index into (height, first leaf, one past the last leaf).
 #[inline]
-fn node(root: u32, index: u32) -> (u32, u64, u64) {
+pub(crate) fn node(root: u32, index: u32) -> (u32, u64, u64) {
     let depth = 31 - (index + 1).leading_zeros();
     let h = root - depth;
     let start = u64::from((index + 1) - (1u32 << depth)) << h;

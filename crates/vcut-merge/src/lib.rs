@@ -128,6 +128,14 @@ pub enum MergeError {
     },
 }
 
+/// Appends leaf range `r` to `runs`, joined to the last run when it starts where that ends.
+pub(crate) fn push_run(runs: &mut Vec<std::ops::Range<u32>>, r: std::ops::Range<u32>) {
+    match runs.last_mut() {
+        Some(last) if last.end == r.start => last.end = r.end,
+        _ => runs.push(r),
+    }
+}
+
 /// Checks the groups (cuts, weights) and returns the common root height.
 pub(crate) fn check_groups<'a, T: 'a>(
     groups: impl Iterator<Item = (&'a [T], &'a [f32])>,

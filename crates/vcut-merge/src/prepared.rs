@@ -114,6 +114,32 @@ impl Prepared {
         }
     }
 
+    /// Appends to `out` the leaf ranges where every cut of the group is zero, in leaf order
+    /// with consecutive ranges joined ([`Refinement::zero_runs`]): where a product with this
+    /// group's weighted sum is zero whatever else it multiplies.
+    pub fn zero_runs(&self, out: &mut Vec<std::ops::Range<u32>>) {
+        match self {
+            Prepared::Refined(r) => r.zero_runs(out),
+            Prepared::Indexed(cuts) => {
+                let mut common: Option<Vec<std::ops::Range<u32>>> = None;
+                for c in cuts {
+                    let mut runs = Vec::new();
+                    for (&i, &v) in c.indices().iter().zip(c.values()) {
+                        if v == 0.0 {
+                            let (_, start, end) = baseline::node(c.root_height(), i);
+                            crate::push_run(&mut runs, start as u32..end as u32);
+                        }
+                    }
+                    common = Some(match common {
+                        None => runs,
+                        Some(a) => intersect(&a, &runs),
+                    });
+                }
+                out.extend(common.unwrap_or_default());
+            }
+        }
+    }
+
     /// Bytes held (for memory accounting).
     pub fn bytes(&self) -> usize {
         match self {
@@ -160,6 +186,23 @@ pub fn merge_prepared(factors: &[(&Prepared, &[f32])], out: &mut MergedCut) -> R
     }
 }
 
+/// The leaf ranges in both sorted, disjoint lists of ranges.
+fn intersect(a: &[std::ops::Range<u32>], b: &[std::ops::Range<u32>]) -> Vec<std::ops::Range<u32>> {
+    let (mut i, mut j, mut out) = (0, 0, Vec::new());
+    while i < a.len() && j < b.len() {
+        let (start, end) = (a[i].start.max(b[j].start), a[i].end.min(b[j].end));
+        if start < end {
+            crate::push_run(&mut out, start..end);
+        }
+        if a[i].end <= b[j].end {
+            i += 1;
+        } else {
+            j += 1;
+        }
+    }
+    out
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -185,6 +228,30 @@ mod tests {
             assert_eq!(out, expected, "{algorithm:?}");
             assert_eq!(&*svc.ends(), &[2, 3, 4, 8], "{algorithm:?}");
             assert_eq!(&*cell.ends(), &[1, 2, 4, 6, 8], "{algorithm:?}");
+        }
+    }
+
+    #[test]
+    #[allow(clippy::single_range_in_vec_init)] // lists of leaf ranges, some of one range
+    fn zero_runs_are_where_every_member_is_zero() {
+        let joined = cut(3, &[1, 1, 2], &[0.0, -0.0, 1.0]);
+        let b = cut(3, &[2, 1, 1], &[1.0, 0.25, 0.0]);
+        let d = cut(3, &[2, 2], &[1.0, 0.0]);
+        let binary = cut(3, &[0, 0, 1, 2], &[0.0, 0.0, 1.0, 0.0]);
+        let other = cut(3, &[1, 0, 0, 2], &[0.0, 1.0, 0.0, 0.0]);
+        let cases: [(&[&Cut], &[std::ops::Range<u32>]); 5] = [
+            (&[&joined], &[0..4]),
+            (&[&b, &d], &[6..8]),
+            (&[&binary, &other], &[0..2, 4..8]),
+            (&[&b, &binary], &[6..8]),
+            (&[&b, &joined], &[]),
+        ];
+        for algorithm in [Algorithm::Counter, Algorithm::Index] {
+            for (cuts, expected) in cases {
+                let mut runs = vec![];
+                algorithm.prepare(cuts).unwrap().zero_runs(&mut runs);
+                assert_eq!(runs, expected, "{algorithm:?}, {} cuts", cuts.len());
+            }
         }
     }
 

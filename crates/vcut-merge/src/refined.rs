@@ -249,6 +249,20 @@ impl Refinement {
         self.ends.capacity() * 4 + self.values.capacity() * 4 + self.masks.capacity() + self.nonzero.capacity()
     }
 
+    /// Appends to `out` the leaf ranges where every member is zero (consecutive zero nodes
+    /// joined): where a product with this factor is zero whatever the other factors hold.
+    pub fn zero_runs(&self, out: &mut Vec<std::ops::Range<u32>>) {
+        let mut start = 0u32;
+        for (j, &end) in self.ends.iter().enumerate() {
+            // One member keeps only its values; a group says per node whether any is non-zero.
+            let zero = if self.nonzero.is_empty() { self.values[j] == 0.0 } else { !self.nonzero[j] };
+            if zero {
+                crate::push_run(out, start..end);
+            }
+            start = end;
+        }
+    }
+
     /// Whether the members are coded as bit masks (all binary).
     pub fn is_binary(&self) -> bool {
         !self.masks.is_empty()

@@ -25,6 +25,7 @@
 //! ```
 
 use glam::{DVec3, Vec3};
+use std::ops::Range;
 use vcut_cut::Cut;
 use vcut_dirtree::DirectionTree;
 
@@ -32,14 +33,24 @@ use vcut_dirtree::DirectionTree;
 /// both in world space): see the module documentation. A point in the polygon's plane (or a
 /// polygon of no area seen from it) is hidden from nothing: the root, visible.
 pub fn flat_cut(tree: &DirectionTree, corners: &[Vec3], p: Vec3) -> Cut {
+    flat_cut_where(tree, corners, p, &[])
+}
+
+/// [`flat_cut`] for a product that is zero on the leaf ranges `zeros` (sorted, disjoint) —
+/// a vertex's SVC below its horizon and where the object hides itself — whatever this cut
+/// holds there: a node whose leaves all lie in one range is one node of value 0, neither
+/// classified nor walked into. The product takes the same value at every leaf and shades the
+/// same; on the teapot scene at the paper preset, where most of the teapot's vertices see the
+/// ground, an eager move took 0.79× the time (`move_path` with `EAGER=1`, 2026-12-05).
+pub fn flat_cut_where(tree: &DirectionTree, corners: &[Vec3], p: Vec3, zeros: &[Range<u32>]) -> Cut {
     let h = tree.height();
     let root = || Cut::root(h, 1.0).unwrap_or_else(|e| unreachable!("a tree's height is a valid root height: {e}"));
     let Some(planes) = edge_planes(corners, p) else {
         return root();
     };
-    let (mut heights, mut values) = (Vec::new(), Vec::new());
-    walk(tree, &planes, 0, &mut heights, &mut values);
-    Cut::new(h, heights, values).unwrap_or_else(|e| unreachable!("a walk of the tree covers it once: {e}"))
+    let mut walk = Walk { tree, planes: &planes, zeros, run: 0, heights: Vec::new(), values: Vec::new() };
+    walk.node(0);
+    Cut::new(h, walk.heights, walk.values).unwrap_or_else(|e| unreachable!("a walk of the tree covers it once: {e}"))
 }
 
 /// The inward unit normals of the planes through `p` and each edge of the polygon: a direction
@@ -62,29 +73,49 @@ fn edge_planes(corners: &[Vec3], p: Vec3) -> Option<Vec<Vec3>> {
     Some(planes.iter().map(|m| m.as_vec3()).collect())
 }
 
-/// Appends the cut of node `index`'s subtree: a node wholly inside the polygon's cone or
-/// wholly outside one of its planes is one node; a leaf is decided by its direction; a node
-/// whose two children came out as one value each, the same, is that node.
-fn walk(tree: &DirectionTree, planes: &[Vec3], index: u32, heights: &mut Vec<u8>, values: &mut Vec<f32>) {
-    let (h, offset) = tree.node(index);
-    let value = if h == 0 {
-        let d = tree.leaf_directions()[offset as usize];
-        Some(if planes.iter().all(|m| m.dot(d) >= 0.0) { 0.0 } else { 1.0 })
-    } else {
-        classify(tree.cone(index), planes)
-    };
-    if let Some(v) = value {
-        heights.push(h as u8);
-        values.push(v);
-        return;
-    }
-    let start = heights.len();
-    walk(tree, planes, 2 * index + 1, heights, values);
-    walk(tree, planes, 2 * index + 2, heights, values);
-    if heights.len() == start + 2 && values[start] == values[start + 1] {
-        heights.truncate(start);
-        heights.push(h as u8);
-        values.truncate(start + 1);
+/// A walk of the tree down to the polygon's edges, appending the cut in leaf order.
+struct Walk<'a> {
+    tree: &'a DirectionTree,
+    planes: &'a [Vec3],
+    zeros: &'a [Range<u32>],
+    /// The first range of `zeros` not wholly before the node visited (nodes come in leaf order).
+    run: usize,
+    heights: Vec<u8>,
+    values: Vec<f32>,
+}
+
+impl Walk<'_> {
+    /// Appends the cut of node `index`'s subtree: a node inside a zero range, wholly inside the
+    /// polygon's cone or wholly outside one of its planes is one node; a leaf is decided by its
+    /// direction; a node whose two children came out as one value each, the same, is that node.
+    fn node(&mut self, index: u32) {
+        let tree = self.tree;
+        let (h, offset) = tree.node(index);
+        while self.zeros.get(self.run).is_some_and(|r| r.end <= offset) {
+            self.run += 1;
+        }
+        let zero = self.zeros.get(self.run).is_some_and(|r| r.start <= offset && offset + (1 << h) <= r.end);
+        let value = if zero {
+            Some(0.0)
+        } else if h == 0 {
+            let d = tree.leaf_directions()[offset as usize];
+            Some(if self.planes.iter().all(|m| m.dot(d) >= 0.0) { 0.0 } else { 1.0 })
+        } else {
+            classify(tree.cone(index), self.planes)
+        };
+        if let Some(v) = value {
+            self.heights.push(h as u8);
+            self.values.push(v);
+            return;
+        }
+        let start = self.heights.len();
+        self.node(2 * index + 1);
+        self.node(2 * index + 2);
+        if self.heights.len() == start + 2 && self.values[start] == self.values[start + 1] {
+            self.heights.truncate(start);
+            self.heights.push(h as u8);
+            self.values.truncate(start + 1);
+        }
     }
 }
 
@@ -159,6 +190,33 @@ mod tests {
         let n = (p[1] - p[0]).cross(p[2] - p[0]).normalize();
         let tri = vcut_scene::Mesh::from_valid_parts(p, vec![n; 3], vec![[0, 1, 2]]).unwrap();
         check(&t, &tri, Vec3::ZERO);
+    }
+
+    #[test]
+    fn zero_ranges_are_one_node_each_and_the_rest_is_the_exact_cut() {
+        let t = tree(4096);
+        let ground = vcut_scene::shapes::plane(14.0, 8).unwrap();
+        let outline = FlatOutline::of(&ground).unwrap();
+        for p in [Vec3::new(0.0, 1.0, 0.0), Vec3::new(6.5, 0.05, -6.0), Vec3::new(2.0, 3.0, 1.0)] {
+            let exact = flat_cut(&t, outline.corners(), p);
+            // Ranges of every size and alignment, some joined, some holding no edge at all.
+            let zeros = [0..1000, 1000..1500, 1501..1502, 2048..3072, 3500..4000];
+            let masked = flat_cut_where(&t, outline.corners(), p, &zeros);
+            // Outside the ranges the exact cut's values; a node within one range is 0.
+            let (a, b) = (exact.expand(), masked.expand());
+            for l in (0..t.leaf_count()).filter(|&l| !zeros.iter().any(|r| r.contains(&(l as u32)))) {
+                assert_eq!(b[l], a[l], "{p}, leaf {l}");
+            }
+            for ((h, o), v) in masked.heights().iter().zip(masked.offsets()).zip(masked.values()) {
+                let node = o as u32..o as u32 + (1 << h);
+                if zeros.iter().any(|r| r.start <= node.start && node.end <= r.end) {
+                    assert_eq!(*v, 0.0, "{p}: node {node:?}");
+                }
+            }
+            assert!(masked.len() < exact.len(), "{p}: {} nodes, exact {}", masked.len(), exact.len());
+            // No ranges: the exact cut.
+            assert_eq!(flat_cut_where(&t, outline.corners(), p, &[]), exact);
+        }
     }
 
     #[test]

@@ -287,8 +287,15 @@ impl Frame {
         let lookups: Vec<(CellKey, [f32; 8])> = keys.iter().filter_map(CellKey::of).collect();
         let planes: Vec<(usize, Vec3)> = keys.iter().filter_map(|k| Some((k.object as usize, k.flat()?))).collect();
         flats.resize_with(planes.len(), Prepared::default);
+        // Where the SVC is zero (below the horizon, where the object hides itself) the product
+        // is zero whatever a flat occluder hides: its cut is not walked there.
+        let mut zeros = Vec::new();
+        if !planes.is_empty() {
+            svc.zero_runs(&mut zeros);
+        }
         for (&(j, at), prepared) in planes.iter().zip(flats.iter_mut()) {
-            let cut = self.flat_cut_at_rest(j, at).unwrap_or_else(|| unreachable!("a flat key is a flat object's"));
+            let cut =
+                self.flat_cut_at_rest(j, at, &zeros).unwrap_or_else(|| unreachable!("a flat key is a flat object's"));
             self.algorithm.prepare_into(&[&cut], prepared).map_err(|e| err(e.into()))?;
         }
         let mut factors: Vec<(&Prepared, &[f32])> = Vec::with_capacity(1 + lookups.len() + planes.len());
