@@ -184,16 +184,15 @@ impl Progress for Bars {
     }
 }
 
-/// The file-name stem of a scene spec: `builtin:teapot` → `teapot`, `dir/x.toml` → `x`.
+/// The file-name stem of a scene spec: `builtin:teapot` → `teapot`, `builtin:showroom:32` →
+/// `showroom-32`, `dir/x.toml` → `x`.
 fn scene_stem(scene: &str) -> String {
-    scene
-        .rsplit(['/', ':'])
-        .next()
-        .unwrap_or("scene")
-        .trim_end_matches(".toml")
-        .chars()
-        .filter(|c| c.is_alphanumeric() || *c == '-' || *c == '_')
-        .collect()
+    let name = match scene.strip_prefix("builtin:") {
+        Some(builtin) => builtin.replace(':', "-"),
+        None => scene.rsplit(['/', '\\']).next().unwrap_or("scene").trim_end_matches(".toml").to_string(),
+    };
+    let stem: String = name.chars().filter(|c| c.is_alphanumeric() || *c == '-' || *c == '_').collect();
+    if stem.is_empty() { "scene".to_string() } else { stem }
 }
 
 /// The default output of `scene` under `preset` (`target/vcuts/<scene>-<preset>.vcuts`),
@@ -460,4 +459,23 @@ pub fn print_summary(output: &Path, s: &Summary, total_s: f64, p: &PrecomputePar
         );
     }
     println!("| whole file | | | {:.2} | | |", mb(s.file_bytes));
+}
+
+#[cfg(test)]
+mod tests {
+    use super::scene_stem;
+
+    #[test]
+    fn a_scene_spec_names_its_default_output() {
+        for (spec, stem) in [
+            ("builtin:teapot", "teapot"),
+            ("builtin:showroom:32", "showroom-32"),
+            ("builtin:showroom", "showroom"),
+            ("scenes/room.toml", "room"),
+            ("../meshes/bunny v2.obj", "bunnyv2obj"),
+            ("/", "scene"),
+        ] {
+            assert_eq!(scene_stem(spec), stem, "{spec}");
+        }
+    }
 }
