@@ -49,7 +49,7 @@ pub fn flat_cut_where(tree: &DirectionTree, corners: &[Vec3], p: Vec3, zeros: &[
         return root();
     };
     let mut walk = Walk { tree, planes: &planes, zeros, run: 0, heights: Vec::new(), values: Vec::new() };
-    walk.node(0);
+    walk.node(0, h, 0);
     Cut::new(h, walk.heights, walk.values).unwrap_or_else(|e| unreachable!("a walk of the tree covers it once: {e}"))
 }
 
@@ -88,9 +88,8 @@ impl Walk<'_> {
     /// Appends the cut of node `index`'s subtree: a node inside a zero range, wholly inside the
     /// polygon's cone or wholly outside one of its planes is one node; a leaf is decided by its
     /// direction; a node whose two children came out as one value each, the same, is that node.
-    fn node(&mut self, index: u32) {
+    fn node(&mut self, index: u32, h: u32, offset: u32) {
         let tree = self.tree;
-        let (h, offset) = tree.node(index);
         while self.zeros.get(self.run).is_some_and(|r| r.end <= offset) {
             self.run += 1;
         }
@@ -109,8 +108,8 @@ impl Walk<'_> {
             return;
         }
         let start = self.heights.len();
-        self.node(2 * index + 1);
-        self.node(2 * index + 2);
+        self.node(2 * index + 1, h - 1, offset);
+        self.node(2 * index + 2, h - 1, offset + (1 << (h - 1)));
         if self.heights.len() == start + 2 && self.values[start] == self.values[start + 1] {
             self.heights.truncate(start);
             self.heights.push(h as u8);
