@@ -36,6 +36,22 @@ pub mod select;
 
 pub use codec::ValueFormat;
 
+/// Level-order index of the node of height `h` whose first leaf is `offset`, in a tree of root
+/// height `root_height`: `2^(H−h) + offset/2^h − 1`.
+#[inline]
+pub fn level_order_index(root_height: u32, h: u32, offset: u32) -> u32 {
+    (1u32 << (root_height - h)) + (offset >> h) - 1
+}
+
+/// `(height, first leaf offset)` of a level-order index ([`level_order_index`]'s inverse).
+#[inline]
+pub fn node_of_index(root_height: u32, index: u32) -> (u32, u32) {
+    let depth = 31 - (index + 1).leading_zeros();
+    let h = root_height - depth;
+    let offset = ((index + 1) - (1u32 << depth)) << h;
+    (h, offset)
+}
+
 /// Largest root height supported (2^24 leaves).
 pub const MAX_ROOT_HEIGHT: u32 = 24;
 
@@ -162,7 +178,8 @@ impl Cut {
         self.heights
             .iter()
             .zip(self.offsets())
-            .map(move |(&h, off)| ((1u64 << (root - u32::from(h))) + (off >> h) - 1) as u32)
+            // Checked cuts have at most 2^24 leaves: every offset fits in u32.
+            .map(move |(&h, off)| level_order_index(root, u32::from(h), off as u32))
     }
 
     /// The value at every leaf (2^H entries).

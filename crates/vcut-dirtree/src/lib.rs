@@ -55,21 +55,8 @@ pub enum TreeError {
     BadInput(usize),
 }
 
-/// Level-order index of the node of height `h` whose first leaf is `offset`, in a tree of root
-/// height `root_height`: `2^(H−h) + offset/2^h − 1`.
-#[inline]
-pub fn level_order_index(root_height: u32, h: u32, offset: u32) -> u32 {
-    (1u32 << (root_height - h)) + (offset >> h) - 1
-}
-
-/// `(height, first leaf offset)` of a level-order index.
-#[inline]
-pub fn node_of_index(root_height: u32, index: u32) -> (u32, u32) {
-    let depth = 31 - (index + 1).leading_zeros();
-    let h = root_height - depth;
-    let offset = ((index + 1) - (1u32 << depth)) << h;
-    (h, offset)
-}
+/// The level-order index of a node and its inverse (defined with the cuts, `vcut_cut`).
+pub use vcut_cut::{level_order_index, node_of_index};
 
 /// A bounding cone: every leaf direction `d` of the node has `d·axis ≥ cos_half_angle`.
 #[derive(Debug, Clone, Copy, PartialEq)]

@@ -53,10 +53,8 @@ pub struct IndexGroup<'a> {
 /// Decodes an index into (height, first leaf, one past the last leaf).
 #[inline]
 pub(crate) fn node(root: u32, index: u32) -> (u32, u64, u64) {
-    let depth = 31 - (index + 1).leading_zeros();
-    let h = root - depth;
-    let start = u64::from((index + 1) - (1u32 << depth)) << h;
-    (h, start, start + (1u64 << h))
+    let (h, start) = vcut_cut::node_of_index(root, index);
+    (h, u64::from(start), u64::from(start) + (1u64 << h))
 }
 
 /// One past the last leaf of the node at level-order `index` under a root of height `root`.

@@ -91,7 +91,8 @@ impl MergedCut {
     fn push(&mut self, h: u32, leaf: u64, value: f32) {
         self.heights.push(h as u8);
         self.values.push(value);
-        self.indices.push(((1u64 << (self.root_height - h)) + (leaf >> h) - 1) as u32);
+        // Leaves number at most 2^24 (checked cuts): every leaf fits in u32.
+        self.indices.push(vcut_cut::level_order_index(self.root_height, h, leaf as u32));
     }
 
     /// As a checked [`Cut`] (drops the indices).

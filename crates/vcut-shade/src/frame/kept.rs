@@ -5,14 +5,8 @@
 //! l the leaves of the nodes before it), so the frame keeps heights and values only: 5 bytes
 //! per node instead of 9, the same cut bit for bit ([`KeptCut::to_merged`]).
 
+use vcut_cut::level_order_index;
 use vcut_merge::MergedCut;
-
-/// The level-order index of the node of height `h` whose leaves start at `leaf`, in a tree of
-/// root height `root`.
-#[inline]
-fn index(root: u32, h: u32, leaf: u32) -> u32 {
-    (1u32 << (root - h)) + (leaf >> h) - 1
-}
 
 /// A merged cut's nodes left to right as a shading list reads them: heights and values, the
 /// level-order index derived from the heights ([`CutNodes::iter`]).
@@ -37,7 +31,7 @@ impl<'a> CutNodes<'a> {
         self.heights.iter().zip(self.values).scan(0u32, move |leaf, (&h, &v)| {
             let (h, start) = (u32::from(h), *leaf);
             *leaf += 1 << h;
-            Some((index(root, h, start), v, h, start))
+            Some((level_order_index(root, h, start), v, h, start))
         })
     }
 }

@@ -33,7 +33,7 @@ fn a_split_svc_node_takes_its_own_cosine() {
     let n = Vec3::new(0.3, 0.9, 0.2).normalize();
     let root = tree.height();
     let h = 3u32;
-    let index = |h: u32, leaf: u32| ((1u32 << (root - h)) + (leaf >> h) - 1) as usize;
+    let index = |h: u32, leaf: u32| vcut_cut::level_order_index(root, h, leaf) as usize;
     // The mean of max(0, n·ω) over a node's leaves: an unoccluded SVC's exact value.
     let mean_cos = |h: u32, leaf: u32| {
         let k = index(h, leaf);
