@@ -186,7 +186,7 @@ impl Progress for Bars {
 
 /// The file-name stem of a scene spec: `builtin:teapot` → `teapot`, `builtin:showroom:32` →
 /// `showroom-32`, `dir/x.toml` → `x`.
-fn scene_stem(scene: &str) -> String {
+pub(crate) fn scene_stem(scene: &str) -> String {
     let name = match scene.strip_prefix("builtin:") {
         Some(builtin) => builtin.replace(':', "-"),
         None => scene.rsplit(['/', '\\']).next().unwrap_or("scene").trim_end_matches(".toml").to_string(),

@@ -230,8 +230,7 @@ fn peak_since(before: Option<u64>) -> Option<u64> {
 /// Measures scene `scene` (a `precompute --scene` value) at `preset` in sweep `sweep`,
 /// precomputing into `data_dir`.
 pub fn measure(sweep: &str, scene: &str, preset: &str, data_dir: &Path) -> Result<ScalingPoint> {
-    let stem: String = scene.chars().map(|c| if c.is_ascii_alphanumeric() { c } else { '-' }).collect();
-    let file = data_dir.join(format!("scaling-{stem}-{preset}.vcuts"));
+    let file = data_dir.join(format!("scaling-{}-{preset}.vcuts", crate::precompute::scene_stem(scene)));
     let mut args = PrecomputeArgs::new(scene, preset);
     args.output = Some(file.clone());
     args.fresh = true;
