@@ -52,7 +52,7 @@ pub struct IndexGroup<'a> {
 
 /// Decodes an index into (height, first leaf, one past the last leaf).
 #[inline]
-pub(crate) fn node(root: u32, index: u32) -> (u32, u64, u64) {
+fn node(root: u32, index: u32) -> (u32, u64, u64) {
     let (h, start) = vcut_cut::node_of_index(root, index);
     (h, u64::from(start), u64::from(start) + (1u64 << h))
 }

@@ -126,8 +126,8 @@ impl Prepared {
                     let mut runs = Vec::new();
                     for (&i, &v) in c.indices().iter().zip(c.values()) {
                         if v == 0.0 {
-                            let (_, start, end) = baseline::node(c.root_height(), i);
-                            crate::push_run(&mut runs, start as u32..end as u32);
+                            let (h, start) = vcut_cut::node_of_index(c.root_height(), i);
+                            crate::push_run(&mut runs, start..start + (1 << h));
                         }
                     }
                     common = Some(match common {

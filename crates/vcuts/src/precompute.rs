@@ -189,7 +189,7 @@ impl Progress for Bars {
 pub(crate) fn scene_stem(scene: &str) -> String {
     let name = match scene.strip_prefix("builtin:") {
         Some(builtin) => builtin.replace(':', "-"),
-        None => scene.rsplit(['/', '\\']).next().unwrap_or("scene").trim_end_matches(".toml").to_string(),
+        None => scene.rsplit(['/', '\\']).next().unwrap_or_default().trim_end_matches(".toml").to_string(),
     };
     let stem: String = name.chars().filter(|c| c.is_alphanumeric() || *c == '-' || *c == '_').collect();
     if stem.is_empty() { "scene".to_string() } else { stem }
