@@ -200,6 +200,23 @@ impl Cut {
     pub fn values_mut(&mut self) -> &mut [f32] {
         &mut self.values
     }
+
+    /// The cut's heights and values, as buffers to build the next cut in (a caller that makes
+    /// many cuts in turn reuses them instead of allocating).
+    ///
+    /// ```
+    /// use vcut_cut::Cut;
+    /// let cut = Cut::new(1, vec![0, 0], vec![1.0, 0.0]).unwrap();
+    /// let (mut heights, mut values) = cut.into_parts();
+    /// assert_eq!((&heights[..], &values[..]), (&[0u8, 0][..], &[1.0f32, 0.0][..]));
+    /// (heights.clear(), values.clear());
+    /// heights.push(1);
+    /// values.push(0.5);
+    /// assert_eq!(Cut::new(1, heights, values).unwrap(), Cut::root(1, 0.5).unwrap());
+    /// ```
+    pub fn into_parts(self) -> (Vec<u8>, Vec<f32>) {
+        (self.heights, self.values)
+    }
 }
 
 fn check(root: u32, heights: &[u8], values: &[f32]) -> Result<(), CutError> {

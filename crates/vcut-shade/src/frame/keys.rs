@@ -86,19 +86,21 @@ impl Frame {
     /// Object `j`'s exact visibility cut at world point `at` when it is flat and convex
     /// ([`crate::flat::flat_cut`] of its outline where it stands); `None` for any other object.
     pub fn flat_cut(&self, j: usize, at: glam::Vec3) -> Option<vcut_cut::Cut> {
-        self.flat_cut_at_rest(j, at - self.objects.get(j)?.translation, &[])
+        self.flat_cut_at_rest(j, at - self.objects.get(j)?.translation, &[], Default::default())
     }
 
     /// [`Frame::flat_cut`] at `at` relative to object `j`'s placement (what a key holds), for a
-    /// product that is zero on the leaf ranges `zeros` ([`crate::flat::flat_cut_where`]).
+    /// product that is zero on the leaf ranges `zeros` ([`crate::flat::flat_cut_where`]), built
+    /// in `buffers` ([`crate::flat::flat_cut_in`]).
     pub(super) fn flat_cut_at_rest(
         &self,
         j: usize,
         at: glam::Vec3,
         zeros: &[std::ops::Range<u32>],
+        buffers: (Vec<u8>, Vec<f32>),
     ) -> Option<vcut_cut::Cut> {
         let outline = self.objects.get(j)?.flat.as_ref()?;
-        Some(crate::flat::flat_cut_where(&self.tree, outline.corners(), at, zeros))
+        Some(crate::flat::flat_cut_in(&self.tree, outline.corners(), at, zeros, buffers))
     }
 
     /// The objects whose fields shadow vertex `v` of object `o` at the current translations,

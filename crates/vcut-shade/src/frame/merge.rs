@@ -17,6 +17,17 @@ use vcut_cut::Cut;
 use vcut_data::InsideSamples;
 use vcut_merge::{MergedCut, Prepared, merge_prepared};
 
+/// What [`Frame::merge_vertex`] builds per vertex and a thread reuses for the next: the SVC
+/// decoded when it is not kept decoded, each flat occluder's prepared cut, the SVC's zero
+/// ranges, and the buffers a flat cut is walked into.
+#[derive(Default)]
+pub(super) struct MergeScratch {
+    svc: Prepared,
+    flats: Vec<Prepared>,
+    zeros: Vec<std::ops::Range<u32>>,
+    nodes: (Vec<u8>, Vec<f32>),
+}
+
 /// What the last merge of an object's vertices built, for the next move (a move along a path
 /// needs mostly the same cells and samples again): the cells prepared for the merge (refined
 /// for the counter merge), sorted by cell, and
@@ -228,12 +239,12 @@ impl Frame {
         };
         let result =
             slots.into_par_iter().zip(lists.par_iter_mut()).enumerate().filter(|(v, _)| changed[*v]).try_for_each_init(
-                || (Prepared::default(), Vec::new(), MergedCut::default(), Vec::new()),
-                |(scratch, below, spare, flats), (v, (slot, list))| {
+                || (MergeScratch::default(), Vec::new(), MergedCut::default()),
+                |(scratch, below, spare), (v, (slot, list))| {
                     let cell = |c: &CellKey| {
                         &refined[cells.binary_search(c).unwrap_or_else(|_| unreachable!("collected above"))]
                     };
-                    let svc = self.merge_vertex(o, offset + v, &keys[v], &cell, scratch, flats, spare)?;
+                    let svc = self.merge_vertex(o, offset + v, &keys[v], &cell, scratch, spare)?;
                     nodes.fetch_add(spare.heights.len(), std::sync::atomic::Ordering::Relaxed);
                     // The list while the cut is still in cache.
                     match svc {
@@ -257,17 +268,15 @@ impl Frame {
     /// through refinements, for a move's batch and for a merge on the spot alike): a cut of
     /// one zero node when a field's samples are all inside its object, else the vertex's SVC
     /// (kept decoded, or decoded into `scratch`) times each field cell's refinement (`cell`
-    /// gives it) and each flat occluder's exact cut (prepared into `flats`) into `out`.
+    /// gives it) and each flat occluder's exact cut (prepared in `scratch`) into `out`.
     /// Returns the SVC's node ends (for its shading list), `None` for the occluded vertex.
-    #[allow(clippy::too_many_arguments)]
     fn merge_vertex<'r>(
         &'r self,
         o: usize,
         v: usize,
         keys: &[FieldKey],
         cell: &dyn Fn(&CellKey) -> &'r Prepared,
-        scratch: &'r mut Prepared,
-        flats: &mut Vec<Prepared>,
+        scratch: &'r mut MergeScratch,
         out: &mut MergedCut,
     ) -> Result<Option<Cow<'r, [u32]>>, FrameError> {
         if keys.iter().any(|k| k.input == Input::Inside) {
@@ -276,12 +285,13 @@ impl Frame {
         }
         let me = &self.objects[o];
         let err = |e: CutFailure| FrameError::cut(o, v, e);
+        let MergeScratch { svc: decoded, flats, zeros, nodes } = scratch;
         let svc = match me.svc_refined.get(v) {
             Some(cached) => cached,
             None => {
                 let cut = me.svc_cut(v).map_err(|e| err(e.into()))?;
-                self.algorithm.prepare_into(&[&cut], scratch).map_err(|e| err(e.into()))?;
-                &*scratch
+                self.algorithm.prepare_into(&[&cut], decoded).map_err(|e| err(e.into()))?;
+                &*decoded
             }
         };
         let lookups: Vec<(CellKey, [f32; 8])> = keys.iter().filter_map(CellKey::of).collect();
@@ -289,14 +299,16 @@ impl Frame {
         flats.resize_with(planes.len(), Prepared::default);
         // Where the SVC is zero (below the horizon, where the object hides itself) the product
         // is zero whatever a flat occluder hides: its cut is not walked there.
-        let mut zeros = Vec::new();
+        zeros.clear();
         if !planes.is_empty() {
-            svc.zero_runs(&mut zeros);
+            svc.zero_runs(zeros);
         }
         for (&(j, at), prepared) in planes.iter().zip(flats.iter_mut()) {
-            let cut =
-                self.flat_cut_at_rest(j, at, &zeros).unwrap_or_else(|| unreachable!("a flat key is a flat object's"));
+            let cut = self
+                .flat_cut_at_rest(j, at, zeros, std::mem::take(nodes))
+                .unwrap_or_else(|| unreachable!("a flat key is a flat object's"));
             self.algorithm.prepare_into(&[&cut], prepared).map_err(|e| err(e.into()))?;
+            *nodes = cut.into_parts();
         }
         let mut factors: Vec<(&Prepared, &[f32])> = Vec::with_capacity(1 + lookups.len() + planes.len());
         factors.push((svc, &[1.0]));
@@ -333,7 +345,7 @@ impl Frame {
             local.push((cell, self.algorithm.prepare(&cuts.iter().collect::<Vec<_>>()).map_err(|e| err(e.into()))?));
         }
         let cell = |c: &CellKey| &local.iter().find(|(k, _)| k == c).unwrap_or_else(|| unreachable!("refined above")).1;
-        self.merge_vertex(o, v, keys, &cell, &mut Prepared::default(), &mut Vec::new(), out)?;
+        self.merge_vertex(o, v, keys, &cell, &mut MergeScratch::default(), out)?;
         Ok(())
     }
 
