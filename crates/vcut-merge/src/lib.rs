@@ -41,9 +41,11 @@
 pub mod baseline;
 pub mod prepared;
 pub mod refined;
+pub mod top_down;
 
 pub use prepared::{Algorithm, Prepared, merge_prepared};
 pub use refined::{Factor, Refinement, merge_refined};
+pub use top_down::merge_top_down;
 
 use vcut_cut::Cut;
 
@@ -93,6 +95,13 @@ impl MergedCut {
         self.values.push(value);
         // Leaves number at most 2^24 (checked cuts): every leaf fits in u32.
         self.indices.push(vcut_cut::level_order_index(self.root_height, h, leaf as u32));
+    }
+
+    /// Drops the nodes from `len` on.
+    fn truncate(&mut self, len: usize) {
+        self.heights.truncate(len);
+        self.values.truncate(len);
+        self.indices.truncate(len);
     }
 
     /// As a checked [`Cut`] (drops the indices).

@@ -224,6 +224,11 @@ impl Refinement {
         &self.ends
     }
 
+    /// The values of a one-cut refinement (its cut's values), `None` for a group.
+    pub fn single_values(&self) -> Option<&[f32]> {
+        (self.members == 1).then_some(&self.values[..])
+    }
+
     /// Root height of the tree.
     pub fn root_height(&self) -> u32 {
         self.root_height

@@ -28,6 +28,7 @@ use glam::{DVec3, Vec3};
 use std::ops::Range;
 use vcut_cut::Cut;
 use vcut_dirtree::DirectionTree;
+use vcut_merge::{MergeError, MergedCut, Refinement, merge_top_down};
 
 /// The visibility cut at `p` of the convex polygon `corners` (in order, either way round;
 /// both in world space): see the module documentation. A point in the polygon's plane (or a
@@ -72,6 +73,29 @@ pub fn flat_cut_in(
         }
     }
     Cut::new(h, heights, values).unwrap_or_else(|e| unreachable!("a walk of the tree covers it once: {e}"))
+}
+
+/// `svc × ` [`flat_cut`] at `p` merged in one walk of the tree ([`vcut_merge::merge_top_down`]:
+/// the polygon's cut is classified only where the one-cut refinement `svc` — a vertex's SVC —
+/// is not zero, and never stored): the counter merge's cut of the two, the same value at every
+/// leaf and the same non-zero nodes (tested against it); a frame's vertex whose only occluder
+/// besides its own object is a ground merges this way. Errors as
+/// [`vcut_merge::merge_top_down`] (`svc` a group, or of no nodes).
+pub fn flat_product(
+    tree: &DirectionTree,
+    corners: &[Vec3],
+    p: Vec3,
+    svc: &Refinement,
+    out: &mut MergedCut,
+) -> Result<usize, MergeError> {
+    match edge_planes(corners, p) {
+        Some(planes) => {
+            let dirs = tree.leaf_directions();
+            let node = |index: u32, _: u32, _: u32| classify(tree.cone(index), &planes);
+            merge_top_down(svc, node, |leaf| leaf_value(dirs[leaf as usize], &planes), out)
+        }
+        None => merge_top_down(svc, |_, _, _| Some(1.0), |_| 1.0, out),
+    }
 }
 
 /// The inward unit normals of the planes through `p` and each edge of the polygon: a direction
@@ -123,8 +147,7 @@ impl Walk<'_> {
         let value = if zero {
             Some(0.0)
         } else if h == 0 {
-            let d = tree.leaf_directions()[offset as usize];
-            Some(if self.planes.iter().all(|m| m.dot(d) >= 0.0) { 0.0 } else { 1.0 })
+            Some(leaf_value(tree.leaf_directions()[offset as usize], self.planes))
         } else {
             classify(tree.cone(index), self.planes)
         };
@@ -142,6 +165,12 @@ impl Walk<'_> {
             self.values.truncate(start + 1);
         }
     }
+}
+
+/// A leaf's value: 0 when its direction passes through the polygon (inside every plane).
+#[inline]
+fn leaf_value(d: Vec3, planes: &[Vec3]) -> f32 {
+    if planes.iter().all(|m| m.dot(d) >= 0.0) { 0.0 } else { 1.0 }
 }
 
 /// 0 when every direction of `cone` is inside all the planes, 1 when all are outside one,
@@ -245,6 +274,54 @@ mod tests {
             let reused = flat_cut_in(&t, outline.corners(), p, &zeros, exact.clone().into_parts());
             assert_eq!(reused, masked, "{p}");
             assert_eq!(flat_cut_in(&t, outline.corners(), p, &[], reused.into_parts()), exact);
+        }
+    }
+
+    /// The coarsest cut of leaf values (a node of one value where its sibling differs).
+    fn coarsest(root: u32, leaves: &[f32]) -> Cut {
+        fn walk(h: u32, offset: usize, leaves: &[f32], heights: &mut Vec<u8>, values: &mut Vec<f32>) {
+            let l = &leaves[offset..offset + (1 << h)];
+            if l.iter().all(|v| *v == l[0]) {
+                heights.push(h as u8);
+                values.push(l[0]);
+            } else {
+                walk(h - 1, offset, leaves, heights, values);
+                walk(h - 1, offset + (1 << (h - 1)), leaves, heights, values);
+            }
+        }
+        let (mut heights, mut values) = (Vec::new(), Vec::new());
+        walk(root, 0, leaves, &mut heights, &mut values);
+        Cut::new(root, heights, values).unwrap()
+    }
+
+    #[test]
+    fn the_product_in_one_walk_is_the_counter_merges() {
+        let t = tree(4096);
+        let ground = vcut_scene::shapes::plane(14.0, 8).unwrap();
+        let outline = FlatOutline::of(&ground).unwrap();
+        let dirs = t.leaf_directions();
+        for (p, n) in [
+            (Vec3::new(0.0, 1.0, 0.0), Vec3::new(1.0, 0.2, 0.0)),
+            (Vec3::new(6.5, 0.05, -6.0), Vec3::new(0.0, 1.0, 0.0)),
+            (Vec3::new(2.0, 3.0, 1.0), Vec3::new(-0.3, -1.0, 0.2)),
+            (Vec3::new(1.0, 0.0, 2.0), Vec3::new(0.0, 0.0, 1.0)),
+        ] {
+            // An SVC-like cut: zero below the normal's horizon, n·ω in four steps above it.
+            let n = n.normalize();
+            let leaves: Vec<f32> = dirs.iter().map(|d| (n.dot(*d).max(0.0) * 4.0).ceil() / 4.0).collect();
+            let svc = Refinement::new(&[&coarsest(t.height(), &leaves)]).unwrap();
+            let flat = Refinement::new(&[&flat_cut(&t, outline.corners(), p)]).unwrap();
+            let (mut one, mut merged) = (MergedCut::default(), MergedCut::default());
+            flat_product(&t, outline.corners(), p, &svc, &mut one).unwrap();
+            let factors = [&svc, &flat].map(|r| vcut_merge::Factor { refinement: r, weights: &[1.0] });
+            vcut_merge::merge_refined(&factors, &mut merged).unwrap();
+            let nonzero = |m: &MergedCut| -> Vec<(u32, u32)> {
+                m.indices.iter().zip(&m.values).filter(|(_, v)| **v != 0.0).map(|(i, v)| (*i, v.to_bits())).collect()
+            };
+            assert_eq!(nonzero(&one), nonzero(&merged), "{p}");
+            assert!(!nonzero(&one).is_empty(), "{p}");
+            assert_eq!(one.to_cut().unwrap().expand(), merged.to_cut().unwrap().expand(), "{p}");
+            assert!(one.heights.len() <= merged.heights.len(), "{p}");
         }
     }
 

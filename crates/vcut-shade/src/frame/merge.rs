@@ -296,6 +296,16 @@ impl Frame {
         };
         let lookups: Vec<(CellKey, [f32; 8])> = keys.iter().filter_map(CellKey::of).collect();
         let planes: Vec<(usize, Vec3)> = keys.iter().filter_map(|k| Some((k.object as usize, k.flat()?))).collect();
+        // An SVC times one flat occluder and nothing else (an object on a ground): one walk
+        // of the tree, the ground classified only where the SVC lets light through.
+        if let ([], [(j, at)], Prepared::Refined(r)) = (&lookups[..], &planes[..], svc)
+            && r.members() == 1
+        {
+            let outline =
+                self.objects[*j].flat.as_ref().unwrap_or_else(|| unreachable!("a flat key is a flat object's"));
+            crate::flat::flat_product(&self.tree, outline.corners(), *at, r, out).map_err(|e| err(e.into()))?;
+            return Ok(Some(svc.ends()));
+        }
         flats.resize_with(planes.len(), Prepared::default);
         // Where the SVC is zero (below the horizon, where the object hides itself) the product
         // is zero whatever a flat occluder hides: its cut is not walked there.
