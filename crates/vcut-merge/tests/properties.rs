@@ -9,7 +9,9 @@ use vcut_merge::baseline::{self, IndexCut, IndexGroup};
 mod common;
 
 use common::random_cut;
-use vcut_merge::{Factor, Group, MergedCut, Refinement, merge, merge_product, merge_refined, merge_weighted_sum};
+use vcut_merge::{
+    Factor, Group, MergedCut, Refinement, merge, merge_product, merge_refined, merge_top_down, merge_weighted_sum,
+};
 
 /// `merge_refined` over the same groups (each refined here).
 fn via_refined(groups: &[Group<'_>]) -> MergedCut {
@@ -188,4 +190,65 @@ fn mismatched_inputs_are_errors() {
     assert_eq!(merge_product(&[&a, &b], &mut out), Err(vcut_merge::MergeError::RootHeights(3, 4)));
     assert!(matches!(merge_weighted_sum(&[&a], &[0.5, 0.5], &mut out), Err(vcut_merge::MergeError::Weights { .. })));
     assert_eq!(merge_product(&[], &mut out), Err(vcut_merge::MergeError::Empty));
+}
+
+/// The coarsest cut of leaf values (a node of one value where its sibling differs): what a
+/// top-down walk of them builds.
+fn coarsest(root: u32, leaves: &[f32]) -> Cut {
+    fn walk(h: u32, offset: usize, leaves: &[f32], heights: &mut Vec<u8>, values: &mut Vec<f32>) {
+        let l = &leaves[offset..offset + (1 << h)];
+        if l.iter().all(|v| *v == l[0]) {
+            heights.push(h as u8);
+            values.push(l[0]);
+        } else {
+            walk(h - 1, offset, leaves, heights, values);
+            walk(h - 1, offset + (1 << (h - 1)), leaves, heights, values);
+        }
+    }
+    let (mut heights, mut values) = (Vec::new(), Vec::new());
+    walk(root, 0, leaves, &mut heights, &mut values);
+    Cut::new(root, heights, values).unwrap()
+}
+
+/// For random S and F (F asked through its leaves, answering for a node only where it has one
+/// value over it and a coin says so, as a conservative test would), the top-down product
+/// against the counter merge of S and F's walked cut: the same non-zero nodes bit for bit, the
+/// same leaves, never more nodes.
+#[test]
+fn the_top_down_product_has_the_counter_merges_non_zero_nodes_and_leaves() {
+    let mut zeros_saved = 0;
+    for root in [1, 4, 9, 12] {
+        for seed in 0..12u64 {
+            let s = random_cut(root, seed, 0.6, 0.3, 0.1);
+            let leaves = random_cut(root, seed * 7 + 3, 0.6, 0.4, 0.4).expand();
+            let uniform = |h: u32, offset: u32| {
+                let l = &leaves[offset as usize..(offset + (1 << h)) as usize];
+                l.iter().all(|v| *v == l[0]).then_some(l[0])
+            };
+            let mut coin = seed;
+            let node = |_: u32, h: u32, offset: u32| {
+                coin = coin.wrapping_mul(6_364_136_223_846_793_005).wrapping_add(1);
+                uniform(h, offset).filter(|_| (coin >> 40) % 3 != 0)
+            };
+            let svc = Refinement::new(&[&s]).unwrap();
+            let mut top = MergedCut::default();
+            let n = merge_top_down(&svc, node, |l| leaves[l as usize], &mut top).unwrap();
+            assert_eq!(n, top.heights.len());
+            let f = Refinement::new(&[&coarsest(root, &leaves)]).unwrap();
+            let mut full = MergedCut::default();
+            let factors = [&svc, &f].map(|r| Factor { refinement: r, weights: &[1.0] });
+            merge_refined(&factors, &mut full).unwrap();
+            let (a, b) = (top.to_cut().unwrap().expand(), full.to_cut().unwrap().expand());
+            assert!(a.iter().zip(&b).all(|(x, y)| x.to_bits() == y.to_bits()), "root {root}, seed {seed}");
+            let nonzero = |m: &MergedCut| -> Vec<(u32, u32)> {
+                m.indices.iter().zip(&m.values).filter(|(_, v)| **v != 0.0).map(|(i, v)| (*i, v.to_bits())).collect()
+            };
+            assert_eq!(nonzero(&top), nonzero(&full), "root {root}, seed {seed}");
+            // Zeros in the largest nodes they fill: never more nodes than the counter merge.
+            assert!(top.heights.len() <= full.heights.len(), "root {root}, seed {seed}");
+            zeros_saved += full.heights.len() - top.heights.len();
+        }
+    }
+    // Some of the counter merge's zero ranges are in more nodes than they need.
+    assert!(zeros_saved > 0);
 }

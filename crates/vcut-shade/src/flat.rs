@@ -277,39 +277,27 @@ mod tests {
         }
     }
 
-    /// The coarsest cut of leaf values (a node of one value where its sibling differs).
-    fn coarsest(root: u32, leaves: &[f32]) -> Cut {
-        fn walk(h: u32, offset: usize, leaves: &[f32], heights: &mut Vec<u8>, values: &mut Vec<f32>) {
-            let l = &leaves[offset..offset + (1 << h)];
-            if l.iter().all(|v| *v == l[0]) {
-                heights.push(h as u8);
-                values.push(l[0]);
-            } else {
-                walk(h - 1, offset, leaves, heights, values);
-                walk(h - 1, offset + (1 << (h - 1)), leaves, heights, values);
-            }
-        }
-        let (mut heights, mut values) = (Vec::new(), Vec::new());
-        walk(root, 0, leaves, &mut heights, &mut values);
-        Cut::new(root, heights, values).unwrap()
-    }
-
     #[test]
     fn the_product_in_one_walk_is_the_counter_merges() {
         let t = tree(4096);
         let ground = vcut_scene::shapes::plane(14.0, 8).unwrap();
         let outline = FlatOutline::of(&ground).unwrap();
-        let dirs = t.leaf_directions();
         for (p, n) in [
             (Vec3::new(0.0, 1.0, 0.0), Vec3::new(1.0, 0.2, 0.0)),
             (Vec3::new(6.5, 0.05, -6.0), Vec3::new(0.0, 1.0, 0.0)),
             (Vec3::new(2.0, 3.0, 1.0), Vec3::new(-0.3, -1.0, 0.2)),
             (Vec3::new(1.0, 0.0, 2.0), Vec3::new(0.0, 0.0, 1.0)),
         ] {
-            // An SVC-like cut: zero below the normal's horizon, n·ω in four steps above it.
+            // An SVC-like cut: zero where a large square beneath the normal hides the sky (the
+            // object's own lower half), elsewhere values in four steps by node.
             let n = n.normalize();
-            let leaves: Vec<f32> = dirs.iter().map(|d| (n.dot(*d).max(0.0) * 4.0).ceil() / 4.0).collect();
-            let svc = Refinement::new(&[&coarsest(t.height(), &leaves)]).unwrap();
+            let side = n.any_orthonormal_vector() * 40.0;
+            let square = [side, n.cross(side), -side, -n.cross(side)].map(|c| c - n * 0.01);
+            let mut own = flat_cut(&t, &square, Vec3::ZERO);
+            for (i, v) in own.values_mut().iter_mut().enumerate() {
+                *v *= [0.25, 0.5, 0.75, 1.0][i % 4];
+            }
+            let svc = Refinement::new(&[&own]).unwrap();
             let flat = Refinement::new(&[&flat_cut(&t, outline.corners(), p)]).unwrap();
             let (mut one, mut merged) = (MergedCut::default(), MergedCut::default());
             flat_product(&t, outline.corners(), p, &svc, &mut one).unwrap();
