@@ -219,8 +219,8 @@ fn the_top_down_product_has_the_counter_merges_non_zero_nodes_and_leaves() {
     let mut zeros_saved = 0;
     for root in [1, 4, 9, 12] {
         for seed in 0..12u64 {
-            let s = random_cut(root, seed, 0.6, 0.3, 0.1);
-            let leaves = random_cut(root, seed * 7 + 3, 0.6, 0.4, 0.4).expand();
+            let s = random_cut(root, seed, 0.8, 0.3, 0.5);
+            let leaves = random_cut(root, seed * 7 + 3, 0.7, 0.3, 0.5).expand();
             let uniform = |h: u32, offset: u32| {
                 let l = &leaves[offset as usize..(offset + (1 << h)) as usize];
                 l.iter().all(|v| *v == l[0]).then_some(l[0])
