@@ -2,7 +2,6 @@
 //! SVC by the ground's exact cut at it ([`vcut_shade::flat`]) — at rest and after any move.
 
 use glam::Vec3;
-use std::path::Path;
 use vcut_data::Precomputed;
 use vcut_envmap::EnvMap;
 use vcut_shade::Frame;
@@ -25,13 +24,20 @@ translation = [0.0, 0.5, 0.0]
 moves = true
 "#;
 
-fn frame(out: &Path) -> (Frame, f32) {
+/// The scene precomputed in scratch directory `name`, its frame merging every move at once with
+/// the sun through the cuts; with the rays' origin offset and the ball's and ground's indices.
+fn frame(name: &str) -> (Frame, f32, usize, usize) {
+    let out = vcut_tests::scratch(name).join("ball.vcuts");
     let params = [("directions", "2048"), ("field_spheres", "8"), ("field_resolution", "8")];
-    let summary = vcut_tests::precompute_text(BALL_ON_GROUND, &params, out);
+    let summary = vcut_tests::precompute_text(BALL_ON_GROUND, &params, &out);
     assert_eq!(summary.fields, ["ball"], "the flat ground gets no field");
-    let mut data = Precomputed::open(out).unwrap();
+    let mut data = Precomputed::open(&out).unwrap();
     let offset = data.svc_origin_offset();
-    (Frame::new(&mut data, &EnvMap::constant([1.0; 3])).unwrap(), offset)
+    let mut frame = Frame::new(&mut data, &EnvMap::constant([1.0; 3])).unwrap();
+    frame.set_deferred_merges(false).unwrap();
+    frame.set_sun_rays(None);
+    let (ball, ground) = (frame.object_index("ball").unwrap(), frame.object_index("ground").unwrap());
+    (frame, offset, ball, ground)
 }
 
 /// Every ball vertex's merged cut is its SVC times the ground's exact cut where its rays start
@@ -57,11 +63,7 @@ fn check_products(frame: &Frame, ball: usize, ground: usize) -> usize {
 
 #[test]
 fn a_flat_ground_shadows_a_moving_ball_by_its_exact_cut() {
-    let dir = vcut_tests::scratch("flat");
-    let (mut frame, offset) = frame(&dir.join("ball.vcuts"));
-    frame.set_deferred_merges(false).unwrap();
-    frame.set_sun_rays(None);
-    let (ball, ground) = (frame.object_index("ball").unwrap(), frame.object_index("ground").unwrap());
+    let (mut frame, offset, ball, ground) = frame("flat");
     let n = frame.object(ball).mesh.vertex_count();
     let eye = Vec3::new(3.0, 4.0, 5.0);
     let mut worst: f64 = 0.0;
@@ -78,4 +80,36 @@ fn a_flat_ground_shadows_a_moving_ball_by_its_exact_cut() {
     // What is left is the clustering of 2,048 directions and the SVCs' own error.
     println!("the ball's worst error against the exact reference: {worst}");
     assert!(worst < 0.02, "the ball errs {worst} against the exact reference");
+}
+
+/// `Frame::set_flat_edge_leaves`: the ground's cut estimated across its edges in nodes of up
+/// to 16 leaves re-merges exactly the vertices the ground shadows, keeps every merged cut the
+/// SVC times the (estimated) ground cut, moves included, changes the image a little, and 1
+/// gives back the exact cut's image bit for bit.
+#[test]
+fn a_ground_estimated_across_its_edges_re_merges_what_it_shadows() {
+    let (mut frame, offset, ball, ground) = frame("flat-edges");
+    let eye = Vec3::new(3.0, 4.0, 5.0);
+    frame.translate(ball, Vec3::new(0.6, 0.0, 0.3)).unwrap();
+    let exact_image = frame.shade(eye);
+    let reference = exact_direction(&frame, eye, offset);
+    let (exact_error, _) = errors(&exact_image, &reference);
+    for bad in [0, 3, 4096] {
+        let err = frame.set_flat_edge_leaves(bad).unwrap_err().to_string();
+        assert!(err.contains("flat edge leaves") && err.contains(&bad.to_string()), "{err}");
+    }
+    let shadowed = check_products(&frame, ball, ground);
+    assert_eq!(frame.set_flat_edge_leaves(16).unwrap(), shadowed);
+    assert_eq!(frame.set_flat_edge_leaves(16).unwrap(), 0, "unchanged: nothing to merge");
+    assert_eq!(check_products(&frame, ball, ground), shadowed);
+    let image = frame.shade(eye);
+    let (error, _) = errors(&image, &reference);
+    assert_ne!(image, exact_image);
+    assert!((error - exact_error).abs() < 0.002, "error {error}, exact cut's {exact_error}");
+    // A move keeps the estimate.
+    frame.translate(ball, Vec3::new(1.0, 0.0, -0.4)).unwrap();
+    check_products(&frame, ball, ground);
+    frame.translate(ball, Vec3::new(0.6, 0.0, 0.3)).unwrap();
+    assert_eq!(frame.set_flat_edge_leaves(1).unwrap(), shadowed);
+    assert_eq!(frame.shade(eye), exact_image);
 }

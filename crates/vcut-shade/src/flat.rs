@@ -4,6 +4,13 @@
 //! found top-down with the direction tree's bounding cones instead of rays, and coarsened as a
 //! field's threshold-0 cut is (a node holds one value only where all its leaves share it).
 //!
+//! Along the polygon's edges that cut goes down to the leaves, and walking there is most of
+//! its cost: seen from a point above a ground, a far edge crosses a couple of hundred leaves.
+//! With `edge_leaves` above 1 ([`flat_cut_in`], [`flat_product`]) a node of at most that many
+//! leaves straddling an edge stops the walk and takes its estimated visible share instead
+//! ([`visible_share`]): fewer nodes, each a blend of visible and hidden leaves, as a field's
+//! cut holds.
+//!
 //! A field interpolates such an object's shadow between samples on spheres around it, and near
 //! the plane its samples lie on both sides of it (those below see the sky above hidden): a
 //! vertex close to a ground plane reads a mix of the two. This cut has no samples to mix.
@@ -44,17 +51,20 @@ pub fn flat_cut(tree: &DirectionTree, corners: &[Vec3], p: Vec3) -> Cut {
 /// same; on the teapot scene at the paper preset, where most of the teapot's vertices see the
 /// ground, an eager move took 0.79× the time (`move_path` with `EAGER=1`, 2026-12-05).
 pub fn flat_cut_where(tree: &DirectionTree, corners: &[Vec3], p: Vec3, zeros: &[Range<u32>]) -> Cut {
-    flat_cut_in(tree, corners, p, zeros, (Vec::new(), Vec::new()))
+    flat_cut_in(tree, corners, p, zeros, 1, (Vec::new(), Vec::new()))
 }
 
 /// [`flat_cut_where`] built in `buffers` (heights and values, cleared first; from
 /// [`Cut::into_parts`] of an earlier cut): a frame's move walks one cut per vertex that sees
 /// the ground, and growing fresh buffers for each was ~4 % of a move at the paper preset.
+/// `edge_leaves` (a power of two; 1: exact): the largest node straddling an edge that takes
+/// its estimated visible share instead of being walked into (the module documentation).
 pub fn flat_cut_in(
     tree: &DirectionTree,
     corners: &[Vec3],
     p: Vec3,
     zeros: &[Range<u32>],
+    edge_leaves: u32,
     buffers: (Vec<u8>, Vec<f32>),
 ) -> Cut {
     let h = tree.height();
@@ -63,7 +73,7 @@ pub fn flat_cut_in(
     values.clear();
     match edge_planes(corners, p) {
         Some(planes) => {
-            let mut walk = Walk { tree, planes: &planes, zeros, run: 0, heights, values };
+            let mut walk = Walk { tree, planes: &planes, edge_leaves, zeros, run: 0, heights, values };
             walk.node(0, h, 0);
             (heights, values) = (walk.heights, walk.values);
         }
@@ -79,19 +89,21 @@ pub fn flat_cut_in(
 /// the polygon's cut is classified only where the one-cut refinement `svc` — a vertex's SVC —
 /// is not zero, and never stored): the counter merge's cut of the two, the same value at every
 /// leaf and the same non-zero nodes (tested against it); a frame's vertex whose only occluder
-/// besides its own object is a ground merges this way. Errors as
+/// besides its own object is a ground merges this way. `edge_leaves` as for [`flat_cut_in`],
+/// the product then [`vcut_merge::merge_refined`]'s with that cut. Errors as
 /// [`vcut_merge::merge_top_down`] (`svc` a group, or of no nodes).
 pub fn flat_product(
     tree: &DirectionTree,
     corners: &[Vec3],
     p: Vec3,
+    edge_leaves: u32,
     svc: &Refinement,
     out: &mut MergedCut,
 ) -> Result<usize, MergeError> {
     match edge_planes(corners, p) {
         Some(planes) => {
             let dirs = tree.leaf_directions();
-            let node = |index: u32, _: u32, _: u32| classify(tree.cone(index), &planes);
+            let node = |index: u32, h: u32, _: u32| node_value(tree, index, h, &planes, edge_leaves);
             merge_top_down(svc, node, |leaf| leaf_value(dirs[leaf as usize], &planes), out)
         }
         None => merge_top_down(svc, |_, _, _| Some(1.0), |_| 1.0, out),
@@ -127,6 +139,7 @@ fn edge_planes(corners: &[Vec3], p: Vec3) -> Option<Vec<Vec3>> {
 struct Walk<'a> {
     tree: &'a DirectionTree,
     planes: &'a [Vec3],
+    edge_leaves: u32,
     zeros: &'a [Range<u32>],
     /// The first range of `zeros` not wholly before the node visited (nodes come in leaf order).
     run: usize,
@@ -136,7 +149,8 @@ struct Walk<'a> {
 
 impl Walk<'_> {
     /// Appends the cut of node `index`'s subtree: a node inside a zero range, wholly inside the
-    /// polygon's cone or wholly outside one of its planes is one node; a leaf is decided by its
+    /// polygon's cone or wholly outside one of its planes is one node, and so is one of at most
+    /// `edge_leaves` leaves across an edge ([`node_value`]); a leaf is decided by its
     /// direction; a node whose two children came out as one value each, the same, is that node.
     fn node(&mut self, index: u32, h: u32, offset: u32) {
         let tree = self.tree;
@@ -149,7 +163,7 @@ impl Walk<'_> {
         } else if h == 0 {
             Some(leaf_value(tree.leaf_directions()[offset as usize], self.planes))
         } else {
-            classify(tree.cone(index), self.planes)
+            node_value(tree, index, h, self.planes, self.edge_leaves)
         };
         if let Some(v) = value {
             self.heights.push(h as u8);
@@ -171,6 +185,34 @@ impl Walk<'_> {
 #[inline]
 fn leaf_value(d: Vec3, planes: &[Vec3]) -> f32 {
     if planes.iter().all(|m| m.dot(d) >= 0.0) { 0.0 } else { 1.0 }
+}
+
+/// The value of node `index` (height `h` ≥ 1) in the polygon's cut where [`classify`] tells it,
+/// else, when it holds at most `edge_leaves` leaves, its [`visible_share`]; `None`: walk into
+/// its children.
+#[inline]
+fn node_value(tree: &DirectionTree, index: u32, h: u32, planes: &[Vec3], edge_leaves: u32) -> Option<f32> {
+    classify(tree.cone(index), planes).or_else(|| {
+        (1u32 << h <= edge_leaves)
+            .then(|| visible_share(tree.mean_direction(index), tree.solid_angle(index) as f32, planes))
+    })
+}
+
+/// The share of a node's leaves outside the polygon, estimated: the node taken as a flat disk
+/// of its solid angle about its mean direction `dir`, each plane holding the part of the disk
+/// on its inner side — a disk's centre `x` radii inside a line has `(acos x − x√(1−x²))/π`
+/// of its area beyond it — and the planes' inner parts taken as independent (exact for one
+/// edge; a node at a corner is a few leaves).
+fn visible_share(dir: Vec3, solid_angle: f32, planes: &[Vec3]) -> f32 {
+    let r = (solid_angle / std::f32::consts::PI).sqrt();
+    let hidden: f32 = planes
+        .iter()
+        .map(|m| {
+            let x = (m.dot(dir) / r).clamp(-1.0, 1.0);
+            1.0 - (x.acos() - x * (1.0 - x * x).sqrt()) / std::f32::consts::PI
+        })
+        .fold(1.0, f32::min);
+    1.0 - hidden
 }
 
 /// 0 when every direction of `cone` is inside all the planes, 1 when all are outside one,
@@ -271,9 +313,9 @@ mod tests {
             // No ranges: the exact cut.
             assert_eq!(flat_cut_where(&t, outline.corners(), p, &[]), exact);
             // Built in an earlier cut's buffers (longer than it, holding other nodes): the same.
-            let reused = flat_cut_in(&t, outline.corners(), p, &zeros, exact.clone().into_parts());
+            let reused = flat_cut_in(&t, outline.corners(), p, &zeros, 1, exact.clone().into_parts());
             assert_eq!(reused, masked, "{p}");
-            assert_eq!(flat_cut_in(&t, outline.corners(), p, &[], reused.into_parts()), exact);
+            assert_eq!(flat_cut_in(&t, outline.corners(), p, &[], 1, reused.into_parts()), exact);
         }
     }
 
@@ -298,18 +340,59 @@ mod tests {
                 *v *= [0.25, 0.5, 0.75, 1.0][i % 4];
             }
             let svc = Refinement::new(&[&own]).unwrap();
-            let flat = Refinement::new(&[&flat_cut(&t, outline.corners(), p)]).unwrap();
-            let (mut one, mut merged) = (MergedCut::default(), MergedCut::default());
-            flat_product(&t, outline.corners(), p, &svc, &mut one).unwrap();
-            let factors = [&svc, &flat].map(|r| vcut_merge::Factor { refinement: r, weights: &[1.0] });
-            vcut_merge::merge_refined(&factors, &mut merged).unwrap();
-            let nonzero = |m: &MergedCut| -> Vec<(u32, u32)> {
-                m.indices.iter().zip(&m.values).filter(|(_, v)| **v != 0.0).map(|(i, v)| (*i, v.to_bits())).collect()
-            };
-            assert_eq!(nonzero(&one), nonzero(&merged), "{p}");
-            assert!(!nonzero(&one).is_empty(), "{p}");
-            assert_eq!(one.to_cut().unwrap().expand(), merged.to_cut().unwrap().expand(), "{p}");
-            assert!(one.heights.len() <= merged.heights.len(), "{p}");
+            // Exact, and with edge nodes of up to 16 leaves estimated: the same cut either way.
+            for edge in [1, 16] {
+                let cut = flat_cut_in(&t, outline.corners(), p, &[], edge, Default::default());
+                let flat = Refinement::new(&[&cut]).unwrap();
+                let (mut one, mut merged) = (MergedCut::default(), MergedCut::default());
+                flat_product(&t, outline.corners(), p, edge, &svc, &mut one).unwrap();
+                let factors = [&svc, &flat].map(|r| vcut_merge::Factor { refinement: r, weights: &[1.0] });
+                vcut_merge::merge_refined(&factors, &mut merged).unwrap();
+                let nonzero = |m: &MergedCut| -> Vec<(u32, u32)> {
+                    m.indices
+                        .iter()
+                        .zip(&m.values)
+                        .filter(|(_, v)| **v != 0.0)
+                        .map(|(i, v)| (*i, v.to_bits()))
+                        .collect()
+                };
+                assert_eq!(nonzero(&one), nonzero(&merged), "{p}, {edge}");
+                assert!(!nonzero(&one).is_empty(), "{p}");
+                assert_eq!(one.to_cut().unwrap().expand(), merged.to_cut().unwrap().expand(), "{p}, {edge}");
+                assert!(one.heights.len() <= merged.heights.len(), "{p}, {edge}");
+            }
+        }
+    }
+
+    #[test]
+    fn edge_nodes_of_up_to_n_leaves_take_their_visible_share() {
+        let t = tree(4096);
+        let ground = vcut_scene::shapes::plane(14.0, 8).unwrap();
+        let outline = FlatOutline::of(&ground).unwrap();
+        for p in [Vec3::new(0.0, 1.0, 0.0), Vec3::new(6.5, 0.05, -6.0), Vec3::new(2.0, 3.0, 1.0)] {
+            let exact = flat_cut(&t, outline.corners(), p);
+            let leaves = exact.expand();
+            for edge in [2u32, 16, 64] {
+                let cut = flat_cut_in(&t, outline.corners(), p, &[], edge, Default::default());
+                let fewer = if edge >= 16 { cut.len() < exact.len() } else { cut.len() <= exact.len() };
+                assert!(fewer, "{p}, {edge}: {} nodes, exact {}", cut.len(), exact.len());
+                // Blends only in nodes across an edge no larger than asked.
+                let mut blended = 0usize;
+                for (h, &v) in cut.heights().iter().zip(cut.values()) {
+                    if v != 0.0 && v != 1.0 {
+                        assert!(0.0 < v && v < 1.0 && (1u32 << h) <= edge, "{p}, {edge}: {v} at height {h}");
+                        blended += 1 << h;
+                    }
+                }
+                assert!(blended > 0, "{p}, {edge}");
+                // The visible leaves the estimates add up to, and how far each leaf's value is
+                // from its own: near the exact cut's, against the leaves blended.
+                let coarse = cut.expand();
+                let net: f32 = coarse.iter().zip(&leaves).map(|(c, e)| c - e).sum();
+                let off: f32 = coarse.iter().zip(&leaves).map(|(c, e)| (c - e).abs()).sum();
+                assert!(net.abs() <= 0.05 * blended as f32, "{p}, {edge}: {net} leaves off over {blended}");
+                assert!(off <= 0.5 * blended as f32, "{p}, {edge}: {off} off over {blended}");
+            }
         }
     }
 

@@ -169,6 +169,12 @@ pub struct RenderArgs {
     /// (`Frame::set_field_reach`).
     #[arg(long, value_name = "RADII")]
     pub field_reach: Option<f32>,
+    /// How finely a flat occluder's (a ground's) shadow follows its edges: a node of up to N
+    /// leaves across an edge takes its estimated visible share instead of being split to its
+    /// leaves (a power of two; default 1, exact). Larger is a cheaper move on a scene with a
+    /// ground, the light near its edges blended (`Frame::set_flat_edge_leaves`).
+    #[arg(long, value_name = "N")]
+    pub flat_edge_leaves: Option<u32>,
     /// Merge every vertex a move changes at once. By default a move merges the vertices facing
     /// the camera and leaves the others until a camera sees them (`Frame::set_deferred_merges`):
     /// the image is the same bit for bit.
@@ -211,6 +217,7 @@ impl RenderArgs {
             light_error: None,
             no_horizon_culling: false,
             field_reach: None,
+            flat_edge_leaves: None,
             light_max_leaves: None,
             eager_merges: false,
             no_merged_cache: false,
@@ -323,6 +330,9 @@ pub fn run(args: &RenderArgs) -> Result<RenderOutcome> {
     }
     if args.field_reach.is_some() {
         frame.set_field_reach(args.field_reach).map_err(|e| anyhow::anyhow!("--field-reach: {e}"))?;
+    }
+    if let Some(n) = args.flat_edge_leaves {
+        frame.set_flat_edge_leaves(n).map_err(|e| anyhow::anyhow!("--flat-edge-leaves: {e}"))?;
     }
     if args.no_sun_rays {
         frame.set_sun_rays(None);

@@ -100,7 +100,7 @@ impl Frame {
         buffers: (Vec<u8>, Vec<f32>),
     ) -> Option<vcut_cut::Cut> {
         let outline = self.objects.get(j)?.flat.as_ref()?;
-        Some(crate::flat::flat_cut_in(&self.tree, outline.corners(), at, zeros, buffers))
+        Some(crate::flat::flat_cut_in(&self.tree, outline.corners(), at, zeros, self.flat_edge_leaves, buffers))
     }
 
     /// The objects whose fields shadow vertex `v` of object `o` at the current translations,
@@ -172,6 +172,11 @@ impl Frame {
         let j = match changed {
             Changed::Nothing if current => return None,
             Changed::Object(j) if j != o && current => j,
+            Changed::Flat => {
+                // Same keys, but a cut with a flat occluder in it is another cut now.
+                let keys = if current { kept.clone() } else { self.keys(o, v) };
+                return (keys != *kept || keys.iter().any(|k| k.flat().is_some())).then_some(keys);
+            }
             _ => {
                 let keys = self.keys(o, v);
                 return (keys != *kept).then_some(keys);
@@ -217,6 +222,8 @@ pub(super) enum Changed {
     Object(usize),
     /// Nothing: only the waiting vertices' inputs are looked up (to merge them).
     Nothing,
+    /// How flat occluders are cut: the vertices one shadows merge again, and the waiting ones.
+    Flat,
 }
 
 /// The object of the key a vertex gets when its merge failed: no lookup gives it, so any later

@@ -102,6 +102,32 @@ impl Frame {
         self.rekey(Changed::All, true)
     }
 
+    /// How finely a flat convex occluder's cut (a ground's) follows its edges: a node of at most
+    /// `leaves` leaves (a power of two) across an edge takes its estimated visible share
+    /// instead of being split down to its leaves ([`crate::flat`]); 1, the default, splits to
+    /// the leaves. Walking down along the edges is most of a move's merge on a scene with a
+    /// ground, and the share only shifts light near the occluder's silhouette; `docs/
+    /// benchmarks.md` has the time and the error. Re-merges the vertices a flat occluder
+    /// shadows; returns how many.
+    pub fn set_flat_edge_leaves(&mut self, leaves: u32) -> Result<usize, FrameError> {
+        if !leaves.is_power_of_two() || leaves as usize > self.tree.leaf_count() {
+            return Err(FrameError::Setting {
+                setting: "flat edge leaves",
+                value: leaves as f32,
+                reason: "must be a power of two from 1 to the number of directions",
+            });
+        }
+        if leaves == self.flat_edge_leaves {
+            return Ok(0);
+        }
+        self.flat_edge_leaves = leaves;
+        // Every one now, seen or not: a waiting vertex is one whose keys changed.
+        let defer = std::mem::replace(&mut self.defer, false);
+        let merged = self.rekey(Changed::Flat, true);
+        self.defer = defer;
+        merged
+    }
+
     /// Decodes the field cuts of `wanted` (sorted samples), taking those `old` holds (sorted
     /// too) from it.
     fn decode_samples(
@@ -303,7 +329,8 @@ impl Frame {
         {
             let outline =
                 self.objects[*j].flat.as_ref().unwrap_or_else(|| unreachable!("a flat key is a flat object's"));
-            crate::flat::flat_product(&self.tree, outline.corners(), *at, r, out).map_err(|e| err(e.into()))?;
+            crate::flat::flat_product(&self.tree, outline.corners(), *at, self.flat_edge_leaves, r, out)
+                .map_err(|e| err(e.into()))?;
             return Ok(Some(svc.ends()));
         }
         flats.resize_with(planes.len(), Prepared::default);

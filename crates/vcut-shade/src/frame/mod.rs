@@ -285,6 +285,9 @@ pub struct Frame {
     /// How far a field reaches, in its object's bounding radii ([`Frame::set_field_reach`];
     /// `None`: to its outermost sphere).
     field_reach: Option<f32>,
+    /// The largest node across a flat occluder's edge whose visible share is estimated
+    /// ([`Frame::set_flat_edge_leaves`]; 1: exact).
+    flat_edge_leaves: u32,
 }
 
 /// A field's default reach, in its object's bounding radii ([`Frame::set_field_reach`]).
@@ -388,6 +391,7 @@ impl Frame {
             merged_cache: caches.merged,
             cell_cache: caches.cells,
             field_reach: Some(FIELD_REACH),
+            flat_edge_leaves: 1,
         };
         frame.set_svc_cache(caches.svc)?;
         // The sun and the shading table before the merges build the lists.
