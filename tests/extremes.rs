@@ -199,4 +199,21 @@ fn a_frame_with_65536_directions_and_heights_up_to_16() {
     let b = frame.shade(EYE);
     let (rel, _) = errors(&b, &exact_direction(&frame, EYE, 1e-4));
     assert!(rel < 0.15, "relative L2 {rel} at 65,536 directions with coarse fields");
+    // The interactive ground setting at the most directions: nodes of 256 leaves.
+    assert_eq!(frame.interactive_flat_edge_leaves(), 256);
+    assert!(frame.set_flat_edge_leaves(256).unwrap() > 0, "the ground shadows the ball");
+    let (estimated, _) = errors(&frame.shade(EYE), &exact_direction(&frame, EYE, 1e-4));
+    assert!((estimated - rel).abs() < 0.01, "relative L2 {estimated} estimated across the edges, {rel} exact");
+}
+
+/// At the fewest directions (64) the interactive ground setting is the exact cut: 1 leaf.
+#[test]
+fn the_interactive_ground_setting_at_64_directions_is_exact() {
+    let dir = scratch("d64");
+    let mut d = data(BALL_ON_GROUND, &dir, &[("directions", "64")]);
+    let mut frame = Frame::new(&mut d, &EnvMap::constant([1.0; 3])).unwrap();
+    assert_eq!(frame.interactive_flat_edge_leaves(), 1);
+    let before = frame.shade(EYE);
+    assert_eq!(frame.set_flat_edge_leaves(frame.interactive_flat_edge_leaves()).unwrap(), 0);
+    assert_eq!(frame.shade(EYE), before);
 }

@@ -110,6 +110,11 @@ fn a_ground_estimated_across_its_edges_re_merges_what_it_shadows() {
     frame.translate(ball, Vec3::new(1.0, 0.0, -0.4)).unwrap();
     check_products(&frame, ball, ground);
     frame.translate(ball, Vec3::new(0.6, 0.0, 0.3)).unwrap();
+    // The interactive setting: 1/256 of the 2,048 directions.
+    assert_eq!(frame.interactive_flat_edge_leaves(), 8);
+    assert_eq!(frame.set_flat_edge_leaves(8).unwrap(), shadowed);
+    let (error, _) = errors(&frame.shade(eye), &reference);
+    assert!((error - exact_error).abs() < 0.002, "error {error}, exact cut's {exact_error}");
     assert_eq!(frame.set_flat_edge_leaves(1).unwrap(), shadowed);
     assert_eq!(frame.shade(eye), exact_image);
 }

@@ -219,10 +219,6 @@ fn precompute_figures(name: &str, preset: &str, data_dir: &Path, reuse: bool) ->
     Ok((file, figures))
 }
 
-/// The leaves of the largest ground node estimated across an edge that the bench measures
-/// (`Frame::set_flat_edge_leaves`).
-const FLAT_EDGE_LEAVES: u32 = 16;
-
 /// One scene: precompute (or reuse), edit, move (both merges), references.
 fn bench_scene(name: &str, preset: &str, data_dir: &Path, no_mc: bool, reuse: bool) -> Result<SceneFigures> {
     let (file, pre) = precompute_figures(name, preset, data_dir, reuse)?;
@@ -285,16 +281,18 @@ fn bench_scene(name: &str, preset: &str, data_dir: &Path, no_mc: bool, reuse: bo
         "{name}: the sun ({sun_leaves} leaves) through the cuts: rel L2 vs exact {rel_l2_cuts:.4}, move {:.1} ms",
         cuts_path.move_ms
     );
-    // The knob: a ground's cut estimated across its edges in nodes of up to FLAT_EDGE_LEAVES
-    // leaves instead of split to its leaves; the eager move beside `eager`'s.
-    frame.set_flat_edge_leaves(FLAT_EDGE_LEAVES)?;
+    // The knob: a ground's cut estimated across its edges in nodes of up to the interactive
+    // setting's leaves (1/256 of the directions) instead of split to its leaves; the eager move
+    // beside `eager`'s.
+    let flat_edge_leaves = frame.interactive_flat_edge_leaves();
+    frame.set_flat_edge_leaves(flat_edge_leaves)?;
     let (rel_l2_flat, max_flat) = errors(&frame.shade(eye), &exact);
     frame.set_deferred_merges(false)?;
     let flat_path = move_path(&mut frame, movable, eye, MergeAlgorithm::Counter, 8)?;
     frame.set_deferred_merges(true)?;
     frame.set_flat_edge_leaves(1)?;
     println!(
-        "{name}: a ground's edges in nodes of up to {FLAT_EDGE_LEAVES} leaves: rel L2 vs exact {rel_l2_flat:.5} \
+        "{name}: a ground's edges in nodes of up to {flat_edge_leaves} leaves: rel L2 vs exact {rel_l2_flat:.5} \
          (exact cut {rel_l2_exact:.5}), eager move {:.1} ms (exact cut {:.1})",
         flat_path.move_ms, eager.move_ms
     );
@@ -346,7 +344,7 @@ fn bench_scene(name: &str, preset: &str, data_dir: &Path, no_mc: bool, reuse: bo
         rel_l2_exact_cuts_only: rel_l2_cuts,
         max_err_exact_cuts_only: max_cuts,
         move_ms_cuts_only: cuts_path.move_ms,
-        flat_edge_leaves: FLAT_EDGE_LEAVES,
+        flat_edge_leaves,
         move_ms_eager_flat_edges: flat_path.move_ms,
         rel_l2_exact_flat_edges: rel_l2_flat,
         max_err_exact_flat_edges: max_flat,

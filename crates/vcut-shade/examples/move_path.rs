@@ -16,7 +16,8 @@
 //! `NO_MERGED_CACHE=1` the frame keeps no merged cuts (`Frame::set_merged_cache`), with
 //! `NO_CELL_CACHE=1` no field cells between moves (`Frame::set_cell_cache`); `FIELD_REACH=R`
 //! sets how far fields reach, in radii (`Frame::set_field_reach`); `FLAT_EDGE_LEAVES=N` how
-//! finely a ground's cut follows its edges (`Frame::set_flat_edge_leaves`). Over the path it prints the
+//! finely a ground's cut follows its edges (`Frame::set_flat_edge_leaves`; `interactive`:
+//! `Frame::interactive_flat_edge_leaves`). Over the path it prints the
 //! merged cuts' nodes per re-merged vertex, the merge's nanoseconds per node and the move's
 //! microseconds per re-merged vertex. Last, a
 //! lighting change (`relight_ms`: light tree and the shading lists facing the eye; a merge of
@@ -68,8 +69,12 @@ fn main() -> Result<(), String> {
         frame.set_field_reach(Some(r)).map_err(|e| e.to_string())?;
     }
     if let Some(n) = std::env::var_os("FLAT_EDGE_LEAVES") {
-        let n: u32 = n.to_string_lossy().parse().map_err(|e| format!("FLAT_EDGE_LEAVES: {e}"))?;
+        let n: u32 = match n.to_string_lossy().as_ref() {
+            "interactive" => frame.interactive_flat_edge_leaves(),
+            n => n.parse().map_err(|e| format!("FLAT_EDGE_LEAVES: {e}"))?,
+        };
         frame.set_flat_edge_leaves(n).map_err(|e| e.to_string())?;
+        println!("flat_edge_leaves={n}");
     }
     if std::env::var_os("EAGER").is_some() {
         frame.set_deferred_merges(false).map_err(|e| e.to_string())?;

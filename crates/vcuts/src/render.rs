@@ -76,6 +76,29 @@ pub enum Inside {
     Dropped,
 }
 
+/// `--flat-edge-leaves`: a number of leaves (a power of two), or `interactive`.
+#[derive(Clone, Copy, PartialEq, Eq, Debug)]
+pub enum EdgeLeaves {
+    /// Nodes of up to this many leaves (`Frame::set_flat_edge_leaves`).
+    Leaves(u32),
+    /// The frame's setting for interactive moves (`Frame::interactive_flat_edge_leaves`).
+    Interactive,
+}
+
+impl std::str::FromStr for EdgeLeaves {
+    type Err = String;
+
+    fn from_str(s: &str) -> Result<EdgeLeaves, String> {
+        match s {
+            "interactive" => Ok(EdgeLeaves::Interactive),
+            _ => s
+                .parse()
+                .map(EdgeLeaves::Leaves)
+                .map_err(|_| format!("{s:?}: not a number of leaves (a power of two) or `interactive`")),
+        }
+    }
+}
+
 /// Arguments of `render`.
 #[derive(clap::Args, Clone)]
 pub struct RenderArgs {
@@ -172,9 +195,11 @@ pub struct RenderArgs {
     /// How finely a flat occluder's (a ground's) shadow follows its edges: a node of up to N
     /// leaves across an edge takes its estimated visible share instead of being split to its
     /// leaves (a power of two; default 1, exact). Larger is a cheaper move on a scene with a
-    /// ground, the light near its edges blended (`Frame::set_flat_edge_leaves`).
-    #[arg(long, value_name = "N")]
-    pub flat_edge_leaves: Option<u32>,
+    /// ground, the light near its edges blended (`Frame::set_flat_edge_leaves`); `interactive`
+    /// is 1/256 of the directions (`Frame::interactive_flat_edge_leaves`: 128 at the paper
+    /// preset, 16 at `fast`).
+    #[arg(long, value_name = "N|interactive")]
+    pub flat_edge_leaves: Option<EdgeLeaves>,
     /// Merge every vertex a move changes at once. By default a move merges the vertices facing
     /// the camera and leaves the others until a camera sees them (`Frame::set_deferred_merges`):
     /// the image is the same bit for bit.
@@ -331,9 +356,14 @@ pub fn run(args: &RenderArgs) -> Result<RenderOutcome> {
     if args.field_reach.is_some() {
         frame.set_field_reach(args.field_reach).map_err(|e| anyhow::anyhow!("--field-reach: {e}"))?;
     }
-    if let Some(n) = args.flat_edge_leaves {
+    if let Some(leaves) = args.flat_edge_leaves {
+        let n = match leaves {
+            EdgeLeaves::Leaves(n) => n,
+            EdgeLeaves::Interactive => frame.interactive_flat_edge_leaves(),
+        };
         frame.set_flat_edge_leaves(n).map_err(|e| anyhow::anyhow!("--flat-edge-leaves: {e}"))?;
     }
+    out.emit("flat_edge_leaves", frame.flat_edge_leaves().to_string());
     if args.no_sun_rays {
         frame.set_sun_rays(None);
     } else {

@@ -121,7 +121,8 @@ pub struct SceneFigures {
     pub rel_l2_exact_cuts_only: f64,
     pub max_err_exact_cuts_only: f64,
     pub move_ms_cuts_only: f64,
-    /// The knob `Frame::set_flat_edge_leaves` at this many leaves: the eager move and the error.
+    /// The knob `Frame::set_flat_edge_leaves` at this many leaves (`Frame::interactive_flat_edge_leaves`):
+    /// the eager move and the error.
     pub flat_edge_leaves: u32,
     pub move_ms_eager_flat_edges: f64,
     pub rel_l2_exact_flat_edges: f64,

@@ -95,6 +95,18 @@ fn precompute_logs_progress_without_a_terminal_and_render_works_from_another_fol
     let o = vcuts(&elsewhere, &[&small[..], &["--light-max-leaves", "0"]].concat());
     assert_eq!(o.status.code(), Some(2), "{}", text(&o));
     assert!(text(&o).contains("--light-max-leaves"), "{}", text(&o));
+    // The ground's edge setting reaches the frame (`interactive`: 1/256 of the 256 directions,
+    // so 1); a value neither a number nor `interactive`, or not a power of two, is refused.
+    for (value, printed) in [("interactive", "flat_edge_leaves=1\n"), ("4", "flat_edge_leaves=4\n")] {
+        let o = vcuts(&elsewhere, &[&small[..], &["--flat-edge-leaves", value]].concat());
+        assert!(o.status.success() && String::from_utf8_lossy(&o.stdout).contains(printed), "{}", text(&o));
+    }
+    let o = vcuts(&elsewhere, &[&small[..], &["--flat-edge-leaves", "fine"]].concat());
+    assert_eq!(o.status.code(), Some(2), "{}", text(&o));
+    assert!(text(&o).contains("`interactive`"), "{}", text(&o));
+    let o = vcuts(&elsewhere, &[&small[..], &["--flat-edge-leaves", "3"]].concat());
+    assert_eq!(o.status.code(), Some(1), "{}", text(&o));
+    assert!(text(&o).contains("--flat-edge-leaves: flat edge leaves = 3"), "{}", text(&o));
     // -q: results on stdout as before, nothing about progress on stderr.
     let o = vcuts(
         &work,

@@ -107,7 +107,8 @@ impl Frame {
     /// instead of being split down to its leaves ([`crate::flat`]); 1, the default, splits to
     /// the leaves. Walking down along the edges is most of a move's merge on a scene with a
     /// ground, and the share only shifts light near the occluder's silhouette; `docs/
-    /// benchmarks.md` has the time and the error. Re-merges the vertices a flat occluder
+    /// benchmarks.md` has the time and the error; [`Frame::interactive_flat_edge_leaves`] is
+    /// the measured setting for interactive moves. Re-merges the vertices a flat occluder
     /// shadows; returns how many.
     pub fn set_flat_edge_leaves(&mut self, leaves: u32) -> Result<usize, FrameError> {
         if !leaves.is_power_of_two() || leaves as usize > self.tree.leaf_count() {
@@ -126,6 +127,22 @@ impl Frame {
         let merged = self.rekey(Changed::Flat, true);
         self.defer = defer;
         merged
+    }
+
+    /// The largest node across a flat occluder's edge whose visible share is estimated
+    /// ([`Frame::set_flat_edge_leaves`]; 1: none, the exact cut).
+    pub fn flat_edge_leaves(&self) -> u32 {
+        self.flat_edge_leaves
+    }
+
+    /// The [`Frame::set_flat_edge_leaves`] setting for interactive moves: nodes of
+    /// 1/[`super::INTERACTIVE_EDGE_SHARE`] of the directions (4π/256 ≈ 0.049 sr, ~13° across), so at
+    /// least 1 and as coarse on the sphere at every direction count (128 leaves at the paper's
+    /// 32,768, 16 at `fast`'s 4,096). Measured 2026-12-06 (`docs/benchmarks.md`, "A ground's
+    /// edges"): the paper-preset bunny scene's eager move 0.48× the exact cut's time, its error
+    /// against the exact reference +0.03 point, the teapot scene's 0.7× and +0.02 point.
+    pub fn interactive_flat_edge_leaves(&self) -> u32 {
+        (self.tree.leaf_count() as u32 / super::INTERACTIVE_EDGE_SHARE).max(1)
     }
 
     /// Decodes the field cuts of `wanted` (sorted samples), taking those `old` holds (sorted

@@ -293,6 +293,10 @@ pub struct Frame {
 /// A field's default reach, in its object's bounding radii ([`Frame::set_field_reach`]).
 pub const FIELD_REACH: f32 = 6.0;
 
+/// The share of the sphere of directions (1/256) whose nodes
+/// [`Frame::interactive_flat_edge_leaves`] estimates across a ground's edges.
+pub const INTERACTIVE_EDGE_SHARE: u32 = 256;
+
 /// What a frame keeps beyond the shading lists and field inputs, each a trade of memory for
 /// time ([`Frame::with_caches`], [`Frame::fit_memory`]).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
