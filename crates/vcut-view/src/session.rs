@@ -335,6 +335,17 @@ impl Session {
         }
     }
 
+    /// How finely a ground's shadow follows its edges: `Frame::set_flat_edge_leaves` (1, the
+    /// default, exact; `Frame::interactive_flat_edge_leaves` is the setting measured for
+    /// drags). Re-merges the vertices a ground shadows (not counted as a move's timing).
+    pub fn set_flat_edge_leaves(&mut self, leaves: u32) -> Result<(), SessionError> {
+        if self.frame.set_flat_edge_leaves(leaves)? > 0 {
+            self.invalidate_shading();
+            self.update();
+        }
+        Ok(())
+    }
+
     /// The target error of the light left in the cuts (`vcut_shade::SunRays::target`).
     pub fn light_error(&self) -> f64 {
         self.sun_rays.target

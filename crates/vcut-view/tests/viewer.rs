@@ -98,6 +98,19 @@ fn a_move_a_brdf_edit_and_a_rotation_each_change_the_frame_and_only_a_move_merge
     s.update();
     assert_eq!((s.timings.turn_merged, s.frame().merges()), (0, merges + turned as u64));
 
+    // A ground's shadow estimated across its edges (the interactive setting: 4 of the 1,024
+    // directions a node) changes the ball, which the ground shadows; exact again, as before
+    // (the setting merges the vertices the drag left waiting too). A setting that is not a
+    // power of two is refused by name.
+    let turned_back = s.radiance().to_vec();
+    assert_eq!(s.frame().interactive_flat_edge_leaves(), 4);
+    s.set_flat_edge_leaves(4).unwrap();
+    assert!(max_change(&turned_back, s.radiance(), ball) > 0.0);
+    s.set_flat_edge_leaves(1).unwrap();
+    assert_eq!(s.radiance(), turned_back.as_slice());
+    let e = s.set_flat_edge_leaves(3).unwrap_err().to_string();
+    assert!(e.contains("flat edge leaves = 3"), "{e}");
+
     // Moving back restores the merged cuts bit for bit.
     s.set_env_rotation(0.0);
     s.set_material(ball, *s.frame().object(ball).material);

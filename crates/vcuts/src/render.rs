@@ -99,6 +99,18 @@ impl std::str::FromStr for EdgeLeaves {
     }
 }
 
+impl EdgeLeaves {
+    /// Sets the frame's `Frame::set_flat_edge_leaves` to this (an error names the flag).
+    pub fn apply(self, frame: &mut Frame) -> Result<()> {
+        let n = match self {
+            EdgeLeaves::Leaves(n) => n,
+            EdgeLeaves::Interactive => frame.interactive_flat_edge_leaves(),
+        };
+        frame.set_flat_edge_leaves(n).map_err(|e| anyhow::anyhow!("--flat-edge-leaves: {e}"))?;
+        Ok(())
+    }
+}
+
 /// Arguments of `render`.
 #[derive(clap::Args, Clone)]
 pub struct RenderArgs {
@@ -357,11 +369,7 @@ pub fn run(args: &RenderArgs) -> Result<RenderOutcome> {
         frame.set_field_reach(args.field_reach).map_err(|e| anyhow::anyhow!("--field-reach: {e}"))?;
     }
     if let Some(leaves) = args.flat_edge_leaves {
-        let n = match leaves {
-            EdgeLeaves::Leaves(n) => n,
-            EdgeLeaves::Interactive => frame.interactive_flat_edge_leaves(),
-        };
-        frame.set_flat_edge_leaves(n).map_err(|e| anyhow::anyhow!("--flat-edge-leaves: {e}"))?;
+        leaves.apply(&mut frame)?;
     }
     out.emit("flat_edge_leaves", frame.flat_edge_leaves().to_string());
     if args.no_sun_rays {

@@ -66,6 +66,10 @@ pub struct ViewArgs {
     /// slider).
     #[arg(long, value_name = "REL")]
     pub light_error: Option<f64>,
+    /// How finely a ground's shadow follows its edges, as `render --flat-edge-leaves` (the
+    /// panel's "ground edges estimated" box): a power of two, or `interactive`.
+    #[arg(long, value_name = "N|interactive")]
+    pub flat_edge_leaves: Option<crate::render::EdgeLeaves>,
     /// The plant-leaf viewer instead (`vcut-leaf`: the plant precomputed first, then the sun,
     /// method, level of detail and leaf panel); the plant options below apply.
     #[arg(long, conflicts_with_all = ["input", "scene"])]
@@ -208,6 +212,9 @@ pub fn run(args: &ViewArgs) -> Result<()> {
     let opened = crate::render::open_with(&input, args.env.as_deref(), args.reconstruction, Default::default())?;
     let crate::render::Opened { data, mut frame, env, env_name, view, setup_s } = opened;
     crate::render::apply_edits(&mut frame, &args.brdfs, &args.moves)?;
+    if let Some(leaves) = args.flat_edge_leaves {
+        leaves.apply(&mut frame)?;
+    }
     let camera = crate::render::camera(view.as_ref(), args.camera.as_deref(), &frame)?;
     let summary = vec![
         ("file".to_string(), input.display().to_string()),
