@@ -72,6 +72,13 @@ impl Frame {
     }
 }
 
+/// `Frame.flat_edge_leaves = ...`: a number of leaves, or a word (`"interactive"`).
+#[derive(FromPyObject)]
+enum EdgeLeaves {
+    Leaves(u32),
+    Word(String),
+}
+
 fn finite(v: [f32; 3], what: &str) -> PyResult<Vec3> {
     let v = Vec3::from(v);
     if v.is_finite() { Ok(v) } else { Err(VcutsError::new_err(format!("{what} {v}: must be finite"))) }
@@ -282,6 +289,30 @@ impl Frame {
     fn set_deferred_merges(&mut self, py: Python<'_>, on: bool) -> PyResult<()> {
         let frame = &mut self.opened.frame;
         py.detach(|| frame.set_deferred_merges(on)).map(|_| ()).map_err(error)
+    }
+
+    /// How finely a ground's shadow follows its edges (`Frame::set_flat_edge_leaves`): 1, the
+    /// default, is the exact cut; a power of two N estimates nodes of up to N directions across
+    /// an edge; set `"interactive"` for the setting measured for drags (1/256 of the
+    /// directions). Setting it re-merges the vertices a ground shadows.
+    #[getter]
+    fn flat_edge_leaves(&self) -> u32 {
+        self.opened.frame.flat_edge_leaves()
+    }
+
+    #[setter]
+    fn set_flat_edge_leaves(&mut self, py: Python<'_>, leaves: EdgeLeaves) -> PyResult<()> {
+        let frame = &mut self.opened.frame;
+        let n = match leaves {
+            EdgeLeaves::Leaves(n) => n,
+            EdgeLeaves::Word(w) if w == "interactive" => frame.interactive_flat_edge_leaves(),
+            EdgeLeaves::Word(w) => {
+                return Err(VcutsError::new_err(format!(
+                    "flat_edge_leaves = {w:?}: a number of leaves (a power of two) or \"interactive\""
+                )));
+            }
+        };
+        py.detach(|| frame.set_flat_edge_leaves(n)).map(|_| ()).map_err(error)
     }
 
     /// What the frame has done and holds: merges, the last move's timing, memory by part (bytes)

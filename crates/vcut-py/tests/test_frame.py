@@ -31,6 +31,25 @@ def test_move_and_back_restores_radiance_bit_for_bit(balls) -> None:
         assert np.array_equal(a, b)
 
 
+def test_a_grounds_edges_estimated_change_the_balls_and_exact_again_is_bit_for_bit(balls) -> None:
+    f = vcuts.open(balls)
+    eye = f.camera()["position"]
+    assert f.flat_edge_leaves == 1
+    exact = f.shade(eye)
+    f.flat_edge_leaves = 4
+    assert f.flat_edge_leaves == 4
+    assert not all(np.array_equal(a, b) for a, b in zip(exact, f.shade(eye))), "the estimate changed nothing"
+    # The interactive setting is 1/256 of the directions: at these 256, the exact cut.
+    f.flat_edge_leaves = "interactive"
+    assert f.flat_edge_leaves == 1
+    for a, b in zip(exact, f.shade(eye)):
+        assert np.array_equal(a, b)
+    with pytest.raises(vcuts.VcutsError, match="flat edge leaves = 3"):
+        f.flat_edge_leaves = 3
+    with pytest.raises(vcuts.VcutsError, match="interactive"):
+        f.flat_edge_leaves = "fine"
+
+
 def test_positions_follow_the_translation(balls) -> None:
     f = vcuts.open(balls)
     rest = f.positions("small")
