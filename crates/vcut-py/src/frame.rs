@@ -8,6 +8,7 @@ use glam::Vec3;
 use numpy::{PyArray2, PyArray3};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
+use vcut_shade::FlatEdges;
 use vcut_shade::reference::{MonteCarloParams, exact_direction, monte_carlo};
 use vcuts::open::Opened;
 
@@ -72,7 +73,7 @@ impl Frame {
     }
 }
 
-/// `Frame.flat_edge_leaves = ...`: a number of leaves, or a word (`"interactive"`).
+/// `Frame.flat_edge_leaves = ...`: a number of leaves, or a word (`"interactive"`: `FlatEdges`).
 #[derive(FromPyObject)]
 enum EdgeLeaves {
     Leaves(u32),
@@ -303,15 +304,11 @@ impl Frame {
     #[setter]
     fn set_flat_edge_leaves(&mut self, py: Python<'_>, leaves: EdgeLeaves) -> PyResult<()> {
         let frame = &mut self.opened.frame;
-        let n = match leaves {
-            EdgeLeaves::Leaves(n) => n,
-            EdgeLeaves::Word(w) if w == "interactive" => frame.interactive_flat_edge_leaves(),
-            EdgeLeaves::Word(w) => {
-                return Err(VcutsError::new_err(format!(
-                    "flat_edge_leaves = {w:?}: a number of leaves (a power of two) or \"interactive\""
-                )));
-            }
+        let edges = match leaves {
+            EdgeLeaves::Leaves(n) => FlatEdges::Leaves(n),
+            EdgeLeaves::Word(w) => w.parse().map_err(|e| VcutsError::new_err(format!("flat_edge_leaves = {e}")))?,
         };
+        let n = edges.leaves(frame);
         py.detach(|| frame.set_flat_edge_leaves(n)).map(|_| ()).map_err(error)
     }
 

@@ -31,7 +31,7 @@ use std::time::Instant;
 use vcut_data::Precomputed;
 use vcut_envmap::procedural;
 use vcut_shade::measure::{edit_ms, first_movable, median, path_step};
-use vcut_shade::{Frame, MergeAlgorithm};
+use vcut_shade::{FlatEdges, Frame, MergeAlgorithm};
 
 /// User + system CPU seconds of this process so far (Linux, whose clock ticks are 1/100 s;
 /// `None` elsewhere).
@@ -69,10 +69,7 @@ fn main() -> Result<(), String> {
         frame.set_field_reach(Some(r)).map_err(|e| e.to_string())?;
     }
     if let Some(n) = std::env::var_os("FLAT_EDGE_LEAVES") {
-        let n: u32 = match n.to_string_lossy().as_ref() {
-            "interactive" => frame.interactive_flat_edge_leaves(),
-            n => n.parse().map_err(|e| format!("FLAT_EDGE_LEAVES: {e}"))?,
-        };
+        let n = n.to_string_lossy().parse::<FlatEdges>().map_err(|e| format!("FLAT_EDGE_LEAVES: {e}"))?.leaves(&frame);
         frame.set_flat_edge_leaves(n).map_err(|e| e.to_string())?;
         println!("flat_edge_leaves={n}");
     }

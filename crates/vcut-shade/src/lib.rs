@@ -39,7 +39,7 @@ pub mod reference;
 pub mod sun;
 
 pub use frame::{
-    CutFailure, FIELD_REACH, Frame, FrameCaches, FrameError, FrameMemory, FrameObject, INTERACTIVE_EDGE_SHARE,
-    LightChoice, MergeAlgorithm, MoveTiming, Parts,
+    CutFailure, FIELD_REACH, FlatEdges, Frame, FrameCaches, FrameError, FrameMemory, FrameObject,
+    INTERACTIVE_EDGE_SHARE, LightChoice, MergeAlgorithm, MoveTiming, Parts,
 };
 pub use sun::SunRays;

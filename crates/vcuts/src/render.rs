@@ -12,7 +12,7 @@ use vcut_shade::glb::write_glb;
 use vcut_shade::image::{auto_exposure, frame_image, pixel_errors, rasterize, write_exr, write_ply, write_png};
 use vcut_shade::passes::{Pass, render_passes, write_exr_passes};
 use vcut_shade::reference::{MonteCarloParams, errors, exact_direction, monte_carlo};
-use vcut_shade::{Frame, FrameCaches, SunRays};
+use vcut_shade::{FlatEdges, Frame, FrameCaches, SunRays};
 
 pub use crate::open::{Opened, apply_edits, auto_camera, camera, light_error, open, open_with};
 use crate::ssdo::ScreenMode;
@@ -76,39 +76,11 @@ pub enum Inside {
     Dropped,
 }
 
-/// `--flat-edge-leaves`: a number of leaves (a power of two), or `interactive`.
-#[derive(Clone, Copy, PartialEq, Eq, Debug)]
-pub enum EdgeLeaves {
-    /// Nodes of up to this many leaves (`Frame::set_flat_edge_leaves`).
-    Leaves(u32),
-    /// The frame's setting for interactive moves (`Frame::interactive_flat_edge_leaves`).
-    Interactive,
-}
-
-impl std::str::FromStr for EdgeLeaves {
-    type Err = String;
-
-    fn from_str(s: &str) -> Result<EdgeLeaves, String> {
-        match s {
-            "interactive" => Ok(EdgeLeaves::Interactive),
-            _ => s
-                .parse()
-                .map(EdgeLeaves::Leaves)
-                .map_err(|_| format!("{s:?}: not a number of leaves (a power of two) or `interactive`")),
-        }
-    }
-}
-
-impl EdgeLeaves {
-    /// Sets the frame's `Frame::set_flat_edge_leaves` to this (an error names the flag).
-    pub fn apply(self, frame: &mut Frame) -> Result<()> {
-        let n = match self {
-            EdgeLeaves::Leaves(n) => n,
-            EdgeLeaves::Interactive => frame.interactive_flat_edge_leaves(),
-        };
-        frame.set_flat_edge_leaves(n).map_err(|e| anyhow::anyhow!("--flat-edge-leaves: {e}"))?;
-        Ok(())
-    }
+/// Sets the frame's `Frame::set_flat_edge_leaves` to `edges` (`--flat-edge-leaves` of render and
+/// view; an error names the flag).
+pub fn set_flat_edges(frame: &mut Frame, edges: FlatEdges) -> Result<()> {
+    frame.set_flat_edge_leaves(edges.leaves(frame)).map_err(|e| anyhow::anyhow!("--flat-edge-leaves: {e}"))?;
+    Ok(())
 }
 
 /// Arguments of `render`.
@@ -211,7 +183,7 @@ pub struct RenderArgs {
     /// is 1/256 of the directions (`Frame::interactive_flat_edge_leaves`: 128 at the paper
     /// preset, 16 at `fast`).
     #[arg(long, value_name = "N|interactive")]
-    pub flat_edge_leaves: Option<EdgeLeaves>,
+    pub flat_edge_leaves: Option<FlatEdges>,
     /// Merge every vertex a move changes at once. By default a move merges the vertices facing
     /// the camera and leaves the others until a camera sees them (`Frame::set_deferred_merges`):
     /// the image is the same bit for bit.
@@ -368,8 +340,8 @@ pub fn run(args: &RenderArgs) -> Result<RenderOutcome> {
     if args.field_reach.is_some() {
         frame.set_field_reach(args.field_reach).map_err(|e| anyhow::anyhow!("--field-reach: {e}"))?;
     }
-    if let Some(leaves) = args.flat_edge_leaves {
-        leaves.apply(&mut frame)?;
+    if let Some(edges) = args.flat_edge_leaves {
+        set_flat_edges(&mut frame, edges)?;
     }
     out.emit("flat_edge_leaves", frame.flat_edge_leaves().to_string());
     if args.no_sun_rays {

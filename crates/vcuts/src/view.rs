@@ -69,7 +69,7 @@ pub struct ViewArgs {
     /// How finely a ground's shadow follows its edges, as `render --flat-edge-leaves` (the
     /// panel's "ground edges estimated" box): a power of two, or `interactive`.
     #[arg(long, value_name = "N|interactive")]
-    pub flat_edge_leaves: Option<crate::render::EdgeLeaves>,
+    pub flat_edge_leaves: Option<vcut_shade::FlatEdges>,
     /// The plant-leaf viewer instead (`vcut-leaf`: the plant precomputed first, then the sun,
     /// method, level of detail and leaf panel); the plant options below apply.
     #[arg(long, conflicts_with_all = ["input", "scene"])]
@@ -212,8 +212,8 @@ pub fn run(args: &ViewArgs) -> Result<()> {
     let opened = crate::render::open_with(&input, args.env.as_deref(), args.reconstruction, Default::default())?;
     let crate::render::Opened { data, mut frame, env, env_name, view, setup_s } = opened;
     crate::render::apply_edits(&mut frame, &args.brdfs, &args.moves)?;
-    if let Some(leaves) = args.flat_edge_leaves {
-        leaves.apply(&mut frame)?;
+    if let Some(edges) = args.flat_edge_leaves {
+        crate::render::set_flat_edges(&mut frame, edges)?;
     }
     let camera = crate::render::camera(view.as_ref(), args.camera.as_deref(), &frame)?;
     let summary = vec![

@@ -50,6 +50,41 @@ pub(super) fn full_zero(h: u32) -> MergedCut {
     MergedCut { root_height: h, heights: vec![h as u8], values: vec![0.0], indices: vec![0] }
 }
 
+/// A value of [`Frame::set_flat_edge_leaves`] as users write it: a number of leaves, or
+/// `interactive` ([`Frame::interactive_flat_edge_leaves`]). The one parser of the word for the
+/// command line, the viewer, Python and the examples.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum FlatEdges {
+    /// Nodes of up to this many leaves (a power of two; 1: the exact cut).
+    Leaves(u32),
+    /// The setting measured for interactive drags.
+    Interactive,
+}
+
+impl std::str::FromStr for FlatEdges {
+    type Err = String;
+
+    fn from_str(s: &str) -> Result<FlatEdges, String> {
+        match s {
+            "interactive" => Ok(FlatEdges::Interactive),
+            _ => s
+                .parse()
+                .map(FlatEdges::Leaves)
+                .map_err(|_| format!("{s:?}: not a number of leaves (a power of two) or `interactive`")),
+        }
+    }
+}
+
+impl FlatEdges {
+    /// The number of leaves this is in `frame`.
+    pub fn leaves(self, frame: &Frame) -> u32 {
+        match self {
+            FlatEdges::Leaves(n) => n,
+            FlatEdges::Interactive => frame.interactive_flat_edge_leaves(),
+        }
+    }
+}
+
 impl Frame {
     /// Moves object `o` to `translation` (from its rest position) and re-merges the vertices
     /// whose field inputs changed: its own, and other objects' vertices near it. Returns how

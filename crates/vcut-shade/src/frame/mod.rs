@@ -122,6 +122,7 @@ use kept::KeptCut;
 use keys::FieldKey;
 use lists::{ShadeList, ShadeNode, SpecularNode};
 use merge::FieldCache;
+pub use merge::FlatEdges;
 use object::{ObjectState, ViewCone};
 use rayon::prelude::*;
 pub use shading::Parts;
