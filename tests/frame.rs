@@ -1,12 +1,13 @@
 //! The frame loop against analytic results and the exact-direction reference, and its caching.
 
 use glam::Vec3;
+use std::io::Write;
 use std::path::{Path, PathBuf};
 use vcut_data::{InsideSamples, Precomputed};
 use vcut_envmap::EnvMap;
 use vcut_scene::Material;
 use vcut_shade::reference::{errors, exact_direction};
-use vcut_shade::{FIELD_REACH, Frame, FrameCaches, MergeAlgorithm, SunRays};
+use vcut_shade::{CutFailure, FIELD_REACH, Frame, FrameCaches, FrameError, MergeAlgorithm, SunRays};
 
 const BALL_ABOVE_GROUND: &str = r#"
 [[object]]
@@ -568,7 +569,7 @@ fn without_the_merged_cache_a_frame_holds_less_and_shades_the_same() {
     assert!(every(&lean).into_iter().all(|(o, v)| *lean.merged(o, v).unwrap() == *full.merged(o, v).unwrap()));
     assert!(lean.shade(EYE) == full.shade(EYE));
     // A budget keeps the caches that fit: none under the frame's floor, both with room.
-    let floor = FrameCaches { svc: false, cells: false, merged: false };
+    let floor = FrameCaches { stored: false, svc: false, cells: false, merged: false };
     assert_eq!(lean.fit_memory(0).unwrap(), floor);
     let m = lean.memory();
     assert_eq!((m.svc_cache, m.field_cache, m.merged), (0, 0, 0));
@@ -580,16 +581,88 @@ fn without_the_merged_cache_a_frame_holds_less_and_shades_the_same() {
     // A budget drops the caches that save least first.
     let (m, svc) = (full.memory(), full.memory().svc_cache);
     assert_eq!(full.fit_memory(usize::MAX).unwrap(), FrameCaches::default());
-    assert_eq!(full.fit_memory(m.total() - 1).unwrap(), FrameCaches { merged: false, ..FrameCaches::default() });
+    let stored_out = FrameCaches { stored: false, ..FrameCaches::default() };
+    assert_eq!(full.fit_memory(m.total() - 1).unwrap(), stored_out);
+    assert!(full.memory().stored * 4 < m.stored, "{:?} of {m:?}", full.memory());
+    assert_eq!(full.fit_memory(full.memory().total() - 1).unwrap(), FrameCaches { merged: false, ..stored_out });
     assert_eq!(full.fit_memory(full.memory().total() - 1).unwrap(), FrameCaches { svc: true, ..floor });
-    assert!(full.memory().total() <= m.total() - m.merged - m.field_cache);
+    assert!(full.memory().total() <= m.total() - m.merged - m.field_cache - m.stored / 2);
     assert_eq!(full.fit_memory(full.memory().total() - svc + 1).unwrap(), floor);
     assert!(lean.shade(EYE) == full.shade(EYE));
 }
 
-/// Without the cell cache a merge goes in ranges of at most 4,096 vertices (so that the cells
-/// decoded at once stay few): a ground of 4,489 vertices is set up and moved over in two, with
-/// the images of a frame that merges it at once.
+/// The stored cuts left in the file: the frame holds only their arrays' headers and block
+/// offsets, reads each cut a merge needs from the file it opened (also once its path is gone),
+/// and shades what a frame holding them shades; a file changed in place since is refused.
+#[test]
+fn with_the_stored_cuts_left_in_the_file_a_frame_shades_the_same() {
+    let dir = scratch("stored");
+    let path = dir.join("s.vcuts");
+    let mut d = data(BALL_ABOVE_GROUND, &[], &path);
+    let env = EnvMap::constant([1.0; 3]);
+    let mut full = Frame::new(&mut d, &env).unwrap();
+    let none = FrameCaches { stored: false, svc: false, cells: false, merged: false };
+    let mut lean = Frame::with_caches(&mut Precomputed::open(&path).unwrap(), &env, none).unwrap();
+    assert_eq!(lean.caches(), none);
+    let (m_full, m_lean) = (full.memory(), lean.memory());
+    assert!(m_lean.stored * 4 < m_full.stored, "{m_lean:?} {m_full:?}");
+    assert!(lean.shade(EYE) == full.shade(EYE));
+    // The path removed: reads go to the file opened.
+    let ball = full.object_index("ball").unwrap();
+    let ground = full.object_index("ground").unwrap();
+    let moved = Vec3::new(0.3, 0.1, -0.2);
+    let gone = dir.join("gone.vcuts");
+    std::fs::rename(&path, &gone).unwrap();
+    assert_eq!(lean.translate(ball, moved).unwrap(), full.translate(ball, moved).unwrap());
+    assert!(lean.shade(EYE) == full.shade(EYE));
+    assert!(lean.merge_pending().is_ok() && full.merge_pending().is_ok());
+    assert!(lean.merged(ground, 7).unwrap() == full.merged(ground, 7).unwrap());
+    // Read back into memory (checked against the file's checksums), and out again.
+    lean.set_stored_cache(true).unwrap();
+    assert_eq!(lean.memory().stored, m_full.stored);
+    lean.set_stored_cache(false).unwrap();
+    // The file changed in place (every byte after its header): the merges that read it fail,
+    // naming the file; nothing panics and the images already shaded stand.
+    let len = std::fs::metadata(&gone).unwrap().len();
+    let mut bytes = std::fs::read(&gone).unwrap();
+    bytes[64..].iter_mut().for_each(|b| *b = b.wrapping_add(1));
+    std::fs::OpenOptions::new().write(true).open(&gone).unwrap().write_all(&bytes).unwrap();
+    assert_eq!(std::fs::metadata(&gone).unwrap().len(), len);
+    let e = lean.translate(ball, Vec3::new(-0.2, 0.1, 0.3)).unwrap_err();
+    assert!(matches!(e, FrameError::Cut { error: CutFailure::Decode(_), .. }), "{e}");
+    // Named as it was opened.
+    assert!(e.to_string().contains(&path.display().to_string()) && e.to_string().contains("changed"), "{e}");
+    let e = lean.set_stored_cache(true).unwrap_err();
+    assert!(matches!(e, FrameError::Stored { .. }) && e.to_string().contains("checksum"), "{e}");
+}
+
+/// A frame set up for an eye builds the lists of the vertices facing it only, and shades
+/// what a frame set up without one shades, toward that eye and after turning away from it.
+#[test]
+fn a_frame_set_up_for_an_eye_lists_what_faces_it_and_shades_the_same() {
+    let dir = scratch("facing");
+    let path = dir.join("f.vcuts");
+    let mut d = data(BALL_ABOVE_GROUND, &[], &path);
+    let env = EnvMap::constant([1.0; 3]);
+    let behind = Vec3::new(-3.0, 2.0, -5.0);
+    for caches in [FrameCaches::default(), FrameCaches { stored: false, svc: false, cells: false, merged: false }] {
+        let mut all = Frame::with_caches(&mut d, &env, caches).unwrap();
+        let mut facing = Frame::with_caches_facing(&mut Precomputed::open(&path).unwrap(), &env, caches, EYE).unwrap();
+        assert!(facing.memory().lists < all.memory().lists, "{:?} {:?}", facing.memory(), all.memory());
+        assert!(facing.shade(EYE) == all.shade(EYE));
+        let ball = all.object_index("ball").unwrap();
+        let moved = Vec3::new(0.2, 0.1, -0.3);
+        assert_eq!(facing.translate(ball, moved).unwrap(), all.translate(ball, moved).unwrap());
+        assert!(facing.shade(EYE) == all.shade(EYE));
+        facing.set_eye(behind).unwrap();
+        all.set_eye(behind).unwrap();
+        assert!(facing.shade(behind) == all.shade(behind));
+    }
+}
+
+/// Without the cell cache a merge goes in ranges of at most 1,024 vertices and 1,024 field
+/// inputs (so that the cells decoded at once stay few): a ground of 4,489 vertices is set up
+/// and moved over in several, with the images of a frame that merges it at once.
 #[test]
 fn merges_in_ranges_shade_as_one_merge() {
     let dir = scratch("ranges");
@@ -598,7 +671,7 @@ fn merges_in_ranges_shade_as_one_merge() {
     let mut d = data(&scene, &[("field_spheres", "8")], &path);
     let env = EnvMap::constant([1.0; 3]);
     let mut whole = Frame::new(&mut d, &env).unwrap();
-    let none = FrameCaches { svc: false, cells: false, merged: false };
+    let none = FrameCaches { stored: false, svc: false, cells: false, merged: false };
     let mut ranges = Frame::with_caches(&mut Precomputed::open(&path).unwrap(), &env, none).unwrap();
     let ground = whole.object_index("ground").unwrap();
     assert!(whole.object(ground).mesh.vertex_count() > 4096);

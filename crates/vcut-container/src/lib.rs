@@ -468,6 +468,12 @@ impl<K: Kind> Reader<K, File> {
         let file = File::open(path).map_err(|error| FileError::Io { path: path.into(), error })?;
         Reader::from_source(file, path)
     }
+
+    /// Another handle to the open file (the same file even if its path is replaced since):
+    /// for reading a section's bytes later, in place, by their [`SectionEntry::offset`].
+    pub fn file_handle(&self) -> Result<File, FileError> {
+        self.file.try_clone().map_err(|error| FileError::Io { path: self.path.clone(), error })
+    }
 }
 
 impl<K: Kind, R: Read + Seek> Reader<K, R> {
@@ -548,6 +554,11 @@ impl<K: Kind, R: Read + Seek> Reader<K, R> {
     /// Whether the file has section `id`.
     pub fn has(&self, id: SectionId<K>) -> bool {
         self.entries.iter().any(|e| e.id == id)
+    }
+
+    /// Section `id`'s table entry: where its payload lies and its checksum.
+    pub fn entry(&self, id: SectionId<K>) -> Option<SectionEntry<K>> {
+        self.entries.iter().find(|e| e.id == id).copied()
     }
 
     /// Reads section `id` and checks its checksum.

@@ -29,6 +29,7 @@
 //! # std::fs::remove_file(&path).unwrap();
 //! ```
 
+pub mod cut_array;
 pub mod field;
 pub mod file;
 pub mod params;

@@ -4,7 +4,7 @@
 use crate::field::FieldLayout;
 use crate::file::{FileError, Reader, SectionId, SectionKind};
 use crate::params::PrecomputeParams;
-use crate::sections::{self, CutArray, StoredObject};
+use crate::sections::{self, CutArray, CutSource, StoredObject};
 use crate::view::View;
 use glam::Vec3;
 use vcut_cut::Cut;
@@ -108,6 +108,9 @@ fn unquote(v: &str) -> Option<String> {
 /// An opened `.vcuts` file.
 pub struct Precomputed {
     reader: Reader,
+    /// The file the reader opened, shared by the cut arrays read from it (their
+    /// [`crate::sections::CutSource`]).
+    file: std::sync::Arc<std::fs::File>,
     /// How it was made: the scene, the environment, the parameters (its `params` section).
     pub record: Record,
     /// Directions in generation order.
@@ -182,7 +185,8 @@ impl Precomputed {
         } else {
             None
         };
-        Ok(Precomputed { reader, record, directions, cell_areas, leaf_order, objects, layouts, view })
+        let file = std::sync::Arc::new(reader.file_handle()?);
+        Ok(Precomputed { reader, file, record, directions, cell_areas, leaf_order, objects, layouts, view })
     }
 
     /// The environment map the precompute was given: embedded in the file (its `environment`
@@ -237,7 +241,9 @@ impl Precomputed {
     /// its expected cut count.
     pub fn cut_array(&mut self, id: SectionId, expect: Option<usize>) -> Result<CutArray, FileError> {
         let bytes = self.reader.section(id)?;
-        let a = CutArray::parse(bytes).map_err(|e| self.reader.section_error(id, e))?;
+        let entry = self.reader.entry(id).expect("a section just read is in the table");
+        let source = CutSource::new(self.file.clone(), self.reader.path(), entry.offset, entry.len, entry.crc);
+        let a = CutArray::parse(bytes).map_err(|e| self.reader.section_error(id, e))?.with_source(source);
         if a.root_height() != self.root_height() {
             let reason =
                 format!("cuts of root height {}, the file has {} directions", a.root_height(), self.directions.len());

@@ -17,8 +17,6 @@
 
 use crate::field::{FieldLayout, RadialSpacing};
 use glam::Vec3;
-use vcut_cut::Cut;
-use vcut_cut::codec::{self, ShapeCoding, ValueFormat};
 use vcut_scene::{Material, Mesh, MeshError, Motion};
 
 /// Why a section's payload could not be read (the file's reader names the section).
@@ -65,216 +63,10 @@ pub enum PayloadError {
     Mesh(MeshError),
 }
 
-/// Value format code in the cut array header.
-pub fn format_code(f: ValueFormat) -> u8 {
-    match f {
-        ValueFormat::F32 => 0,
-        ValueFormat::F16 => 1,
-        ValueFormat::U16 => 2,
-        ValueFormat::U8 => 3,
-        ValueFormat::U1 => 4,
-    }
-}
+pub use crate::cut_array::{CUT_BLOCK, CutArray, CutDecodeError, CutFault, CutSource, encode_cut_array, format_code};
 
-fn format_of(code: u8) -> Option<ValueFormat> {
-    Some(match code {
-        0 => ValueFormat::F32,
-        1 => ValueFormat::F16,
-        2 => ValueFormat::U16,
-        3 => ValueFormat::U8,
-        4 => ValueFormat::U1,
-        _ => return None,
-    })
-}
-
-/// Cuts per block of the cut array's offset index.
-pub const CUT_BLOCK: usize = 32;
-
-/// Builds a cut array payload from already encoded cuts.
-pub fn encode_cut_array(
-    root_height: u32,
-    format: ValueFormat,
-    coding: ShapeCoding,
-    cuts: &[Vec<u8>],
-    inside: Option<&[bool]>,
-) -> Vec<u8> {
-    let n = cuts.len();
-    let bits = inside.map_or(0, |_| n.div_ceil(8).div_ceil(4) * 4);
-    let mut area = Vec::with_capacity(cuts.iter().map(|c| c.len() + 2).sum());
-    let mut blocks = Vec::with_capacity(n.div_ceil(CUT_BLOCK) + 1);
-    for (i, c) in cuts.iter().enumerate() {
-        if i % CUT_BLOCK == 0 {
-            blocks.push(area.len() as u32);
-        }
-        codec::put_varint(&mut area, c.len() as u64);
-        area.extend_from_slice(c);
-    }
-    blocks.push(area.len() as u32);
-    let mut out = Vec::with_capacity(8 + 4 * blocks.len() + bits + area.len());
-    out.extend_from_slice(&(n as u32).to_le_bytes());
-    let coding_code = u8::from(coding == ShapeCoding::SplitFlags);
-    out.extend_from_slice(&[root_height as u8, format_code(format), u8::from(inside.is_some()), coding_code]);
-    for b in blocks {
-        out.extend_from_slice(&b.to_le_bytes());
-    }
-    if let Some(inside) = inside {
-        let mut set = vec![0u8; bits];
-        for (i, _) in inside.iter().enumerate().filter(|(_, x)| **x) {
-            set[i / 8] |= 1 << (i % 8);
-        }
-        out.extend_from_slice(&set);
-    }
-    out.extend_from_slice(&area);
-    out
-}
-
-/// A cut of a cut array that does not decode.
-#[derive(Debug, Clone, PartialEq, thiserror::Error)]
-#[error("cut {index}: {error}")]
-pub struct CutDecodeError {
-    /// The cut's index in its array.
-    pub index: usize,
-    /// What the codec found.
-    pub error: codec::DecodeError,
-}
-
-/// A parsed cut array owning its payload: cuts are decoded on demand.
-#[derive(Debug, Clone)]
-pub struct CutArray {
-    root_height: u32,
-    format: ValueFormat,
-    coding: ShapeCoding,
-    /// Start and length of every cut's bytes in `payload`.
-    spans: Vec<(u32, u32)>,
-    /// Where the inside bits are in `payload`, if any.
-    inside: Option<std::ops::Range<usize>>,
-    payload: Vec<u8>,
-    count: usize,
-    overhead: usize,
-}
-
-fn u32_at(b: &[u8], at: usize) -> u32 {
+pub(crate) fn u32_at(b: &[u8], at: usize) -> u32 {
     u32::from_le_bytes([b[at], b[at + 1], b[at + 2], b[at + 3]])
-}
-
-impl CutArray {
-    /// Parses the header, the block offsets and every cut's length (checked: each block's
-    /// lengths end exactly at the next block's offset).
-    pub fn parse(payload: Vec<u8>) -> Result<CutArray, PayloadError> {
-        let bytes = payload.as_slice();
-        let bad = |what: String| Err(PayloadError::Inconsistent(what));
-        if bytes.len() < 8 {
-            return bad(format!("cut array of {} bytes, shorter than its 8-byte header", bytes.len()));
-        }
-        let count = u32_at(bytes, 0) as usize;
-        let root_height = u32::from(bytes[4]);
-        let format = format_of(bytes[5])
-            .ok_or(PayloadError::UnknownCode { what: "value format code", code: u32::from(bytes[5]) })?;
-        let coding = match bytes[7] {
-            0 => ShapeCoding::Heights,
-            1 => ShapeCoding::SplitFlags,
-            c => return Err(PayloadError::UnknownCode { what: "shape coding", code: u32::from(c) }),
-        };
-        if root_height > 20 || bytes[6] > 1 {
-            return bad("malformed cut array header".into());
-        }
-        let nblocks = count.div_ceil(CUT_BLOCK) + 1;
-        let blocks_end = 8 + 4 * nblocks;
-        let bits = if bytes[6] == 1 { count.div_ceil(8).div_ceil(4) * 4 } else { 0 };
-        // Every cut takes at least 2 bytes (a length and a count), so a count beyond that is
-        // damage, caught before allocating for it.
-        if bytes.len() < blocks_end + bits || count > bytes.len() {
-            return bad(format!("cut array of {count} cuts truncated: {} bytes", bytes.len()));
-        }
-        let cuts = &bytes[blocks_end + bits..];
-        let block = |j: usize| u32_at(bytes, 8 + 4 * j) as usize;
-        if block(nblocks - 1) != cuts.len() {
-            return bad(format!("cut offsets end at {}, the cut bytes are {} long", block(nblocks - 1), cuts.len()));
-        }
-        let mut spans = Vec::with_capacity(count);
-        let mut at = 0usize;
-        let mut lengths = 0usize;
-        for i in 0..count {
-            if i % CUT_BLOCK == 0 && block(i / CUT_BLOCK) != at {
-                return bad(format!("block offset of cut {i} is {}, its bytes start at {at}", block(i / CUT_BLOCK)));
-            }
-            let (len, used) = codec::get_varint(&cuts[at.min(cuts.len())..])
-                .ok()
-                .and_then(|(len, used)| Some((usize::try_from(len).ok()?, used)))
-                .ok_or_else(|| PayloadError::Inconsistent(format!("cut {i}: malformed length")))?;
-            at += used;
-            lengths += used;
-            spans.push(((blocks_end + bits + at) as u32, len as u32));
-            at = at
-                .checked_add(len)
-                .filter(|&e| e <= cuts.len())
-                .ok_or_else(|| PayloadError::Inconsistent(format!("cut {i} runs past the end")))?;
-        }
-        if at != cuts.len() {
-            return bad(format!("cuts end at {at}, the cut bytes are {} long", cuts.len()));
-        }
-        let inside = (bits > 0).then_some(blocks_end..blocks_end + bits);
-        let overhead = blocks_end + bits + lengths;
-        Ok(CutArray { root_height, format, coding, spans, inside, payload, count, overhead })
-    }
-
-    /// Bytes of the payload that are not cut bytes (header, block offsets, inside bits, lengths).
-    pub fn overhead(&self) -> usize {
-        self.overhead
-    }
-
-    /// Number of cuts.
-    pub fn len(&self) -> usize {
-        self.count
-    }
-
-    /// Bytes held in memory (the payload and every cut's span).
-    pub fn bytes(&self) -> usize {
-        self.payload.capacity() + self.spans.capacity() * size_of::<(u32, u32)>()
-    }
-
-    /// Whether there are no cuts.
-    pub fn is_empty(&self) -> bool {
-        self.count == 0
-    }
-
-    /// Root height of every cut.
-    pub fn root_height(&self) -> u32 {
-        self.root_height
-    }
-
-    /// Value format of every cut.
-    pub fn format(&self) -> ValueFormat {
-        self.format
-    }
-
-    /// Shape coding of every cut.
-    pub fn coding(&self) -> ShapeCoding {
-        self.coding
-    }
-
-    /// The encoded bytes of cut `i` (`i < len`).
-    pub fn cut_bytes(&self, i: usize) -> &[u8] {
-        let (start, len) = self.spans[i];
-        &self.payload[start as usize..(start + len) as usize]
-    }
-
-    /// Decodes cut `i` (`i < len`).
-    pub fn cut(&self, i: usize) -> Result<Cut, CutDecodeError> {
-        self.coding
-            .decode(self.cut_bytes(i), self.root_height, self.format)
-            .map_err(|error| CutDecodeError { index: i, error })
-    }
-
-    /// Node count of cut `i` without decoding it.
-    pub fn node_count(&self, i: usize) -> Result<usize, CutDecodeError> {
-        codec::decode_count(self.cut_bytes(i)).map_err(|error| CutDecodeError { index: i, error })
-    }
-
-    /// Whether sample `i` lies inside the object (field arrays; `false` elsewhere).
-    pub fn inside(&self, i: usize) -> bool {
-        self.inside.as_ref().is_some_and(|r| self.payload[r.start + i / 8] >> (i % 8) & 1 == 1)
-    }
 }
 
 /// Directions payload.
@@ -485,6 +277,8 @@ impl<'a> Cursor<'a> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use vcut_cut::Cut;
+    use vcut_cut::codec::{self, ShapeCoding, ValueFormat};
 
     #[test]
     fn cut_arrays_round_trip_and_reject_damage() {

@@ -45,6 +45,15 @@ pub struct Occluder {
 }
 
 impl Occluder {
+    /// Bytes held in memory: the hierarchy's nodes and indices, the triangles and their sides.
+    pub fn bytes(&self) -> usize {
+        self.bvh.nodes.capacity() * size_of::<obvhs::cwbvh::node::CwBvhNode>()
+            + self.bvh.primitive_indices.capacity() * size_of::<u32>()
+            + self.bvh.exact_node_aabbs.as_ref().map_or(0, |a| a.capacity() * size_of::<obvhs::aabb::Aabb>())
+            + self.tris.capacity() * size_of::<Triangle>()
+            + self.outward.capacity() * size_of::<Vec3>()
+    }
+
     /// A CWBVH over the triangles of `meshes` (world space).
     pub fn new(meshes: &[&Mesh]) -> Occluder {
         let tris: Vec<Triangle> = meshes

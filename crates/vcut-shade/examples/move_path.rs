@@ -14,7 +14,8 @@
 //! vertices it changes (by default those facing away from the eye wait:
 //! `Frame::set_deferred_merges`; each step prints how many); with
 //! `NO_MERGED_CACHE=1` the frame keeps no merged cuts (`Frame::set_merged_cache`), with
-//! `NO_CELL_CACHE=1` no field cells between moves (`Frame::set_cell_cache`); `FIELD_REACH=R`
+//! `NO_CELL_CACHE=1` no field cells between moves (`Frame::set_cell_cache`), with
+//! `NO_STORED_CACHE=1` the stored cuts left in the file (`Frame::set_stored_cache`); `FIELD_REACH=R`
 //! sets how far fields reach, in radii (`Frame::set_field_reach`); `FLAT_EDGE_LEAVES=N` how
 //! finely a ground's cut follows its edges (`Frame::set_flat_edge_leaves`; `interactive`:
 //! `Frame::interactive_flat_edge_leaves`). Over the path it prints the
@@ -23,15 +24,17 @@
 //! lighting change (`relight_ms`: light tree and the shading lists facing the eye; a merge of
 //! those without the merged cache), the camera turned to the other side after it (`turn_ms`:
 //! the lists it now sees), a BRDF edit (`edit_ms`: the exponent changed, every vertex shaded)
-//! and the frame's memory (`frame_memory_mb`).
+//! and the frame's memory (`frame_memory_mb`; `setup_peak_mb`: the peak of opening the file and
+//! setting the frame up, over the memory before, with the caches asked off off from the start).
 
 use glam::Vec3;
 use std::path::Path;
 use std::time::Instant;
 use vcut_data::Precomputed;
 use vcut_envmap::procedural;
+use vcut_scene::budget::{peak_memory, reset_peak_memory, resident_memory, trim_heap};
 use vcut_shade::measure::{edit_ms, first_movable, median, path_step};
-use vcut_shade::{FlatEdges, Frame, MergeAlgorithm};
+use vcut_shade::{FlatEdges, Frame, FrameCaches, MergeAlgorithm};
 
 /// User + system CPU seconds of this process so far (Linux, whose clock ticks are 1/100 s;
 /// `None` elsewhere).
@@ -46,24 +49,29 @@ fn main() -> Result<(), String> {
     let args: Vec<String> = std::env::args().skip(1).collect();
     let file = args.first().ok_or("usage: move_path FILE.vcuts [OBJECT] [STEPS]")?;
     let env = procedural::PreethamSky::default().bake(1024);
+    // The caches asked off are off from the setup on, so that its peak holds none of them.
+    let off = |name: &str| std::env::var_os(name).is_some();
+    let caches = FrameCaches {
+        stored: !off("NO_STORED_CACHE"),
+        svc: !off("NO_SVC_CACHE"),
+        cells: !off("NO_CELL_CACHE"),
+        merged: !off("NO_MERGED_CACHE"),
+    };
+    trim_heap();
+    let (before, fresh) = (resident_memory(), reset_peak_memory());
     let mut data = Precomputed::open(Path::new(file)).map_err(|e| e.to_string())?;
     let t = Instant::now();
-    let mut frame = Frame::new(&mut data, &env).map_err(|e| e.to_string())?;
+    let mut frame = Frame::with_caches(&mut data, &env, caches).map_err(|e| e.to_string())?;
     println!("setup_s={:.3}", t.elapsed().as_secs_f64());
-    if std::env::var_os("NO_SUN_RAYS").is_some() {
+    if let (Some(b), Some(p), true) = (before, peak_memory(), fresh) {
+        // The file opened and the frame set up, over the memory before.
+        println!("setup_peak_mb={:.1}", p.saturating_sub(b) as f64 / 1e6);
+    }
+    if off("NO_SUN_RAYS") {
         frame.set_sun_rays(None);
     }
     println!("sun_leaves={}", frame.sun_leaves());
-    if std::env::var_os("NO_SVC_CACHE").is_some() {
-        frame.set_svc_cache(false).map_err(|e| e.to_string())?;
-    }
     println!("svc_cache_mb={:.1}", frame.svc_cache_bytes() as f64 / 1e6);
-    if std::env::var_os("NO_CELL_CACHE").is_some() {
-        frame.set_cell_cache(false);
-    }
-    if std::env::var_os("NO_MERGED_CACHE").is_some() {
-        frame.set_merged_cache(false).map_err(|e| e.to_string())?;
-    }
     if let Some(r) = std::env::var_os("FIELD_REACH") {
         let r: f32 = r.to_string_lossy().parse().map_err(|e| format!("FIELD_REACH: {e}"))?;
         frame.set_field_reach(Some(r)).map_err(|e| e.to_string())?;

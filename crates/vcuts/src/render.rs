@@ -194,9 +194,10 @@ pub struct RenderArgs {
     /// camera turn merges the vertices it relists again (`Frame::set_merged_cache`).
     #[arg(long)]
     pub no_merged_cache: bool,
-    /// Hold the frame's memory (`frame_memory_mb`) to MB: no merged cuts and no field cells
-    /// between moves are kept, and the decoded SVCs only if they fit (`Frame::fit_memory`);
-    /// `frame_caches` says which are kept. A warning says when even none fits.
+    /// Hold the frame's memory (`frame_memory_mb`) to MB: the stored cuts stay in the file
+    /// (read from it as merges need them), no merged cuts and no field cells between moves are
+    /// kept, and the decoded SVCs only if they fit (`Frame::fit_memory`); `frame_caches` says
+    /// which are kept. A warning says when even none fits.
     #[arg(long, value_name = "MB", conflicts_with = "no_merged_cache")]
     pub memory_budget: Option<f64>,
 }
@@ -301,10 +302,11 @@ pub fn run(args: &RenderArgs) -> Result<RenderOutcome> {
         Some(mb) => Some((mb * 1e6) as usize),
         None => None,
     };
-    // Under a budget the frame keeps no merged cuts and no field cells from the start, so that
-    // the setup's peak stays low too (it merges in ranges then).
+    // Under a budget the frame keeps no stored cuts, merged cuts or field cells from the start,
+    // so that the setup's peak stays low too (it reads one object's arrays at a time and merges
+    // in ranges then).
     let caches = match budget {
-        Some(_) => FrameCaches { svc: true, cells: false, merged: false },
+        Some(_) => FrameCaches { stored: false, svc: true, cells: false, merged: false },
         None => FrameCaches { merged: !args.no_merged_cache, ..FrameCaches::default() },
     };
     let Opened { data, mut frame, env, view, setup_s, .. } =
@@ -321,7 +323,7 @@ pub fn run(args: &RenderArgs) -> Result<RenderOutcome> {
         }
     }
     let kept = frame.caches();
-    let names: Vec<&str> = [("svc", kept.svc), ("cells", kept.cells), ("merged", kept.merged)]
+    let names: Vec<&str> = [("stored", kept.stored), ("svc", kept.svc), ("cells", kept.cells), ("merged", kept.merged)]
         .iter()
         .filter(|c| c.1)
         .map(|c| c.0)

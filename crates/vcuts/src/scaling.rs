@@ -65,8 +65,10 @@ pub struct ScalingPoint {
     pub ns_per_merged_node: f64,
     pub edit_ms: f64,
     /// A frame keeping no cache (`FrameCaches` all off, as `render --memory-budget` with a
-    /// budget below its needs): its peak resident memory over the memory before (setup, an
-    /// eager drag, a shading), the same per vertex, what it holds after, and its eager drag.
+    /// budget below its needs) set up for the camera's eye (`Frame::with_caches_facing`: the
+    /// lists of the vertices facing it only): its peak resident memory over the memory before
+    /// (setup, an eager drag, a shading), the same per vertex, what it holds after, and its
+    /// eager drag.
     pub lean_frame_peak_rss_bytes: Option<u64>,
     pub lean_frame_peak_bytes_per_vertex: Option<f64>,
     pub lean_frame_bytes: usize,
@@ -95,6 +97,15 @@ pub struct ScalingGoals {
     /// `lean_frame_peak_bytes_per_vertex` at `balanced`, the largest over the object sweep: the
     /// same goal for a frame that keeps no cache.
     pub lean_frame_peak_bytes_per_vertex_balanced: Option<f64>,
+    /// `lean_frame_peak_bytes_per_vertex` at `balanced` on the object sweep's largest scene.
+    #[serde(default)]
+    pub lean_frame_peak_bytes_per_vertex_largest_balanced: Option<f64>,
+    /// What each vertex adds to the lean frame's peak at `balanced`: the peaks' difference
+    /// between the object sweep's largest and smallest scenes over their vertices' — the cost
+    /// per vertex without the frame's fixed part (the direction and light trees and their
+    /// tables, the same at any scene size), which dominates a small scene's figure.
+    #[serde(default)]
+    pub lean_frame_marginal_bytes_per_vertex_balanced: Option<f64>,
 }
 
 /// The `scaling` section of the bench report.
@@ -186,6 +197,8 @@ pub fn goals(points: &[ScalingPoint]) -> ScalingGoals {
     // A figure at 32 objects over the same at 2, `fast`.
     let k32_vs_k2 =
         |figure: fn(&ScalingPoint) -> f64| at(32, "fast").zip(at(2, "fast")).map(|(a, b)| figure(a) / figure(b));
+    let balanced = || points.iter().filter(|p| p.sweep == "objects" && p.preset == "balanced");
+    let (smallest, largest) = (balanced().min_by_key(|p| p.vertices), balanced().max_by_key(|p| p.vertices));
     ScalingGoals {
         us_per_vertex_k32_vs_k2: k32_vs_k2(|p| p.us_per_merged_vertex),
         nodes_per_vertex_k32_vs_k2: k32_vs_k2(|p| p.nodes_per_merged_vertex),
@@ -201,6 +214,14 @@ pub fn goals(points: &[ScalingPoint]) -> ScalingGoals {
             .filter(|p| p.sweep == "objects" && p.preset == "balanced")
             .filter_map(|p| p.lean_frame_peak_bytes_per_vertex)
             .reduce(f64::max),
+        lean_frame_peak_bytes_per_vertex_largest_balanced: largest.and_then(|p| p.lean_frame_peak_bytes_per_vertex),
+        lean_frame_marginal_bytes_per_vertex_balanced: smallest
+            .zip(largest)
+            .filter(|(a, b)| b.vertices > a.vertices)
+            .and_then(|(a, b)| {
+                let (pa, pb) = (a.lean_frame_peak_rss_bytes? as f64, b.lean_frame_peak_rss_bytes? as f64);
+                Some((pb - pa) / (b.vertices - a.vertices) as f64)
+            }),
     }
 }
 
@@ -285,9 +306,8 @@ pub fn measure(sweep: &str, scene: &str, preset: &str, data_dir: &Path) -> Resul
     // The same with no cache kept.
     let before = start_peak();
     let mut data = Precomputed::open(&file)?;
-    let none = FrameCaches { svc: false, cells: false, merged: false };
-    let mut lean = Frame::with_caches(&mut data, &opened.environment, none)?;
-    lean.set_eye(eye)?;
+    let none = FrameCaches { stored: false, svc: false, cells: false, merged: false };
+    let mut lean = Frame::with_caches_facing(&mut data, &opened.environment, none, eye)?;
     lean.set_deferred_merges(false)?;
     let lean_drag = move_path(&mut lean, moved, eye, MergeAlgorithm::Counter, 4)?;
     std::hint::black_box(lean.shade(eye));
@@ -344,6 +364,9 @@ mod tests {
             nodes_per_merged_vertex: 100.0 * us,
             move_ms_eager: 10.0 * k as f64,
             frame_peak_bytes_per_vertex: Some(1000.0 * k as f64),
+            vertices: 1000 * k,
+            lean_frame_peak_rss_bytes: Some(20_000_000 + 3000 * 1000 * k as u64),
+            lean_frame_peak_bytes_per_vertex: Some((20_000_000 + 3000 * 1000 * k) as f64 / (1000 * k) as f64),
             ..ScalingPoint::default()
         };
         let points =
@@ -356,5 +379,10 @@ mod tests {
         assert_eq!(g.nodes_per_vertex_k32_vs_k2, Some(1.5));
         assert_eq!(g.drag_ms_eager_k32_fast, Some(320.0));
         assert_eq!(g.frame_peak_bytes_per_vertex_balanced, Some(8000.0));
+        // 20 MB fixed and 3,000 bytes a vertex: the largest scene's figure, and the fixed part
+        // left out of the marginal one.
+        assert_eq!(g.lean_frame_peak_bytes_per_vertex_balanced, Some(13_000.0));
+        assert_eq!(g.lean_frame_peak_bytes_per_vertex_largest_balanced, Some(5_500.0));
+        assert_eq!(g.lean_frame_marginal_bytes_per_vertex_balanced, Some(3_000.0));
     }
 }

@@ -107,6 +107,26 @@ fn precompute_logs_progress_without_a_terminal_and_render_works_from_another_fol
     let o = vcuts(&elsewhere, &[&small[..], &["--flat-edge-leaves", "3"]].concat());
     assert_eq!(o.status.code(), Some(1), "{}", text(&o));
     assert!(text(&o).contains("--flat-edge-leaves: flat edge leaves = 3"), "{}", text(&o));
+    // Under a memory budget the stored cuts stay in the file and no cache is kept when none
+    // fits: the same picture, byte for byte, from a frame that says so; 0 MB is refused.
+    let budget = |extra: &[&str], png: &str| {
+        let args = ["render", file.to_str().unwrap(), "-o", png, "--width", "64", "--height", "48", "--move"];
+        let o = vcuts(&elsewhere, &[&args[..], &["ball=0.2,0,0.1"], extra].concat());
+        assert!(o.status.success(), "{}", text(&o));
+        (String::from_utf8_lossy(&o.stdout).into_owned(), std::fs::read(elsewhere.join(png)).unwrap())
+    };
+    let (full, full_png) = budget(&[], "full.png");
+    let (lean, lean_png) = budget(&["--memory-budget", "0.001"], "lean.png");
+    assert!(full.contains("frame_caches=stored,svc,cells,merged\n"), "{full}");
+    assert!(lean.contains("frame_caches=none\n"), "{lean}");
+    let stored = |out: &str| -> f64 {
+        out.lines().find_map(|l| l.strip_prefix("frame_memory_stored_mb=")).and_then(|v| v.parse().ok()).unwrap()
+    };
+    assert!(stored(&lean) * 4.0 < stored(&full), "{lean}\n{full}");
+    assert!(lean_png == full_png, "the picture under a budget differs");
+    let o = vcuts(&elsewhere, &[&small[..], &["--memory-budget", "0"]].concat());
+    assert_eq!(o.status.code(), Some(1), "{}", text(&o));
+    assert!(text(&o).contains("--memory-budget 0"), "{}", text(&o));
     // -q: results on stdout as before, nothing about progress on stderr.
     let o = vcuts(
         &work,

@@ -45,6 +45,16 @@ pub(super) struct FieldCache {
 /// 344 MB with 4,096; 256 peaks lower but decodes 1.5× as long (CHANGELOG, 2026-12-05).
 const MERGE_BATCH: usize = 1024;
 
+/// Field inputs (lookups) a range of [`Frame::merge_all`] holds at most without the cell cache:
+/// a vertex that many fields reach (a ground among many objects) brings as many cells, so a
+/// range ends at this many inputs too. On `builtin:showroom:32` at `balanced` with no cache
+/// (the ground: 3,136 vertices, ~8 fields each) the setup peaked at 119.0–119.1 MB with ranges
+/// of 1,024 vertices only, 90.0 MB with 2,048 inputs and 81.7–81.8 MB with 1,024, with setups
+/// of 0.67–0.80 s and drag steps of 47–51 ms at each (`setup_peak_mb`, `setup_s`, `move_ms` of
+/// `NO_STORED_CACHE=1 NO_SVC_CACHE=1 NO_CELL_CACHE=1 NO_MERGED_CACHE=1 cargo run --release -p
+/// vcut-shade --example move_path -- FILE`, two runs each, 2026-12-06).
+const MERGE_BATCH_INPUTS: usize = 1024;
+
 /// The merged cut of a vertex inside an object (a cut of one zero node).
 pub(super) fn full_zero(h: u32) -> MergedCut {
     MergedCut { root_height: h, heights: vec![h as u8], values: vec![0.0], indices: vec![0] }
@@ -206,8 +216,8 @@ impl Frame {
     /// (`None` with the merged cache off: each cut lives until its list is built) and builds
     /// their shading `lists` (in place, reusing each buffer), in parallel. Returns how many
     /// were merged. With the cell cache off ([`Frame::set_cell_cache`]) it goes in ranges of
-    /// at most [`MERGE_BATCH`] merged vertices, so that the cells decoded and refined at once
-    /// stay few (a range reuses those it shares with the one before, and none is kept after).
+    /// at most [`MERGE_BATCH`] merged vertices and [`MERGE_BATCH_INPUTS`] field inputs, so that
+    /// the cells decoded and refined at once stay few (a range reuses those it shares with the one before, and none is kept after).
     #[allow(clippy::too_many_arguments)]
     pub(super) fn merge_all(
         &self,
@@ -220,11 +230,15 @@ impl Frame {
         timing: &mut MoveTiming,
     ) -> Result<usize, FrameError> {
         let (n, batch) = (changed.len(), if self.cell_cache { usize::MAX } else { MERGE_BATCH });
+        let inputs_max = if self.cell_cache { usize::MAX } else { MERGE_BATCH_INPUTS };
         let (mut total, mut start) = (0, 0);
         while start < n {
-            let (mut end, mut count) = (start, 0);
-            while end < n && count < batch {
-                count += usize::from(changed[end]);
+            let (mut end, mut count, mut inputs) = (start, 0, 0);
+            while end < n && count < batch && inputs < inputs_max {
+                if changed[end] {
+                    count += 1;
+                    inputs += keys[end].len();
+                }
                 end += 1;
             }
             let range = start..end;

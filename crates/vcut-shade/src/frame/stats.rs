@@ -25,12 +25,15 @@ pub struct FrameMemory {
     pub keys: usize,
     /// The field cuts and cells the last merges decoded, kept for the next move.
     pub field_cache: usize,
+    /// The sun by rays: every object's hierarchy and the masks of the sun's leaves each
+    /// occluder blocks at each vertex ([`Frame::set_sun_rays`]).
+    pub rays: usize,
 }
 
 impl FrameMemory {
     /// Every part with its name (the field's name: `render`'s `frame_memory_<name>_mb` keys and
     /// Python's `Frame.stats()["memory"]` read this one list).
-    pub fn parts(&self) -> [(&'static str, usize); 7] {
+    pub fn parts(&self) -> [(&'static str, usize); 8] {
         [
             ("stored", self.stored),
             ("meshes", self.meshes),
@@ -39,6 +42,7 @@ impl FrameMemory {
             ("svc_cache", self.svc_cache),
             ("keys", self.keys),
             ("field_cache", self.field_cache),
+            ("rays", self.rays),
         ]
     }
 
@@ -85,7 +89,11 @@ impl Frame {
 
     /// What the frame holds in memory, by part.
     pub fn memory(&self) -> FrameMemory {
-        let mut m = FrameMemory::default();
+        let mut m = FrameMemory {
+            rays: self.occluders.iter().map(vcut_rays::Occluder::bytes).sum::<usize>()
+                + self.sun.as_ref().map_or(0, crate::sun::Sun::bytes),
+            ..FrameMemory::default()
+        };
         let vec = size_of::<Vec<u8>>();
         for s in &self.objects {
             m.stored += s.svc.iter().chain(&s.field).map(|a| a.bytes()).sum::<usize>();
