@@ -34,6 +34,30 @@ fn truncated_hdr_is_refused_naming_the_file() {
     }
 }
 
+/// Old-style run-length scanlines (Radiance before 2.0): a run marker `[1, 1, 1, n]` repeats the
+/// previous texel `n × 256^k` times, `k` the markers before it in a row. Nine markers in a row
+/// overflowed the `image` decoder's multiplier (0.25.9 and 0.25.10: a panic where overflow is
+/// checked, a wrapped count where it is not — found by the fuzzer).
+#[test]
+fn hdr_with_a_long_chain_of_run_markers_is_refused() {
+    let dir = scratch("hdr-rle");
+    // Width 4 (under 8) is always read as old-style RLE: one texel, then the markers.
+    let mut bytes = b"#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 1 +X 4\n".to_vec();
+    bytes.extend_from_slice(&[10, 10, 10, 128]);
+    for _ in 0..12 {
+        bytes.extend_from_slice(&[1, 1, 1, 0]);
+    }
+    bytes.extend_from_slice(&[1, 1, 1, 1]);
+    let p = write(&dir, "chain.hdr", &bytes);
+    let msg = message(load(&p, InvalidTexels::Reject));
+    assert!(msg.contains("chain.hdr") && msg.contains("Radiance HDR"), "{msg}");
+    // A short chain is a valid old-style file: 1 texel + 3 repeats.
+    let mut ok = b"#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 1 +X 4\n".to_vec();
+    ok.extend_from_slice(&[128, 64, 32, 129, 1, 1, 1, 3]);
+    let (map, _) = load(&write(&dir, "short.hdr", &ok), InvalidTexels::Reject).unwrap();
+    assert!(map.texels().iter().all(|t| (t[0] - 1.0).abs() < 1e-6 && (t[2] - 0.25).abs() < 1e-6), "{:?}", map.texels());
+}
+
 #[test]
 fn exr_with_unexpected_channels_is_refused() {
     use exr::prelude::*;

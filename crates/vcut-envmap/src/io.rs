@@ -175,7 +175,17 @@ fn decode_hdr(bytes: &[u8], name: &Path) -> Result<Rgb, EnvMapError> {
     if pixels > (bytes.len() as u64).saturating_mul(64) {
         return Err(err(format!("header says {width}x{height} but the file has only {} bytes", bytes.len())));
     }
-    let img = image::DynamicImage::from_decoder(decoder).map_err(|e| err(e.to_string()))?.into_rgb32f();
+    // `image` (safe Rust) multiplies old-style run lengths without a bound: a chain of run
+    // markers overflows it (a panic where overflow is checked — found by the fuzzer; still so in
+    // image 0.25.10). It cannot corrupt memory, so a panic inside it is caught and reported as a
+    // decode error, as for EXR below.
+    let decoded = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+        image::DynamicImage::from_decoder(decoder).map(|d| d.into_rgb32f())
+    }));
+    let img = match decoded {
+        Ok(result) => result.map_err(|e| err(e.to_string()))?,
+        Err(_) => return Err(err("malformed run-length data (the decoder gave up)".into())),
+    };
     let texels = img.pixels().map(|p| p.0).collect();
     Ok(Rgb { width, height, texels })
 }

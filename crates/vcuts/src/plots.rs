@@ -166,7 +166,9 @@ const DRAWN: [(&str, &str, f64); 6] = [
 ];
 
 /// A log–log plot of sweep `sweep`: every drawn figure at every preset, its fitted exponent in
-/// the legend.
+/// the legend. Nothing is written for a sweep of fewer than two sizes: one point shows no growth
+/// (and `cargo xtask publish` then keeps the plot published before, e.g. the object sweep's when
+/// a run measured only the vertex sweep).
 pub fn scaling(section: &ScalingSection, sweep: &str, x_label: &str, path: &Path) -> Result<()> {
     let points: Vec<&ScalingPoint> = section.points.iter().filter(|p| p.sweep == sweep).collect();
     let series: Vec<(String, Vec<(f64, f64)>)> = DRAWN
@@ -189,10 +191,10 @@ pub fn scaling(section: &ScalingSection, sweep: &str, x_label: &str, path: &Path
         .filter(|(_, xy)| !xy.is_empty())
         .collect();
     let all: Vec<(f64, f64)> = series.iter().flat_map(|s| s.1.iter().copied()).collect();
-    if all.is_empty() {
+    let (x0, x1) = all.iter().fold((f64::MAX, f64::MIN), |a, p| (a.0.min(p.0), a.1.max(p.0)));
+    if all.is_empty() || x1 <= x0 {
         return Ok(());
     }
-    let (x0, x1) = all.iter().fold((f64::MAX, f64::MIN), |a, p| (a.0.min(p.0), a.1.max(p.0)));
     let (y0, y1) = all.iter().fold((f64::MAX, f64::MIN), |a, p| (a.0.min(p.1), a.1.max(p.1)));
     chart_png(path, (1000, 650), |root, text| {
         let caption = format!("how the costs grow with {x_label} (log–log)");
@@ -344,6 +346,10 @@ mod tests {
         // A sweep with no points draws nothing and is no error.
         scaling(&section, "tessellation", "vertices", &dir.join("none.png")).unwrap();
         assert!(!dir.join("none.png").exists());
+        // Nor does a sweep of one size (a run that measured only the other sweep).
+        let one = ScalingSection { points: vec![at(1, "fast"), at(1, "balanced")], ..ScalingSection::default() };
+        scaling(&one, "objects", "objects", &dir.join("one.png")).unwrap();
+        assert!(!dir.join("one.png").exists());
         let row = |map: &str, preset: &str, e: f64| crate::accuracy::test_row("teapot", preset, map, e);
         let acc = AccuracySection {
             rows: vec![row("sky-30", "fast", 0.02), row("studio", "fast", 0.03), row("sky-30", "paper", 0.004)],
