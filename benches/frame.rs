@@ -42,7 +42,8 @@ fn benches(c: &mut Criterion) {
     let path = data_file();
     let mut data = Precomputed::open(&path).expect("open");
     let scene = Scene::open("builtin:teapot").expect("scene");
-    let mut frame = Frame::new(&mut data, &scene.environment).expect("frame");
+    let mut frame =
+        Frame::open(&mut data, &scene.environment, &vcut_shade::FrameSettings::default(), None).expect("frame");
     let eye = scene.cameras[0].position;
     let teapot = frame.object_index("teapot").expect("teapot");
     let nodes: usize = (0..frame.object_count())

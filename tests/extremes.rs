@@ -121,9 +121,9 @@ fn visible_occluded_touching_and_far_vertices() {
     let dir = scratch("ball");
     let mut d = data(BALL_ON_GROUND, &dir, &[]);
     let env = EnvMap::constant([1.0; 3]);
-    let mut frame = Frame::new(&mut d, &env).unwrap();
+    let mut frame = Frame::open(&mut d, &env, &vcut_shade::FrameSettings::default(), None).unwrap();
     let (ground, ball) = (frame.object_index("ground").unwrap(), frame.object_index("ball").unwrap());
-    let positions = frame.positions(ground);
+    let positions = frame.object(ground).positions();
     let at = |x: f32, z: f32| positions.iter().position(|p| (p.x - x).abs() < 1e-4 && (p.z - z).abs() < 1e-4).unwrap();
     let (touching, corner, near) = (at(0.0, 0.0), at(2.0, 2.0), at(0.75, 0.0));
     // Lambert kd 0.5 under L = 1: an unoccluded up-facing vertex reflects 0.5.
@@ -166,7 +166,8 @@ fn degenerate_input_normals_are_rederived_and_shade_finitely() {
     .unwrap();
     let text = "[[object]]\nname = \"tent\"\nsource = \"tent.obj\"\n\n[[object]]\nname = \"ball\"\nsource = \"builtin:sphere\"\nsize = 0.3\ntranslation = [0.0, 1.6, 0.0]\nmoves = true\n";
     let mut d = data(text, &dir, &[]);
-    let mut frame = Frame::new(&mut d, &PreethamSky::default().bake(256)).unwrap();
+    let mut frame =
+        Frame::open(&mut d, &PreethamSky::default().bake(256), &vcut_shade::FrameSettings::default(), None).unwrap();
     let tent = frame.object_index("tent").unwrap();
     for n in frame.object(tent).mesh.normals() {
         assert!((n.length() - 1.0).abs() < 1e-5, "normal {n}");
@@ -187,7 +188,7 @@ fn a_frame_with_65536_directions_and_heights_up_to_16() {
     );
     assert_eq!(d.root_height(), 16);
     let env = EnvMap::constant([1.0; 3]);
-    let mut frame = Frame::new(&mut d, &env).unwrap();
+    let mut frame = Frame::open(&mut d, &env, &vcut_shade::FrameSettings::default(), None).unwrap();
     let ball = frame.object_index("ball").unwrap();
     frame.translate(ball, Vec3::new(0.3, 0.0, 0.0)).unwrap();
     let tallest = (0..frame.object_count())
@@ -200,8 +201,17 @@ fn a_frame_with_65536_directions_and_heights_up_to_16() {
     let (rel, _) = errors(&b, &exact_direction(&frame, EYE, 1e-4));
     assert!(rel < 0.15, "relative L2 {rel} at 65,536 directions with coarse fields");
     // The interactive ground setting at the most directions: nodes of 256 leaves.
-    assert_eq!(frame.interactive_flat_edge_leaves(), 256);
-    assert!(frame.set_flat_edge_leaves(256).unwrap() > 0, "the ground shadows the ball");
+    assert_eq!(vcut_shade::FlatEdges::Interactive.leaves(frame.tree().leaf_count()), 256);
+    assert!(
+        frame
+            .reconfigure(&vcut_shade::FrameSettings {
+                flat_edge_leaves: vcut_shade::FlatEdges::Leaves(256),
+                ..frame.settings().clone()
+            })
+            .unwrap()
+            > 0,
+        "the ground shadows the ball"
+    );
     let (estimated, _) = errors(&frame.shade(EYE), &exact_direction(&frame, EYE, 1e-4));
     assert!((estimated - rel).abs() < 0.01, "relative L2 {estimated} estimated across the edges, {rel} exact");
 }
@@ -211,9 +221,20 @@ fn a_frame_with_65536_directions_and_heights_up_to_16() {
 fn the_interactive_ground_setting_at_64_directions_is_exact() {
     let dir = scratch("d64");
     let mut d = data(BALL_ON_GROUND, &dir, &[("directions", "64")]);
-    let mut frame = Frame::new(&mut d, &EnvMap::constant([1.0; 3])).unwrap();
-    assert_eq!(frame.interactive_flat_edge_leaves(), 1);
+    let mut frame =
+        Frame::open(&mut d, &EnvMap::constant([1.0; 3]), &vcut_shade::FrameSettings::default(), None).unwrap();
+    assert_eq!(vcut_shade::FlatEdges::Interactive.leaves(frame.tree().leaf_count()), 1);
     let before = frame.shade(EYE);
-    assert_eq!(frame.set_flat_edge_leaves(frame.interactive_flat_edge_leaves()).unwrap(), 0);
+    assert_eq!(
+        frame
+            .reconfigure(&vcut_shade::FrameSettings {
+                flat_edge_leaves: vcut_shade::FlatEdges::Leaves(
+                    vcut_shade::FlatEdges::Interactive.leaves(frame.tree().leaf_count())
+                ),
+                ..frame.settings().clone()
+            })
+            .unwrap(),
+        0
+    );
     assert_eq!(frame.shade(EYE), before);
 }

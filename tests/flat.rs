@@ -33,9 +33,8 @@ fn frame(name: &str) -> (Frame, f32, usize, usize) {
     assert_eq!(summary.fields, ["ball"], "the flat ground gets no field");
     let mut data = Precomputed::open(&out).unwrap();
     let offset = data.svc_origin_offset();
-    let mut frame = Frame::new(&mut data, &EnvMap::constant([1.0; 3])).unwrap();
-    frame.set_deferred_merges(false).unwrap();
-    frame.set_sun_rays(None);
+    let settings = vcut_shade::FrameSettings { deferred_merges: false, sun_rays: false, ..Default::default() };
+    let frame = Frame::open(&mut data, &EnvMap::constant([1.0; 3]), &settings, None).unwrap();
     let (ball, ground) = (frame.object_index("ball").unwrap(), frame.object_index("ground").unwrap());
     (frame, offset, ball, ground)
 }
@@ -82,7 +81,14 @@ fn a_flat_ground_shadows_a_moving_ball_by_its_exact_cut() {
     assert!(worst < 0.02, "the ball errs {worst} against the exact reference");
 }
 
-/// `Frame::set_flat_edge_leaves`: the ground's cut estimated across its edges in nodes of up
+/// The frame's `flat_edge_leaves` set to `n`; returns the vertices merged.
+fn set_edges(frame: &mut Frame, n: u32) -> Result<usize, vcut_shade::FrameError> {
+    let settings =
+        vcut_shade::FrameSettings { flat_edge_leaves: vcut_shade::FlatEdges::Leaves(n), ..frame.settings().clone() };
+    frame.reconfigure(&settings)
+}
+
+/// `FrameSettings::flat_edge_leaves`: the ground's cut estimated across its edges in nodes of up
 /// to 16 leaves re-merges exactly the vertices the ground shadows, keeps every merged cut the
 /// SVC times the (estimated) ground cut, moves included, changes the image a little, and 1
 /// gives back the exact cut's image bit for bit.
@@ -95,12 +101,12 @@ fn a_ground_estimated_across_its_edges_re_merges_what_it_shadows() {
     let reference = exact_direction(&frame, eye, offset);
     let (exact_error, _) = errors(&exact_image, &reference);
     for bad in [0, 3, 4096] {
-        let err = frame.set_flat_edge_leaves(bad).unwrap_err().to_string();
-        assert!(err.contains("flat edge leaves") && err.contains(&bad.to_string()), "{err}");
+        let err = set_edges(&mut frame, bad).unwrap_err().to_string();
+        assert!(err.contains("flat_edge_leaves") && err.contains(&bad.to_string()), "{err}");
     }
     let shadowed = check_products(&frame, ball, ground);
-    assert_eq!(frame.set_flat_edge_leaves(16).unwrap(), shadowed);
-    assert_eq!(frame.set_flat_edge_leaves(16).unwrap(), 0, "unchanged: nothing to merge");
+    assert_eq!(set_edges(&mut frame, 16).unwrap(), shadowed);
+    assert_eq!(set_edges(&mut frame, 16).unwrap(), 0, "unchanged: nothing to merge");
     assert_eq!(check_products(&frame, ball, ground), shadowed);
     let image = frame.shade(eye);
     let (error, _) = errors(&image, &reference);
@@ -111,10 +117,10 @@ fn a_ground_estimated_across_its_edges_re_merges_what_it_shadows() {
     check_products(&frame, ball, ground);
     frame.translate(ball, Vec3::new(0.6, 0.0, 0.3)).unwrap();
     // The interactive setting: 1/256 of the 2,048 directions.
-    assert_eq!(frame.interactive_flat_edge_leaves(), 8);
-    assert_eq!(frame.set_flat_edge_leaves(8).unwrap(), shadowed);
+    assert_eq!(vcut_shade::FlatEdges::Interactive.leaves(frame.tree().leaf_count()), 8);
+    assert_eq!(set_edges(&mut frame, 8).unwrap(), shadowed);
     let (error, _) = errors(&frame.shade(eye), &reference);
     assert!((error - exact_error).abs() < 0.002, "error {error}, exact cut's {exact_error}");
-    assert_eq!(frame.set_flat_edge_leaves(1).unwrap(), shadowed);
+    assert_eq!(set_edges(&mut frame, 1).unwrap(), shadowed);
     assert_eq!(frame.shade(eye), exact_image);
 }

@@ -16,7 +16,8 @@ fn an_unoccluded_lambert_object_under_constant_light_is_its_albedo() {
     let dir = scratch("lambert");
     let text = "[[object]]\nsource = \"builtin:sphere\"\nresolution = 10\nmaterial = { model = \"lambert\", kd = [0.5, 0.25, 1.0] }\n";
     let mut d = data(text, &[], &dir.join("a.vcuts"));
-    let mut frame = Frame::new(&mut d, &EnvMap::constant([2.0; 3])).unwrap();
+    let mut frame =
+        Frame::open(&mut d, &EnvMap::constant([2.0; 3]), &vcut_shade::FrameSettings::default(), None).unwrap();
     // B = kd/π · L · ∫ max(0, n·ω) dω = kd · L; within 2 % (1,024 directions: the light tree
     // bins sub-texel patches to their nearest leaf, and cut nodes straddle the horizon).
     let shaded = frame.shade(EYE);
@@ -25,7 +26,7 @@ fn an_unoccluded_lambert_object_under_constant_light_is_its_albedo() {
     let mesh = frame.object(0).mesh;
     let mut silhouette = 0;
     for (v, b) in shaded[0].iter().enumerate() {
-        if !frame.seen(0, v, EYE) {
+        if !frame.object(0).seen(v, EYE) {
             assert_eq!(*b, Vec3::ZERO, "no radiance leaves a surface the eye cannot see");
             continue;
         }
@@ -42,7 +43,7 @@ fn the_monte_carlo_reference_meets_the_analytic_result_and_the_exact_one() {
     let text = "[[object]]\nsource = \"builtin:sphere\"\nresolution = 6\nmaterial = { model = \"lambert\", kd = [0.5, 0.25, 1.0] }\n";
     let mut d = data(text, &[], &dir.join("a.vcuts"));
     let env = EnvMap::constant([2.0; 3]);
-    let frame = Frame::new(&mut d, &env).unwrap();
+    let frame = Frame::open(&mut d, &env, &vcut_shade::FrameSettings::default(), None).unwrap();
     let params = vcut_shade::reference::MonteCarloParams::default();
     let (mc, stats) = vcut_shade::reference::monte_carlo(&frame, &env, EYE, 1e-4, &params);
     assert_eq!(stats.unconverged, 0);
@@ -58,7 +59,7 @@ fn the_monte_carlo_reference_meets_the_analytic_result_and_the_exact_one() {
     // directions' discretisation: 1,024 leaves against every texel of a 128 × 64 sky).
     let mut d = data(BALL_ABOVE_GROUND, &[], &dir.join("b.vcuts"));
     let sky = vcut_envmap::procedural::PreethamSky::default().bake(128);
-    let frame = Frame::new(&mut d, &sky).unwrap();
+    let frame = Frame::open(&mut d, &sky, &vcut_shade::FrameSettings::default(), None).unwrap();
     let exact = exact_direction(&frame, EYE, 1e-4);
     let (mc, _) = vcut_shade::reference::monte_carlo(&frame, &sky, EYE, 1e-4, &params);
     let (l2, _) = errors(&exact, &mc);
@@ -71,17 +72,24 @@ fn moves_re_merge_only_what_changed_and_edits_never_merge() {
     let dir = scratch("moves");
     let mut d = data(BALL_ABOVE_GROUND, &[], &dir.join("b.vcuts"));
     let env = EnvMap::constant([1.0; 3]);
-    let mut frame = Frame::new(&mut d, &env).unwrap();
+    let mut frame = Frame::open(&mut d, &env, &vcut_shade::FrameSettings::default(), None).unwrap();
     // Every move merges all it changes (a camera change then never merges; the default leaves
     // the vertices facing away for later: `back_facing_merges_and_lists_wait_...`).
-    assert_eq!(frame.set_deferred_merges(false).unwrap(), 0);
+    assert_eq!(
+        frame.reconfigure(&vcut_shade::FrameSettings { deferred_merges: false, ..frame.settings().clone() }).unwrap(),
+        0
+    );
     let (ground, ball) = (frame.object_index("ground").unwrap(), frame.object_index("ball").unwrap());
-    let setup = frame.merges();
+    let setup = frame.stats().merges;
     assert_eq!(setup, 0, "setup merges are not counted as edits");
     let before = frame.shade(EYE);
-    let centre = frame.positions(ground).iter().position(|p| p.length() < 1e-6).unwrap();
-    let edge =
-        frame.positions(ground).iter().position(|p| (p.x - 2.0).abs() < 1e-6 && (p.z - 2.0).abs() < 1e-6).unwrap();
+    let centre = frame.object(ground).positions().iter().position(|p| p.length() < 1e-6).unwrap();
+    let edge = frame
+        .object(ground)
+        .positions()
+        .iter()
+        .position(|p| (p.x - 2.0).abs() < 1e-6 && (p.z - 2.0).abs() < 1e-6)
+        .unwrap();
     // The ball shadows the ground under it: darker than a corner.
     assert!(
         before[ground][centre].x < 0.9 * before[ground][edge].x,
@@ -93,7 +101,7 @@ fn moves_re_merge_only_what_changed_and_edits_never_merge() {
     // A BRDF edit and a new environment: zero merges, different radiance.
     frame.set_material(ball, Material { exponent: 70.0, ..*frame.object(ball).material });
     frame.set_environment(&EnvMap::constant([0.5, 1.0, 1.0]));
-    assert_eq!(frame.merges(), 0);
+    assert_eq!(frame.stats().merges, 0);
     assert_ne!(frame.shade(EYE)[ball], before[ball]);
     frame.set_environment(&env);
     frame.set_material(ball, Material { exponent: 15.0, ..*frame.object(ball).material });
@@ -104,10 +112,10 @@ fn moves_re_merge_only_what_changed_and_edits_never_merge() {
     let merged = frame.translate(ball, Vec3::new(0.1, 0.0, 0.0)).unwrap();
     assert!(merged >= n_ball && merged <= n_ball + n_ground, "{merged}");
     // A camera change after it merges nothing.
-    let merges = frame.merges();
+    let merges = frame.stats().merges;
     assert_eq!(frame.set_eye(Vec3::new(-3.0, 2.0, -5.0)).unwrap(), 0);
     frame.shade(Vec3::new(3.0, -2.0, 5.0));
-    assert_eq!((frame.merges(), frame.spot_merges()), (merges, 0));
+    assert_eq!((frame.stats().merges, frame.stats().spot_merges), (merges, 0));
 
     // Beyond 10r (r = 0.5) the ball casts no shadow: the ground shades as if alone.
     frame.translate(ball, Vec3::new(0.0, 0.0, 40.0)).unwrap();
@@ -118,7 +126,7 @@ fn moves_re_merge_only_what_changed_and_edits_never_merge() {
             &[],
             &dir.join("g.vcuts"),
         );
-        Frame::new(&mut d, &env).unwrap().shade(EYE)
+        Frame::open(&mut d, &env, &vcut_shade::FrameSettings::default(), None).unwrap().shade(EYE)
     };
     for (a, b) in far[ground].iter().zip(&alone[0]) {
         assert!((*a - *b).abs().max_element() < 1e-6, "{a} vs {b}");
@@ -127,13 +135,13 @@ fn moves_re_merge_only_what_changed_and_edits_never_merge() {
     // Back to rest: merged cuts and radiance bit-identical to the start.
     frame.translate(ball, Vec3::ZERO).unwrap();
     assert!(frame.shade(EYE) == before, "moving back did not restore the cached result");
-    assert!(frame.last_move().vertices > 0 && frame.last_move().merge_s > 0.0);
+    assert!(frame.stats().last_move.vertices > 0 && frame.stats().last_move.merge_s > 0.0);
     // Every re-merged cut's nodes counted once: at least one each, at most all the frame's.
     let all_nodes: usize = (0..frame.object_count())
         .flat_map(|o| (0..frame.object(o).mesh.vertex_count()).map(move |v| (o, v)))
         .map(|(o, v)| frame.merged(o, v).unwrap().heights.len())
         .sum();
-    let m = frame.last_move();
+    let m = frame.stats().last_move;
     assert!(
         m.nodes >= m.vertices && m.nodes <= all_nodes,
         "{} nodes, {} vertices, {all_nodes} in all",
@@ -146,17 +154,29 @@ fn moves_re_merge_only_what_changed_and_edits_never_merge() {
     frame.translate(ball, moved).unwrap();
     let counter: Vec<_> = (0..n_ground).map(|v| frame.merged(ground, v).unwrap().into_owned()).collect();
     let shaded = frame.shade(EYE);
-    frame.set_merge_algorithm(MergeAlgorithm::Index).unwrap();
+    frame
+        .reconfigure(&vcut_shade::FrameSettings { merge_algorithm: MergeAlgorithm::Index, ..frame.settings().clone() })
+        .unwrap();
     frame.translate(ball, Vec3::ZERO).unwrap();
     frame.translate(ball, moved).unwrap();
     assert!((0..n_ground).all(|v| *frame.merged(ground, v).unwrap() == counter[v]));
     assert!(frame.shade(EYE) == shaded);
 
     // So does the default merge with every SVC decoded at each merge instead of kept decoded.
-    frame.set_merge_algorithm(MergeAlgorithm::Counter).unwrap();
-    assert!(frame.svc_cache_bytes() > 0);
-    frame.set_svc_cache(false).unwrap();
-    assert_eq!(frame.svc_cache_bytes(), 0);
+    frame
+        .reconfigure(&vcut_shade::FrameSettings {
+            merge_algorithm: MergeAlgorithm::Counter,
+            ..frame.settings().clone()
+        })
+        .unwrap();
+    assert!(frame.memory().svc_cache > 0);
+    frame
+        .reconfigure(&vcut_shade::FrameSettings {
+            caches: vcut_shade::FrameCaches { svc: false, ..frame.settings().caches },
+            ..frame.settings().clone()
+        })
+        .unwrap();
+    assert_eq!(frame.memory().svc_cache, 0);
     frame.translate(ball, Vec3::ZERO).unwrap();
     frame.translate(ball, moved).unwrap();
     assert!((0..n_ground).all(|v| *frame.merged(ground, v).unwrap() == counter[v]));
@@ -187,8 +207,9 @@ instances = [[0.0, 0.0, 0.0], [4.0, 0.0, 0.0], [8.0, 0.0, 0.0], [12.0, 0.0, 0.0]
 fn a_move_looks_up_and_merges_only_what_it_changes() {
     let dir = scratch("row");
     let mut d = data(BALLS_IN_A_ROW, &[], &dir.join("r.vcuts"));
-    let mut frame = Frame::new(&mut d, &EnvMap::constant([1.0; 3])).unwrap();
-    frame.set_deferred_merges(false).unwrap();
+    let mut frame =
+        Frame::open(&mut d, &EnvMap::constant([1.0; 3]), &vcut_shade::FrameSettings::default(), None).unwrap();
+    frame.reconfigure(&vcut_shade::FrameSettings { deferred_merges: false, ..frame.settings().clone() }).unwrap();
     let ball = |k: usize| frame.object_index(&format!("ball/{k}")).unwrap();
     let (b0, b1, b2, b3) = (ball(0), ball(1), ball(2), ball(3));
     let ground = frame.object_index("ground").unwrap();
@@ -203,11 +224,20 @@ fn a_move_looks_up_and_merges_only_what_it_changes() {
         assert!(merged >= count(b0) && merged <= count(b0) + count(b1) + count(ground), "{merged}");
         assert!(far.iter().zip(&before).all(|(&(o, v), cut)| *frame.merged(o, v).unwrap() == *cut));
         // Looking every input up again finds nothing more to merge.
-        assert_eq!(frame.set_inside_samples(InsideSamples::default()).unwrap(), 0, "step {step}");
+        assert_eq!(
+            frame
+                .reconfigure(&vcut_shade::FrameSettings {
+                    inside_samples: InsideSamples::default(),
+                    ..frame.settings().clone()
+                })
+                .unwrap(),
+            0,
+            "step {step}"
+        );
     }
     // Deferred: the moves leave the back-facing vertices waiting; once merged, every input is
     // current again.
-    frame.set_deferred_merges(true).unwrap();
+    frame.reconfigure(&vcut_shade::FrameSettings { deferred_merges: true, ..frame.settings().clone() }).unwrap();
     frame.set_eye(Vec3::new(0.0, 3.0, 9.0)).unwrap();
     for step in 1..=3 {
         frame.translate(b3, Vec3::new(-0.2 * step as f32, 0.0, 0.0)).unwrap();
@@ -215,7 +245,15 @@ fn a_move_looks_up_and_merges_only_what_it_changes() {
     }
     assert!(frame.pending_merges() > 0);
     frame.merge_pending().unwrap();
-    assert_eq!(frame.set_inside_samples(InsideSamples::default()).unwrap(), 0);
+    assert_eq!(
+        frame
+            .reconfigure(&vcut_shade::FrameSettings {
+                inside_samples: InsideSamples::default(),
+                ..frame.settings().clone()
+            })
+            .unwrap(),
+        0
+    );
 }
 
 #[test]
@@ -223,16 +261,22 @@ fn a_field_wholly_below_a_vertex_horizon_is_left_out() {
     let dir = scratch("horizon");
     let mut d = data(BALLS_IN_A_ROW, &[], &dir.join("r.vcuts"));
     let offset = d.svc_origin_offset();
-    let mut frame = Frame::new(&mut d, &EnvMap::constant([1.0; 3])).unwrap();
+    let mut frame =
+        Frame::open(&mut d, &EnvMap::constant([1.0; 3]), &vcut_shade::FrameSettings::default(), None).unwrap();
     // Every merge done at once, so every vertex's kept inputs are current; the paper's reach,
     // so that ball 0's field reaches ball 1.
-    frame.set_deferred_merges(false).unwrap();
-    frame.set_field_reach(None).unwrap();
+    frame.reconfigure(&vcut_shade::FrameSettings { deferred_merges: false, ..frame.settings().clone() }).unwrap();
+    frame
+        .reconfigure(&vcut_shade::FrameSettings {
+            field_reach: vcut_shade::FieldReach::Outermost,
+            ..frame.settings().clone()
+        })
+        .unwrap();
     let (b0, b1) = (frame.object_index("ball/0").unwrap(), frame.object_index("ball/1").unwrap());
     let eye = Vec3::new(2.0, 3.0, 9.0);
     let culled = frame.shade(eye);
     let reference = exact_direction(&frame, eye, offset);
-    let (normals, positions) = (frame.object(b1).mesh.normals().to_vec(), frame.positions(b1));
+    let (normals, positions) = (frame.object(b1).mesh.normals().to_vec(), frame.object(b1).positions());
     let layout = (0..positions.len())
         .flat_map(|v| frame.field_sources(b1, v))
         .find(|s| s.0 == b0)
@@ -244,13 +288,22 @@ fn a_field_wholly_below_a_vertex_horizon_is_left_out() {
     assert!(below.len() > positions.len() / 4, "{} of {}", below.len(), positions.len());
     assert!(below.iter().all(|&v| !sources(&frame, v)));
     // The paper's product: every field within reach, ball 0's included.
-    assert!(frame.set_horizon_culling(false).unwrap() >= below.len());
+    assert!(
+        frame.reconfigure(&vcut_shade::FrameSettings { horizon_culling: false, ..frame.settings().clone() }).unwrap()
+            >= below.len()
+    );
     assert!(below.iter().all(|&v| sources(&frame, v)));
     let all = frame.shade(eye);
     let (with, without) = (errors(&culled, &reference).0, errors(&all, &reference).0);
     assert!(with <= without + 1e-4, "culled {with} against all fields {without}");
-    assert!(frame.set_horizon_culling(true).unwrap() >= below.len());
-    assert_eq!(frame.set_horizon_culling(true).unwrap(), 0);
+    assert!(
+        frame.reconfigure(&vcut_shade::FrameSettings { horizon_culling: true, ..frame.settings().clone() }).unwrap()
+            >= below.len()
+    );
+    assert_eq!(
+        frame.reconfigure(&vcut_shade::FrameSettings { horizon_culling: true, ..frame.settings().clone() }).unwrap(),
+        0
+    );
     assert!(frame.shade(eye) == culled);
 }
 
@@ -263,41 +316,42 @@ fn back_facing_merges_and_lists_wait_for_a_camera_that_sees_them() {
     let moved = Vec3::new(0.3, 0.1, -0.2);
     let behind = Vec3::new(-3.0, 2.0, -5.0);
     // Every vertex merged and listed: a frame moved before it was ever shaded (no eye yet).
-    let mut eager = Frame::new(&mut d, &env).unwrap();
+    let mut eager = Frame::open(&mut d, &env, &vcut_shade::FrameSettings::default(), None).unwrap();
     let ball = eager.object_index("ball").unwrap();
     let all_changed = eager.translate(ball, moved).unwrap();
     assert_eq!(eager.pending_merges(), 0);
-    let all_bytes = eager.shade_bytes();
+    let all_bytes = eager.stats().shade_bytes;
     let from_behind = eager.shade(behind);
 
     // Shaded from EYE first: the move merges and lists only the vertices facing EYE; the
     // others wait, keeping their old cuts.
-    let mut lazy = Frame::new(&mut Precomputed::open(&path).unwrap(), &env).unwrap();
-    assert!(lazy.deferred_merges(), "deferred merges are the default");
+    let mut lazy =
+        Frame::open(&mut Precomputed::open(&path).unwrap(), &env, &vcut_shade::FrameSettings::default(), None).unwrap();
+    assert!(lazy.settings().deferred_merges, "deferred merges are the default");
     lazy.shade(EYE);
     let now = lazy.translate(ball, moved).unwrap();
     let waiting = lazy.pending_merges();
     assert!(waiting > 0 && now > 0, "{now} merged, {waiting} waiting");
     assert_eq!(now + waiting, all_changed);
-    assert_eq!(lazy.last_move().deferred, waiting);
-    assert_eq!(lazy.merges(), now as u64);
-    assert!(lazy.shade_bytes() < all_bytes, "{} of {all_bytes} bytes", lazy.shade_bytes());
+    assert_eq!(lazy.stats().last_move.deferred, waiting);
+    assert_eq!(lazy.stats().merges, now as u64);
+    assert!(lazy.stats().shade_bytes < all_bytes, "{} of {all_bytes} bytes", lazy.stats().shade_bytes);
     // Shading from behind merges and lists the waiting vertices it needs on the spot, keeping
     // nothing, bit for bit.
-    assert_eq!(lazy.spot_merges(), 0);
+    assert_eq!(lazy.stats().spot_merges, 0);
     assert!(lazy.shade(behind) == from_behind);
     assert_eq!(lazy.pending_merges(), waiting);
-    assert_eq!(lazy.merges(), now as u64);
-    let spot = lazy.spot_merges();
+    assert_eq!(lazy.stats().merges, now as u64);
+    let spot = lazy.stats().spot_merges;
     assert!(spot > 0 && spot <= waiting as u64, "{spot} of {waiting}");
-    assert!(lazy.shade_bytes() < all_bytes, "shading keeps no list");
+    assert!(lazy.stats().shade_bytes < all_bytes, "shading keeps no list");
     // `set_eye` merges those facing it and keeps their lists; the images stay the eager ones.
     let turned = lazy.set_eye(behind).unwrap();
     assert_eq!(turned as u64, spot, "set_eye merges what shading from there merged on the spot");
-    assert_eq!(lazy.merges(), (now + turned) as u64);
+    assert_eq!(lazy.stats().merges, (now + turned) as u64);
     assert!(lazy.shade(behind) == from_behind);
     assert!(lazy.shade(EYE) == eager.shade(EYE));
-    assert_eq!(lazy.spot_merges(), spot, "nothing waits for these eyes");
+    assert_eq!(lazy.stats().spot_merges, spot, "nothing waits for these eyes");
     // Nothing waits for either eye now: turning between them merges nothing.
     assert_eq!(lazy.set_eye(EYE).unwrap(), 0);
     assert_eq!(lazy.set_eye(behind).unwrap(), 0);
@@ -307,7 +361,7 @@ fn back_facing_merges_and_lists_wait_for_a_camera_that_sees_them() {
     lazy.set_environment(&sky);
     eager.set_environment(&sky);
     eager.set_eye(behind).unwrap();
-    assert!(lazy.shade_bytes() < eager.shade_bytes());
+    assert!(lazy.stats().shade_bytes < eager.stats().shade_bytes);
     assert!(lazy.shade(behind) == eager.shade(behind));
     // The rest merged on request: every cut is the eager frame's, bit for bit.
     assert_eq!(lazy.merge_pending().unwrap(), waiting - turned);
@@ -324,7 +378,10 @@ fn back_facing_merges_and_lists_wait_for_a_camera_that_sees_them() {
     lazy.translate(ball, Vec3::ZERO).unwrap();
     assert_eq!(lazy.pending_merges(), back);
     // Deferral off: what waits is merged at once, and moves merge everything they change.
-    assert_eq!(lazy.set_deferred_merges(false).unwrap(), back);
+    assert_eq!(
+        lazy.reconfigure(&vcut_shade::FrameSettings { deferred_merges: false, ..lazy.settings().clone() }).unwrap(),
+        back
+    );
     assert_eq!(lazy.translate(ball, moved).unwrap(), all_changed);
     assert_eq!((lazy.pending_merges(), lazy.set_eye(behind).unwrap()), (0, 0));
 }
@@ -337,19 +394,23 @@ fn field_samples_inside_an_object_blend_in_as_occluded() {
     let dir = scratch("inside");
     let mut d = data(&scene, &[("field_resolution", "16")], &dir.join("i.vcuts"));
     let env = vcut_envmap::procedural::PreethamSky::default().bake(128);
-    let mut frame = Frame::new(&mut d, &env).unwrap();
+    let mut frame = Frame::open(&mut d, &env, &vcut_shade::FrameSettings::default(), None).unwrap();
     let ground = frame.object_index("ground").unwrap();
     let exact = exact_direction(&frame, EYE, 1e-4);
     let error = |frame: &mut Frame| errors(&[frame.shade(EYE)[ground].clone()], &[exact[ground].clone()]);
     let occluded = error(&mut frame);
     // Dropping them re-merges only the vertices with inside samples, and is worse.
-    let remerged = frame.set_inside_samples(InsideSamples::Dropped).unwrap();
+    let remerged = frame
+        .reconfigure(&vcut_shade::FrameSettings { inside_samples: InsideSamples::Dropped, ..frame.settings().clone() })
+        .unwrap();
     let n = frame.object(ground).mesh.vertex_count();
     assert!(remerged > 0 && remerged < n, "{remerged} of {n}");
     let dropped = error(&mut frame);
     println!("occluded {occluded:?}, dropped {dropped:?}, re-merged {remerged} of {n}");
     assert!(occluded.0 < dropped.0 && occluded.1 < dropped.1, "occluded {occluded:?}, dropped {dropped:?}");
-    frame.set_inside_samples(InsideSamples::Occluded).unwrap();
+    frame
+        .reconfigure(&vcut_shade::FrameSettings { inside_samples: InsideSamples::Occluded, ..frame.settings().clone() })
+        .unwrap();
     assert_eq!(error(&mut frame), occluded);
 }
 
@@ -364,7 +425,7 @@ fn error_against_the_exact_reference_falls_as_thresholds_tighten() {
             &[("svc_max_error", svc), ("svc_solid_angle_divisor", divisor)],
             &dir.join("e.vcuts"),
         );
-        let mut frame = Frame::new(&mut d, &env).unwrap();
+        let mut frame = Frame::open(&mut d, &env, &vcut_shade::FrameSettings::default(), None).unwrap();
         let (l2, _) = errors(&frame.shade(EYE), &exact_direction(&frame, EYE, 1e-4));
         assert!(l2 < last, "thresholds {svc}, 4π/{divisor}: relative L2 {l2} after {last}");
         last = l2;
@@ -377,7 +438,7 @@ fn images_ply_and_exr_are_written_whole() {
     let dir = scratch("images");
     let mut d = data(BALL_ABOVE_GROUND, &[], &dir.join("i.vcuts"));
     let env = EnvMap::constant([1.0; 3]);
-    let mut frame = Frame::new(&mut d, &env).unwrap();
+    let mut frame = Frame::open(&mut d, &env, &vcut_shade::FrameSettings::default(), None).unwrap();
     let camera =
         vcut_scene::Camera { name: "c".into(), position: EYE, target: Vec3::ZERO, up: Vec3::Y, fov_y_deg: 40.0 };
     let radiance = frame.shade(EYE);
@@ -421,7 +482,7 @@ fn a_sun_inside_a_cut_node_is_shaded_where_it_is() {
     let text = "[[object]]\nsource = \"builtin:plane\"\nresolution = 6\nmaterial = { model = \"lambert\", kd = [0.5, 0.5, 0.5] }\n";
     let mut d = data(text, &[], &dir.join("a.vcuts"));
     let sky = vcut_envmap::procedural::PreethamSky::from_elevation_azimuth(35.0, 20.0).bake(512);
-    let mut frame = Frame::new(&mut d, &sky).unwrap();
+    let mut frame = Frame::open(&mut d, &sky, &vcut_shade::FrameSettings::default(), None).unwrap();
     for (spec, bound) in
         [("lambert", 0.01), ("blinn-phong:alpha=15,ks=0.5", 0.01), ("blinn-phong:alpha=70,ks=0.5", 0.03)]
     {
@@ -438,52 +499,67 @@ fn the_sun_by_rays_meets_the_exact_reference_and_follows_moves() {
     let mut d = data(BALL_ABOVE_GROUND, &[], &dir.join("b.vcuts"));
     let offset = d.svc_origin_offset();
     let sky = vcut_envmap::procedural::PreethamSky::default().bake(128);
-    let mut frame = Frame::new(&mut d, &sky).unwrap();
+    let mut frame = Frame::open(&mut d, &sky, &vcut_shade::FrameSettings::default(), None).unwrap();
     let ball = frame.object_index("ball").unwrap();
-    let merges = frame.merges();
+    let merges = frame.stats().merges;
     // The default: the sun's leaves by rays.
-    assert_eq!(frame.sun_rays(), Some(SunRays::default()));
-    assert!((1..=4).contains(&frame.sun_leaves()), "{} sun leaves", frame.sun_leaves());
+    assert!(frame.settings().sun_rays);
+    assert_eq!(frame.sun_rays(), SunRays::default());
+    assert!((1..=4).contains(&frame.stats().sun_leaves), "{} sun leaves", frame.stats().sun_leaves);
     let rest = frame.shade(EYE);
     let exact = exact_direction(&frame, EYE, offset);
     let sun_error = errors(&rest, &exact).0;
 
     // The paper's cuts for all light: the sun's shadow edges blur between field samples.
-    frame.set_sun_rays(None);
-    assert_eq!(frame.sun_leaves(), 0);
+    frame.reconfigure(&vcut_shade::FrameSettings { sun_rays: false, ..frame.settings().clone() }).unwrap();
+    assert_eq!(frame.stats().sun_leaves, 0);
     let cuts = frame.shade(EYE);
     let cut_error = errors(&cuts, &exact).0;
     eprintln!("relative L2 against the exact reference: cuts {cut_error}, sun by rays {sun_error}");
     assert!(sun_error < 0.5 * cut_error, "cuts {cut_error}, sun by rays {sun_error}");
-    assert_eq!(frame.merges(), merges, "switching the sun's rays merges nothing");
-    frame.set_sun_rays(Some(SunRays::default()));
+    assert_eq!(frame.stats().merges, merges, "switching the sun's rays merges nothing");
+    frame
+        .reconfigure(&vcut_shade::FrameSettings {
+            sun_rays: true,
+            light_error: None,
+            light_max_leaves: vcut_shade::sun::DEFAULT_MAX_LEAVES,
+            ..frame.settings().clone()
+        })
+        .unwrap();
     assert!(frame.shade(EYE) == rest);
 
     // A move casts the rays its shadows change, and the sun's shadow follows the ball.
     frame.translate(ball, Vec3::new(0.6, -0.2, 0.4)).unwrap();
-    assert!(frame.last_move().sun_rays > 0);
+    assert!(frame.stats().last_move.sun_rays > 0);
     let moved = frame.shade(EYE);
     let exact = exact_direction(&frame, EYE, offset);
     let moved_error = errors(&moved, &exact).0;
-    frame.set_sun_rays(None);
+    frame.reconfigure(&vcut_shade::FrameSettings { sun_rays: false, ..frame.settings().clone() }).unwrap();
     let moved_cut_error = errors(&frame.shade(EYE), &exact).0;
     assert!(moved_error < 0.5 * moved_cut_error, "cuts {moved_cut_error}, sun by rays {moved_error}");
-    frame.set_sun_rays(Some(SunRays::default()));
+    frame
+        .reconfigure(&vcut_shade::FrameSettings {
+            sun_rays: true,
+            light_error: None,
+            light_max_leaves: vcut_shade::sun::DEFAULT_MAX_LEAVES,
+            ..frame.settings().clone()
+        })
+        .unwrap();
     assert!(frame.shade(EYE) == moved, "casting every ray again gives what the move cast");
 
     // Back to rest: bit for bit; a BRDF edit casts nothing and merges nothing.
     frame.translate(ball, Vec3::ZERO).unwrap();
     assert!(frame.shade(EYE) == rest, "moving back did not restore the sun's shadows");
-    let merges = frame.merges();
+    let merges = frame.stats().merges;
     frame.set_material(ball, Material { exponent: 70.0, ..*frame.object(ball).material });
     assert_ne!(frame.shade(EYE)[ball], rest[ball]);
-    assert_eq!(frame.merges(), merges);
+    assert_eq!(frame.stats().merges, merges);
 
     // A light without a sun has no leaves to cast: shading is the cuts', bit for bit.
     frame.set_environment(&EnvMap::constant([1.0; 3]));
-    assert_eq!(frame.sun_leaves(), 0);
+    assert_eq!(frame.stats().sun_leaves, 0);
     let flat = frame.shade(EYE);
-    frame.set_sun_rays(None);
+    frame.reconfigure(&vcut_shade::FrameSettings { sun_rays: false, ..frame.settings().clone() }).unwrap();
     assert!(frame.shade(EYE) == flat);
 }
 
@@ -497,9 +573,15 @@ fn merges_in_ranges_shade_as_one_merge() {
     let scene = BALL_ABOVE_GROUND.replacen("resolution = 12", "resolution = 66", 1);
     let mut d = data(&scene, &[("field_spheres", "8")], &path);
     let env = EnvMap::constant([1.0; 3]);
-    let mut whole = Frame::new(&mut d, &env).unwrap();
+    let mut whole = Frame::open(&mut d, &env, &vcut_shade::FrameSettings::default(), None).unwrap();
     let none = FrameCaches { stored: false, svc: false, cells: false, merged: false };
-    let mut ranges = Frame::with_caches(&mut Precomputed::open(&path).unwrap(), &env, none).unwrap();
+    let mut ranges = Frame::open(
+        &mut Precomputed::open(&path).unwrap(),
+        &env,
+        &vcut_shade::FrameSettings { caches: none, ..Default::default() },
+        None,
+    )
+    .unwrap();
     let ground = whole.object_index("ground").unwrap();
     assert!(whole.object(ground).mesh.vertex_count() > 4096);
     assert!(ranges.shade(EYE) == whole.shade(EYE));
@@ -520,8 +602,9 @@ fn a_field_reaches_six_radii_unless_asked_for_its_outermost_sphere() {
     let dir = scratch("reach");
     let mut d = data(BALLS_IN_A_ROW, &[], &dir.join("r.vcuts"));
     let offset = d.svc_origin_offset();
-    let mut frame = Frame::new(&mut d, &EnvMap::constant([1.0; 3])).unwrap();
-    frame.set_deferred_merges(false).unwrap();
+    let mut frame =
+        Frame::open(&mut d, &EnvMap::constant([1.0; 3]), &vcut_shade::FrameSettings::default(), None).unwrap();
+    frame.reconfigure(&vcut_shade::FrameSettings { deferred_merges: false, ..frame.settings().clone() }).unwrap();
     let (b0, b1) = (frame.object_index("ball/0").unwrap(), frame.object_index("ball/1").unwrap());
     let n1 = frame.object(b1).mesh.vertex_count();
     let reaches = |frame: &Frame| (0..n1).any(|v| frame.field_sources(b1, v).iter().any(|s| s.0 == b0));
@@ -531,16 +614,35 @@ fn a_field_reaches_six_radii_unless_asked_for_its_outermost_sphere() {
     let short_error = errors(&frame.shade(eye), &reference).0;
     let short = frame.translate(b0, step).unwrap();
     frame.translate(b0, Vec3::ZERO).unwrap();
-    assert!(frame.set_field_reach(None).unwrap() > 0);
+    assert!(
+        frame
+            .reconfigure(&vcut_shade::FrameSettings {
+                field_reach: vcut_shade::FieldReach::Outermost,
+                ..frame.settings().clone()
+            })
+            .unwrap()
+            > 0
+    );
     assert!(reaches(&frame));
     let long_error = errors(&frame.shade(eye), &reference).0;
     let long = frame.translate(b0, step).unwrap();
     assert!(long > short, "{long} vertices re-merged at the paper's reach, {short} at 6 radii");
     assert!(short_error <= long_error + 1e-3, "6 radii {short_error}, the paper's reach {long_error}");
     for bad in [0.0, -1.0, f32::NAN, f32::INFINITY] {
-        let e = frame.set_field_reach(Some(bad)).unwrap_err().to_string();
-        assert!(e.contains("field reach"), "{e}");
+        let e = frame
+            .reconfigure(&vcut_shade::FrameSettings {
+                field_reach: vcut_shade::FieldReach::Radii(bad),
+                ..frame.settings().clone()
+            })
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("field_reach"), "{e}");
     }
-    frame.set_field_reach(Some(FIELD_REACH)).unwrap();
+    frame
+        .reconfigure(&vcut_shade::FrameSettings {
+            field_reach: vcut_shade::FieldReach::Radii(FIELD_REACH),
+            ..frame.settings().clone()
+        })
+        .unwrap();
     assert!(!reaches(&frame));
 }

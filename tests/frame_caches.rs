@@ -18,10 +18,16 @@ fn without_the_merged_cache_a_frame_holds_less_and_shades_the_same() {
     let mut d = data(BALL_ABOVE_GROUND, &[], &path);
     let env = EnvMap::constant([1.0; 3]);
     let (moved, behind) = (Vec3::new(0.3, 0.1, -0.2), Vec3::new(-3.0, 2.0, -5.0));
-    let mut full = Frame::new(&mut d, &env).unwrap();
+    let mut full = Frame::open(&mut d, &env, &vcut_shade::FrameSettings::default(), None).unwrap();
     let lean_caches = FrameCaches { merged: false, ..FrameCaches::default() };
-    let mut lean = Frame::with_caches(&mut Precomputed::open(&path).unwrap(), &env, lean_caches).unwrap();
-    assert_eq!((full.caches(), lean.caches()), (FrameCaches::default(), lean_caches));
+    let mut lean = Frame::open(
+        &mut Precomputed::open(&path).unwrap(),
+        &env,
+        &vcut_shade::FrameSettings { caches: lean_caches, ..Default::default() },
+        None,
+    )
+    .unwrap();
+    assert_eq!((full.stats().caches, lean.stats().caches), (FrameCaches::default(), lean_caches));
     let (m_full, m_lean) = (full.memory(), lean.memory());
     assert!(m_full.merged > 0 && m_lean.merged == 0, "{m_full:?} {m_lean:?}");
     assert!(m_lean.total() < m_full.total());
@@ -30,10 +36,10 @@ fn without_the_merged_cache_a_frame_holds_less_and_shades_the_same() {
     let ball = full.object_index("ball").unwrap();
     assert_eq!(lean.translate(ball, moved).unwrap(), full.translate(ball, moved).unwrap());
     let gold = Material::blinn_phong([0.5, 0.4, 0.1], [0.4, 0.4, 0.4], 40.0);
-    let before = lean.merges();
+    let before = lean.stats().merges;
     lean.set_material(ball, gold);
     full.set_material(ball, gold);
-    assert_eq!(lean.merges(), before, "a BRDF edit merges nothing");
+    assert_eq!(lean.stats().merges, before, "a BRDF edit merges nothing");
     assert!(lean.shade(EYE) == full.shade(EYE));
     // Every cut, waiting ones too, merged on request is the kept one.
     assert!(lean.pending_merges() > 0);
@@ -44,26 +50,34 @@ fn without_the_merged_cache_a_frame_holds_less_and_shades_the_same() {
     // A lighting change merges the vertices facing the eye again (the others' lists wait)...
     assert_eq!(lean.merge_pending().unwrap(), full.merge_pending().unwrap());
     let sky = EnvMap::constant([0.5, 1.0, 1.0]);
-    let before = lean.merges();
+    let before = lean.stats().merges;
     lean.set_environment(&sky);
     full.set_environment(&sky);
-    assert!(lean.merges() > before);
+    assert!(lean.stats().merges > before);
     assert!(lean.shade(EYE) == full.shade(EYE));
     // ... and a camera turn those it now sees, where the full frame lists them from its cuts.
     let (turn_full, turn_lean) = (full.set_eye(behind).unwrap(), lean.set_eye(behind).unwrap());
     assert!(turn_full == 0 && turn_lean > 0, "{turn_lean}, {turn_full}");
     assert!(lean.shade(behind) == full.shade(behind));
-    lean.set_sun_rays(None);
-    full.set_sun_rays(None);
+    lean.reconfigure(&vcut_shade::FrameSettings { sun_rays: false, ..lean.settings().clone() }).unwrap();
+    full.reconfigure(&vcut_shade::FrameSettings { sun_rays: false, ..full.settings().clone() }).unwrap();
     assert!(lean.shade(EYE) == full.shade(EYE));
     // Turned on again, the cache is filled with the same cuts.
-    lean.set_merged_cache(true).unwrap();
+    lean.reconfigure(&vcut_shade::FrameSettings {
+        caches: vcut_shade::FrameCaches { merged: true, ..lean.settings().caches },
+        ..lean.settings().clone()
+    })
+    .unwrap();
     assert!(lean.memory().merged > 0);
     assert!(every(&lean).into_iter().all(|(o, v)| *lean.merged(o, v).unwrap() == *full.merged(o, v).unwrap()));
     assert!(lean.shade(EYE) == full.shade(EYE));
-    // A budget keeps the caches that fit: none under the frame's floor, both with room.
-    let floor = FrameCaches { stored: false, svc: false, cells: false, merged: false };
-    assert_eq!(lean.fit_memory(0).unwrap(), floor);
+    // A budget keeps the decoded SVCs if they fit, and no other cache: none under the frame's
+    // floor.
+    let floor = FrameCaches::NONE;
+    let budget =
+        |f: &Frame, bytes: u64| vcut_shade::FrameSettings { memory_budget: Some(bytes), ..f.settings().clone() };
+    lean.reconfigure(&budget(&lean, 1)).unwrap();
+    assert_eq!(lean.stats().caches, floor);
     let m = lean.memory();
     assert_eq!((m.svc_cache, m.field_cache, m.merged), (0, 0, 0));
     assert!(lean.shade(behind) == full.shade(behind));
@@ -71,16 +85,22 @@ fn without_the_merged_cache_a_frame_holds_less_and_shades_the_same() {
     assert_eq!(lean.translate(ball, Vec3::ZERO).unwrap(), full.translate(ball, Vec3::ZERO).unwrap());
     assert_eq!(lean.memory().field_cache, 0);
     assert!(lean.shade(behind) == full.shade(behind));
-    // A budget drops the caches that save least first.
+    // A budget with room keeps the SVCs only; one below what they take, none.
     let (m, svc) = (full.memory(), full.memory().svc_cache);
-    assert_eq!(full.fit_memory(usize::MAX).unwrap(), FrameCaches::default());
-    let stored_out = FrameCaches { stored: false, ..FrameCaches::default() };
-    assert_eq!(full.fit_memory(m.total() - 1).unwrap(), stored_out);
+    full.reconfigure(&budget(&full, u64::MAX)).unwrap();
+    assert_eq!(full.stats().caches, FrameCaches { svc: true, ..floor });
     assert!(full.memory().stored * 4 < m.stored, "{:?} of {m:?}", full.memory());
-    assert_eq!(full.fit_memory(full.memory().total() - 1).unwrap(), FrameCaches { merged: false, ..stored_out });
-    assert_eq!(full.fit_memory(full.memory().total() - 1).unwrap(), FrameCaches { svc: true, ..floor });
     assert!(full.memory().total() <= m.total() - m.merged - m.field_cache - m.stored / 2);
-    assert_eq!(full.fit_memory(full.memory().total() - svc + 1).unwrap(), floor);
+    full.reconfigure(&budget(&full, (full.memory().total() - svc + 1) as u64)).unwrap();
+    assert_eq!(full.stats().caches, floor);
+    assert!(lean.shade(EYE) == full.shade(EYE));
+    // Without the budget the caches asked for come back (the merged cuts filled: one merge
+    // each), and shade the same.
+    let before = full.stats().merges;
+    full.reconfigure(&vcut_shade::FrameSettings { memory_budget: None, ..full.settings().clone() }).unwrap();
+    assert_eq!(full.stats().caches, FrameCaches::default());
+    let vertices: u64 = (0..full.object_count()).map(|o| full.object(o).mesh.vertex_count() as u64).sum();
+    assert_eq!(full.stats().merges - before, vertices);
     assert!(lean.shade(EYE) == full.shade(EYE));
 }
 
@@ -93,10 +113,16 @@ fn with_the_stored_cuts_left_in_the_file_a_frame_shades_the_same() {
     let path = dir.join("s.vcuts");
     let mut d = data(BALL_ABOVE_GROUND, &[], &path);
     let env = EnvMap::constant([1.0; 3]);
-    let mut full = Frame::new(&mut d, &env).unwrap();
+    let mut full = Frame::open(&mut d, &env, &vcut_shade::FrameSettings::default(), None).unwrap();
     let none = FrameCaches { stored: false, svc: false, cells: false, merged: false };
-    let mut lean = Frame::with_caches(&mut Precomputed::open(&path).unwrap(), &env, none).unwrap();
-    assert_eq!(lean.caches(), none);
+    let mut lean = Frame::open(
+        &mut Precomputed::open(&path).unwrap(),
+        &env,
+        &vcut_shade::FrameSettings { caches: none, ..Default::default() },
+        None,
+    )
+    .unwrap();
+    assert_eq!(lean.stats().caches, none);
     let (m_full, m_lean) = (full.memory(), lean.memory());
     assert!(m_lean.stored * 4 < m_full.stored, "{m_lean:?} {m_full:?}");
     assert!(lean.shade(EYE) == full.shade(EYE));
@@ -111,9 +137,17 @@ fn with_the_stored_cuts_left_in_the_file_a_frame_shades_the_same() {
     assert!(lean.merge_pending().is_ok() && full.merge_pending().is_ok());
     assert!(lean.merged(ground, 7).unwrap() == full.merged(ground, 7).unwrap());
     // Read back into memory (checked against the file's checksums), and out again.
-    lean.set_stored_cache(true).unwrap();
+    lean.reconfigure(&vcut_shade::FrameSettings {
+        caches: vcut_shade::FrameCaches { stored: true, ..lean.settings().caches },
+        ..lean.settings().clone()
+    })
+    .unwrap();
     assert_eq!(lean.memory().stored, m_full.stored);
-    lean.set_stored_cache(false).unwrap();
+    lean.reconfigure(&vcut_shade::FrameSettings {
+        caches: vcut_shade::FrameCaches { stored: false, ..lean.settings().caches },
+        ..lean.settings().clone()
+    })
+    .unwrap();
     // The file changed in place (every byte after its header): the merges that read it fail,
     // naming the file; nothing panics and the images already shaded stand.
     let len = std::fs::metadata(&gone).unwrap().len();
@@ -125,7 +159,12 @@ fn with_the_stored_cuts_left_in_the_file_a_frame_shades_the_same() {
     assert!(matches!(e, FrameError::Cut { error: CutFailure::Decode(_), .. }), "{e}");
     // Named as it was opened.
     assert!(e.to_string().contains(&path.display().to_string()) && e.to_string().contains("changed"), "{e}");
-    let e = lean.set_stored_cache(true).unwrap_err();
+    let e = lean
+        .reconfigure(&vcut_shade::FrameSettings {
+            caches: vcut_shade::FrameCaches { stored: true, ..lean.settings().caches },
+            ..lean.settings().clone()
+        })
+        .unwrap_err();
     assert!(matches!(e, FrameError::Stored { .. }) && e.to_string().contains("checksum"), "{e}");
 }
 
@@ -139,8 +178,15 @@ fn a_frame_set_up_for_an_eye_lists_what_faces_it_and_shades_the_same() {
     let env = EnvMap::constant([1.0; 3]);
     let behind = Vec3::new(-3.0, 2.0, -5.0);
     for caches in [FrameCaches::default(), FrameCaches { stored: false, svc: false, cells: false, merged: false }] {
-        let mut all = Frame::with_caches(&mut d, &env, caches).unwrap();
-        let mut facing = Frame::with_caches_facing(&mut Precomputed::open(&path).unwrap(), &env, caches, EYE).unwrap();
+        let mut all =
+            Frame::open(&mut d, &env, &vcut_shade::FrameSettings { caches, ..Default::default() }, None).unwrap();
+        let mut facing = Frame::open(
+            &mut Precomputed::open(&path).unwrap(),
+            &env,
+            &vcut_shade::FrameSettings { caches, ..Default::default() },
+            Some(EYE),
+        )
+        .unwrap();
         assert!(facing.memory().lists < all.memory().lists, "{:?} {:?}", facing.memory(), all.memory());
         assert!(facing.shade(EYE) == all.shade(EYE));
         let ball = all.object_index("ball").unwrap();

@@ -72,10 +72,9 @@ fn main() -> Result<(), String> {
     let eye = option("--eye").map(|e| vec3(&e)).transpose()?.or(scene_eye).unwrap_or(Vec3::new(0.0, 2.0, 6.0));
     let mut data = Precomputed::open(Path::new(file)).map_err(|e| e.to_string())?;
     let offset = data.svc_origin_offset();
-    let mut frame = Frame::new(&mut data, &env).map_err(|e| e.to_string())?;
-    if !args.iter().any(|a| a == "--sun-rays") {
-        frame.set_sun_rays(None);
-    }
+    // The sun through the cuts, as the paper, unless `--sun-rays`.
+    let settings = vcut_shade::FrameSettings { sun_rays: args.iter().any(|a| a == "--sun-rays"), ..Default::default() };
+    let mut frame = Frame::open(&mut data, &env, &settings, None).map_err(|e| e.to_string())?;
     if let Some(m) = option("--move") {
         let (name, d) = m.split_once('=').ok_or("--move OBJECT=DX,DY,DZ")?;
         let o = frame.object_index(name).ok_or(format!("no object {name}"))?;
@@ -86,7 +85,7 @@ fn main() -> Result<(), String> {
     let meshes: Vec<Mesh> = (0..frame.object_count())
         .map(|o| {
             let vcut_shade::FrameObject { mesh: m, .. } = frame.object(o);
-            Mesh::from_valid_parts(frame.positions(o), m.normals().to_vec(), m.triangles().to_vec())
+            Mesh::from_valid_parts(frame.object(o).positions(), m.normals().to_vec(), m.triangles().to_vec())
                 .map_err(|e| e.to_string())
         })
         .collect::<Result<_, _>>()?;
@@ -123,7 +122,7 @@ fn main() -> Result<(), String> {
     }
     let (mut fields_all, mut vis_all) = (Vec::new(), Vec::new());
     for o in 0..frame.object_count() {
-        let positions = frame.positions(o);
+        let positions = frame.object(o).positions();
         let radius = frame.object(o).mesh.bounds().radius;
         if bins_only {
             bins(&frame, o, &positions, &shaded[o], &exact[o]);
@@ -211,7 +210,7 @@ fn layout_frame(
     let mut wanted: Vec<(usize, u32, u32)> = Vec::new();
     let mut layouts: HashMap<usize, vcut_data::FieldLayout> = HashMap::new();
     for o in 0..frame.object_count() {
-        let positions = frame.positions(o);
+        let positions = frame.object(o).positions();
         for (v, &x) in positions.iter().enumerate() {
             for (j, layout) in frame.field_sources(o, v) {
                 let l = layout_of(j, layout);
@@ -250,7 +249,7 @@ fn layout_frame(
     let index: HashMap<(usize, u32, u32), usize> = wanted.iter().enumerate().map(|(k, &w)| (w, k)).collect();
     (0..frame.object_count())
         .map(|o| {
-            let positions = frame.positions(o);
+            let positions = frame.object(o).positions();
             (0..positions.len())
                 .into_par_iter()
                 .map(|v| {

@@ -89,7 +89,8 @@ fuzz_target!(|data: &[u8]| {
     };
     precompute(&job, &NoProgress, &AtomicBool::new(false)).expect("a loaded mesh precomputes");
     let mut data = Precomputed::open(&out).expect("the precompute's file opens");
-    let mut frame = Frame::new(&mut data, &scene.environment).expect("a frame of the file");
+    let mut frame = Frame::open(&mut data, &scene.environment, &vcut_shade::FrameSettings::default(), None)
+        .expect("a frame of the file");
     let eye = Vec3::new(3.0, 4.0, 5.0);
     let finite = |r: &[Vec<Vec3>]| r.iter().flatten().all(|x| x.is_finite() && x.min_element() >= 0.0);
     assert!(finite(&frame.shade(eye)), "non-finite radiance at rest");

@@ -23,7 +23,7 @@ use vcut_scene::Scene;
 use vcut_scene::budget::human;
 use vcut_shade::measure::{edit_ms, first_movable, median, move_path, turn_after_move};
 use vcut_shade::reference::{MonteCarloParams, errors, exact_direction, monte_carlo};
-use vcut_shade::{Frame, MergeAlgorithm, SunRays};
+use vcut_shade::{FlatEdges, Frame, FrameCaches, FrameSettings, MergeAlgorithm};
 use vcut_sphere::{DirectionSet, RepulsionParams};
 use vcuts::report::{
     Directions, Machine, PrecomputeFigures, RandomStart, Report, SceneFigures, Tradeoff, replace_section, write_atomic,
@@ -227,7 +227,8 @@ fn bench_scene(name: &str, preset: &str, data_dir: &Path, no_mc: bool, reuse: bo
     let mut data = Precomputed::open(&file)?;
     let offset = data.svc_origin_offset();
     let t = Instant::now();
-    let mut frame = Frame::new(&mut data, &scene.environment)?;
+    let base = FrameSettings::default();
+    let mut frame = Frame::open(&mut data, &scene.environment, &base, None)?;
     let setup_s = t.elapsed().as_secs_f64();
     let movable = first_movable(&frame).with_context(|| format!("scene {name} has no movable object"))?;
     let vertices: usize = (0..frame.object_count()).map(|o| frame.object(o).mesh.vertex_count()).sum();
@@ -236,27 +237,28 @@ fn bench_scene(name: &str, preset: &str, data_dir: &Path, no_mc: bool, reuse: bo
     let edit = edit_ms(&mut frame, movable, eye, 11);
     let counter = move_path(&mut frame, movable, eye, MergeAlgorithm::Counter, 8)?;
     // The knob: SVCs decoded at every merge instead of kept decoded.
-    let svc_cache_bytes = frame.svc_cache_bytes();
-    frame.set_svc_cache(false)?;
+    let svc_cache_bytes = frame.memory().svc_cache;
+    frame.reconfigure(&FrameSettings { caches: FrameCaches { svc: false, ..base.caches }, ..base.clone() })?;
     let svc_decoded = move_path(&mut frame, movable, eye, MergeAlgorithm::Counter, 8)?;
-    frame.set_svc_cache(true)?;
+    frame.reconfigure(&base)?;
     let index = move_path(&mut frame, movable, eye, MergeAlgorithm::Index, 8)?;
     // The knob: every vertex a move changes merged at once (no merge waits for a camera), and
     // what a camera turn after a move costs either way.
     let behind = Vec3::new(-eye.x, eye.y, -eye.z);
     let (turn_ms, turn_merged) = turn_after_move(&mut frame, movable, eye, behind, 5)?;
-    frame.set_deferred_merges(false)?;
+    let eager_settings = FrameSettings { deferred_merges: false, ..base.clone() };
+    frame.reconfigure(&eager_settings)?;
     let eager = move_path(&mut frame, movable, eye, MergeAlgorithm::Counter, 8)?;
     let (turn_ms_eager, _) = turn_after_move(&mut frame, movable, eye, behind, 5)?;
-    frame.set_deferred_merges(true)?;
+    frame.reconfigure(&base)?;
     println!(
         "{name}: move {:.1} ms merging {} vertices ({} wait for a camera), eager {:.1} ms merging {}; \
          a camera turn after a move {turn_ms:.1} ms ({turn_merged} merged), eager {turn_ms_eager:.1} ms",
         counter.move_ms, counter.merged, counter.deferred, eager.move_ms, eager.merged
     );
-    frame.set_merge_algorithm(MergeAlgorithm::Index)?;
+    frame.reconfigure(&FrameSettings { merge_algorithm: MergeAlgorithm::Index, ..base.clone() })?;
     let edit_index = edit_ms(&mut frame, movable, eye, 11);
-    frame.set_merge_algorithm(MergeAlgorithm::Counter)?;
+    frame.reconfigure(&base)?;
     let (move_ms, move_ms_index) = (counter.move_ms, index.move_ms);
     let merge_s: f64 = counter.merge_ms.iter().sum::<f64>() / 1e3;
     let merge_s_index: f64 = index.merge_ms.iter().sum::<f64>() / 1e3;
@@ -268,15 +270,15 @@ fn bench_scene(name: &str, preset: &str, data_dir: &Path, no_mc: bool, reuse: bo
     let exact_ms = t.elapsed().as_secs_f64() * 1e3;
     let (rel_l2_exact, max_exact) = errors(&shaded, &exact);
     // The knob: field samples inside an object dropped instead of blended in as occluded.
-    frame.set_inside_samples(InsideSamples::Dropped)?;
+    frame.reconfigure(&FrameSettings { inside_samples: InsideSamples::Dropped, ..base.clone() })?;
     let (rel_l2_dropped, max_dropped) = errors(&frame.shade(eye), &exact);
-    frame.set_inside_samples(InsideSamples::Occluded)?;
+    frame.reconfigure(&base)?;
     // The knob: the sun carried by the cuts too (the paper) instead of cast by rays.
-    let sun_leaves = frame.sun_leaves();
-    frame.set_sun_rays(None);
+    let sun_leaves = frame.stats().sun_leaves;
+    frame.reconfigure(&FrameSettings { sun_rays: false, ..base.clone() })?;
     let (rel_l2_cuts, max_cuts) = errors(&frame.shade(eye), &exact);
     let cuts_path = move_path(&mut frame, movable, eye, MergeAlgorithm::Counter, 8)?;
-    frame.set_sun_rays(Some(SunRays::default()));
+    frame.reconfigure(&base)?;
     println!(
         "{name}: the sun ({sun_leaves} leaves) through the cuts: rel L2 vs exact {rel_l2_cuts:.4}, move {:.1} ms",
         cuts_path.move_ms
@@ -284,13 +286,13 @@ fn bench_scene(name: &str, preset: &str, data_dir: &Path, no_mc: bool, reuse: bo
     // The knob: a ground's cut estimated across its edges in nodes of up to the interactive
     // setting's leaves (1/256 of the directions) instead of split to its leaves; the eager move
     // beside `eager`'s.
-    let flat_edge_leaves = frame.interactive_flat_edge_leaves();
-    frame.set_flat_edge_leaves(flat_edge_leaves)?;
+    let flat_edge_leaves = FlatEdges::Interactive.leaves(frame.tree().leaf_count());
+    let flat = FrameSettings { flat_edge_leaves: FlatEdges::Interactive, ..base.clone() };
+    frame.reconfigure(&flat)?;
     let (rel_l2_flat, max_flat) = errors(&frame.shade(eye), &exact);
-    frame.set_deferred_merges(false)?;
+    frame.reconfigure(&FrameSettings { deferred_merges: false, ..flat })?;
     let flat_path = move_path(&mut frame, movable, eye, MergeAlgorithm::Counter, 8)?;
-    frame.set_deferred_merges(true)?;
-    frame.set_flat_edge_leaves(1)?;
+    frame.reconfigure(&base)?;
     println!(
         "{name}: a ground's edges in nodes of up to {flat_edge_leaves} leaves: rel L2 vs exact {rel_l2_flat:.5} \
          (exact cut {rel_l2_exact:.5}), eager move {:.1} ms (exact cut {:.1})",
@@ -303,8 +305,8 @@ fn bench_scene(name: &str, preset: &str, data_dir: &Path, no_mc: bool, reuse: bo
         let (r, _) = monte_carlo(&frame, &scene.environment, eye, offset, &MonteCarloParams::default());
         Some((errors(&shaded, &r).0, t.elapsed().as_secs_f64()))
     };
-    let shade_bytes = frame.shade_bytes();
-    let merged_bytes = frame.merged_bytes();
+    let shade_bytes = frame.stats().shade_bytes;
+    let merged_bytes = frame.stats().merged_bytes;
     println!(
         "{name}: edit {edit:.1} ms, move {move_ms:.1} ms (index {move_ms_index:.1} ms), rel L2 vs exact {rel_l2_exact:.4}"
     );

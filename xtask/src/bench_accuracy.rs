@@ -94,7 +94,7 @@ pub fn run(quick: bool, no_mc: bool, reuse: bool, data_dir: &Path, out: &Path) -
                 vcuts::precompute::cached_or_run_at(&spec, preset, &data_dir.join(format!("{name}-{preset}.vcuts")))?;
             let mut data = Precomputed::open(&file)?;
             let offset = data.svc_origin_offset();
-            let mut frame = Frame::new(&mut data, &scene.environment)?;
+            let mut frame = Frame::open(&mut data, &scene.environment, &vcut_shade::FrameSettings::default(), None)?;
             let movable = first_movable(&frame).with_context(|| format!("scene {name} has no movable object"))?;
             let subject = Subject { scene: name, preset, movable, eye, offset };
             for (map, env) in &maps {

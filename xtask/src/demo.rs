@@ -3,8 +3,9 @@
 //! returns.
 
 use anyhow::{Context, Result};
+use std::collections::HashMap;
 use vcuts::render::{self, Compare};
-use vcuts::{directions, inspect, precompute};
+use vcuts::{directions, inspect, outcome, precompute};
 
 /// Runs the demo.
 pub fn demo() -> Result<()> {
@@ -25,35 +26,40 @@ pub fn demo() -> Result<()> {
     let file = precompute::cached_or_run("builtin:teapot", "fast")?;
     println!("\n== render at rest (Blinn-Phong exponent 15)");
     let rest = render::run(&render::RenderArgs::new(&file, std::path::Path::new("target/demo/teapot-rest.png")))?;
+    outcome::print(&rest);
     println!("\n== render: the teapot moved, its Blinn-Phong exponent 15 -> 70, against the exact reference");
     let mut args = render::RenderArgs::new(&file, std::path::Path::new("target/demo/teapot.png"));
-    args.moves.push("teapot=0.6,0,0.4".into());
-    args.brdfs.push("teapot=blinn-phong:alpha=70".into());
+    args.moves.push("teapot=0.6,0,0.4".parse().map_err(anyhow::Error::msg)?);
+    args.brdfs.push("teapot=blinn-phong:alpha=70".parse().map_err(anyhow::Error::msg)?);
     args.compare = Some(Compare::Exact);
     let edited = render::run(&args)?;
+    outcome::print(&edited);
     println!("\n== the same, the sun through the cuts too, as the paper (--no-sun-rays)");
     args.output = "target/demo/teapot-cuts-only.png".into();
-    args.no_sun_rays = true;
+    args.frame.no_sun_rays = true;
     let cuts_only = render::run(&args)?;
+    outcome::print(&cuts_only);
     let mut report = String::from(
         "# Demo: the built-in teapot scene under the built-in sky (preset fast)\n\n| | at rest | moved + BRDF edit | the same, sun through the cuts |\n|---|---:|---:|---:|\n",
     );
-    type Cell = fn(&render::RenderOutcome) -> Option<String>;
-    let rows: [(&str, Cell); 11] = [
-        ("setup_s", |o| Some(format!("{:.3}", o.setup_s))),
-        ("sun_leaves", |o| Some(o.sun_leaves.to_string())),
-        ("move_merge_ms", |o| Some(format!("{:.2}", o.move_ms))),
-        ("move_sun_ms", |o| o.last_move.map(|t| format!("{:.2}", t.sun_s * 1e3))),
-        ("move_merged_vertices", |o| Some(o.moved_vertices.to_string())),
-        ("shade_ms", |o| o.shade_ms.map(|x| format!("{x:.2}"))),
-        ("raster_ms", |o| o.raster_ms.map(|x| format!("{x:.2}"))),
-        ("vertex_rel_l2_vs_exact", |o| o.comparison("exact").and_then(|c| c.vertex_rel_l2).map(|x| format!("{x:.5}"))),
-        ("pixel_rel_l2_vs_exact", |o| o.comparison("exact").map(|c| format!("{:.5}", c.pixel_rel_l2))),
-        ("png", |o| Some(o.png.display().to_string())),
-        ("reference_exact_png", |o| o.comparison("exact").map(|c| c.png.display().to_string())),
-    ];
-    for (key, cell) in rows {
-        let [a, b, c] = [&rest, &edited, &cuts_only].map(|o| cell(o).unwrap_or_else(|| "-".into()));
+    // The three outcomes' keys as `render` prints them.
+    let columns =
+        [&rest, &edited, &cuts_only].map(|o| outcome::lines(o).map(|l| l.into_iter().collect::<HashMap<_, _>>()));
+    let [a, b, c] = columns.map(|c| c.unwrap_or_default());
+    for key in [
+        "setup_s",
+        "sun_leaves",
+        "move_merge_ms",
+        "move_sun_ms",
+        "move_merged_vertices",
+        "shade_ms",
+        "raster_ms",
+        "vertex_rel_l2_vs_exact",
+        "pixel_rel_l2_vs_exact",
+        "png",
+        "reference_exact_png",
+    ] {
+        let [a, b, c] = [&a, &b, &c].map(|o| o.get(key).cloned().unwrap_or_else(|| "-".into()));
         report.push_str(&format!("| {key} | {a} | {b} | {c} |\n"));
     }
     let path = std::path::Path::new("target/demo/report.md");

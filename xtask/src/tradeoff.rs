@@ -96,7 +96,7 @@ pub fn run(scene_name: &str, base: &str, quick: bool, data_dir: &Path, no_mc: bo
         let precompute_s = t.elapsed().as_secs_f64();
         let mut data = Precomputed::open(&file)?;
         let offset = data.svc_origin_offset();
-        let mut frame = Frame::new(&mut data, &scene.environment)?;
+        let mut frame = Frame::open(&mut data, &scene.environment, &vcut_shade::FrameSettings::default(), None)?;
         let movable = first_movable(&frame).with_context(|| format!("scene {scene_name} has no movable object"))?;
         let shade_ms = edit_ms(&mut frame, movable, eye, 5);
         let path = move_path(&mut frame, movable, eye, MergeAlgorithm::Counter, 4)?;

@@ -8,20 +8,24 @@ use glam::Vec3;
 use numpy::{PyArray2, PyArray3};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
-use vcut_shade::FlatEdges;
+use vcut_shade::FrameSettings;
 use vcut_shade::reference::{MonteCarloParams, exact_direction, monte_carlo};
 use vcuts::open::Opened;
 
 /// Opens a `.vcuts` file under its recorded environment (or `env`, a spec or an `EnvMap`), its
 /// map reconstructed as recorded (or `reconstruction`: `"box"`, `"bilinear"`), every vertex
-/// merged. Raises `VcutsError` naming the file and section when it is damaged.
+/// merged once under the frame settings given as keywords (the fields of `FrameSettings`, as
+/// `Frame.settings` lists them: `deferred_merges=False`, `flat_edge_leaves="interactive"`,
+/// `caches={"merged": False}`, …). Raises `VcutsError` naming the file and section when it is
+/// damaged, or the keyword and what it must be.
 #[pyfunction]
-#[pyo3(signature = (path, env=None, reconstruction=None))]
+#[pyo3(signature = (path, env=None, reconstruction=None, **settings))]
 fn open(
     py: Python<'_>,
     path: std::path::PathBuf,
     env: Option<String>,
     reconstruction: Option<String>,
+    settings: Option<&Bound<'_, PyDict>>,
 ) -> PyResult<Frame> {
     let reconstruction = match reconstruction {
         Some(r) => Some(
@@ -30,9 +34,9 @@ fn open(
         ),
         None => None,
     };
-    let opened = py
-        .detach(|| vcuts::open::open_with(&path, env.as_deref(), reconstruction, Default::default()))
-        .map_err(error)?;
+    let settings = crate::settings::with(&FrameSettings::default(), settings)?;
+    let opened =
+        py.detach(|| vcuts::open::open_with(&path, env.as_deref(), reconstruction, &settings, None)).map_err(error)?;
     Ok(Frame { opened })
 }
 
@@ -71,13 +75,6 @@ impl Frame {
             None => vcuts::open::camera(self.opened.view.as_ref(), None, &self.opened.frame).map_err(error),
         }
     }
-}
-
-/// `Frame.flat_edge_leaves = ...`: a number of leaves, or a word (`"interactive"`: `FlatEdges`).
-#[derive(FromPyObject)]
-enum EdgeLeaves {
-    Leaves(u32),
-    Word(String),
 }
 
 fn finite(v: [f32; 3], what: &str) -> PyResult<Vec3> {
@@ -177,7 +174,7 @@ impl Frame {
 
     /// `object`'s vertex positions where it is now, `(N, 3)` float32.
     fn positions<'py>(&self, py: Python<'py>, object: ObjectRef) -> PyResult<Bound<'py, PyArray2<f32>>> {
-        vec3s(py, self.opened.frame.positions(self.index(&object)?))
+        vec3s(py, self.opened.frame.object(self.index(&object)?).positions())
     }
 
     /// `object`'s vertex normals, `(N, 3)` float32.
@@ -280,47 +277,64 @@ impl Frame {
         per_object(py, py.detach(|| monte_carlo(frame, env, eye, offset, &p).0))
     }
 
-    /// Whether a move leaves the vertices facing away from the eye for later (default on).
+    /// The frame's settings, as a dict of `FrameSettings`' fields (what `open` and
+    /// `reconfigure` take as keywords).
+    #[getter]
+    fn settings<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        to_py(py, self.opened.frame.settings())
+    }
+
+    /// Changes the settings named as keywords (the others stay), merging only what they change
+    /// (`Frame::reconfigure`); returns the vertices merged. A bad keyword or value raises
+    /// `VcutsError` naming it, and the frame keeps its settings.
+    #[pyo3(signature = (**settings))]
+    fn reconfigure(&mut self, py: Python<'_>, settings: Option<&Bound<'_, PyDict>>) -> PyResult<usize> {
+        let new = crate::settings::with(self.opened.frame.settings(), settings)?;
+        let frame = &mut self.opened.frame;
+        py.detach(|| frame.reconfigure(&new)).map_err(error)
+    }
+
+    /// Whether a move leaves the vertices facing away from the eye for later (default on): the
+    /// setting `deferred_merges` (`reconfigure(deferred_merges=...)`).
     #[getter]
     fn deferred_merges(&self) -> bool {
-        self.opened.frame.deferred_merges()
+        self.opened.frame.settings().deferred_merges
     }
 
     #[setter]
     fn set_deferred_merges(&mut self, py: Python<'_>, on: bool) -> PyResult<()> {
+        let new = FrameSettings { deferred_merges: on, ..self.opened.frame.settings().clone() };
         let frame = &mut self.opened.frame;
-        py.detach(|| frame.set_deferred_merges(on)).map(|_| ()).map_err(error)
+        py.detach(|| frame.reconfigure(&new)).map(|_| ()).map_err(error)
     }
 
-    /// How finely a ground's shadow follows its edges (`Frame::set_flat_edge_leaves`): 1, the
-    /// default, is the exact cut; a power of two N estimates nodes of up to N directions across
-    /// an edge; set `"interactive"` for the setting measured for drags (1/256 of the
-    /// directions). Setting it re-merges the vertices a ground shadows.
+    /// How finely a ground's shadow follows its edges, in leaves (1, the default, is the exact
+    /// cut): the setting `flat_edge_leaves`. Set a power of two N to estimate nodes of up to N
+    /// directions across an edge, or `"interactive"` for the setting measured for drags (1/256
+    /// of the directions). Setting it re-merges the vertices a ground shadows.
     #[getter]
     fn flat_edge_leaves(&self) -> u32 {
-        self.opened.frame.flat_edge_leaves()
+        let f = &self.opened.frame;
+        f.settings().flat_edge_leaves.leaves(f.tree().leaf_count())
     }
 
     #[setter]
-    fn set_flat_edge_leaves(&mut self, py: Python<'_>, leaves: EdgeLeaves) -> PyResult<()> {
-        let frame = &mut self.opened.frame;
-        let edges = match leaves {
-            EdgeLeaves::Leaves(n) => FlatEdges::Leaves(n),
-            EdgeLeaves::Word(w) => w.parse().map_err(|e| VcutsError::new_err(format!("flat_edge_leaves = {e}")))?,
-        };
-        let n = edges.leaves(frame);
-        py.detach(|| frame.set_flat_edge_leaves(n)).map(|_| ()).map_err(error)
+    fn set_flat_edge_leaves(&mut self, py: Python<'_>, leaves: Bound<'_, PyAny>) -> PyResult<()> {
+        let d = PyDict::new(py);
+        d.set_item("flat_edge_leaves", leaves)?;
+        self.reconfigure(py, Some(&d)).map(|_| ())
     }
 
-    /// What the frame has done and holds: merges, the last move's timing, memory by part (bytes)
-    /// and the light leaves cast by rays.
-    fn stats<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+    /// What the frame has done and holds, under the keys `vcuts render` prints for them
+    /// (`frame_caches`, `sun_leaves`, `light_error_estimate`, `merges`, `move_keys_ms`,
+    /// `frame_memory_mb`, …). The nested dicts of earlier versions (`last_move`, `memory`,
+    /// `light`) are there too for this release (CHANGELOG).
+    fn stats<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
         let f = &self.opened.frame;
-        let d = PyDict::new(py);
-        d.set_item("merges", f.merges())?;
-        d.set_item("spot_merges", f.spot_merges())?;
-        d.set_item("pending_merges", f.pending_merges())?;
-        let m = f.last_move();
+        let d = to_py(py, &vcuts::frame_report::FrameReport::of(f, true))?;
+        let d = d.cast_into::<PyDict>()?;
+        let stats = f.stats();
+        let m = stats.last_move;
         let mv = PyDict::new(py);
         for (k, v) in [
             ("keys_s", m.keys_s),
@@ -351,7 +365,7 @@ impl Frame {
         ld.set_item("rays_per_vertex", c.rays_per_vertex())?;
         ld.set_item("cast_us_per_vertex", c.cast_us_per_vertex())?;
         d.set_item("light", ld)?;
-        Ok(d)
+        Ok(d.into_any())
     }
 
     fn __repr__(&self) -> String {

@@ -23,6 +23,7 @@ mod frame;
 mod precompute;
 mod renderers;
 mod scene;
+mod settings;
 
 use pyo3::prelude::*;
 

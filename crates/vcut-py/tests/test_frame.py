@@ -44,7 +44,7 @@ def test_a_grounds_edges_estimated_change_the_balls_and_exact_again_is_bit_for_b
     assert f.flat_edge_leaves == 1
     for a, b in zip(exact, f.shade(eye)):
         assert np.array_equal(a, b)
-    with pytest.raises(vcuts.VcutsError, match="flat edge leaves = 3"):
+    with pytest.raises(vcuts.VcutsError, match="flat_edge_leaves = 3"):
         f.flat_edge_leaves = 3
     with pytest.raises(vcuts.VcutsError, match="interactive"):
         f.flat_edge_leaves = "fine"

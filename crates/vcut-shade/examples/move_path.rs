@@ -4,37 +4,53 @@
 //! decoding, refining the field cells, and merging (shading lists built as nodes are emitted),
 //! then the shade time.
 //!
-//! `cargo run --release -p vcut-shade --example move_path -- FILE.vcuts [OBJECT] [STEPS]`;
-//! with `VS_INDEX=1` it also times the index baseline over the same path (`index_move_ms`,
-//! move + shade), between two rounds of the default merge, for a ratio in one run; with
-//! `NO_SVC_CACHE=1` every SVC is decoded at each merge instead of kept decoded; with
-//! `NO_SUN_RAYS=1` the sun goes through the cuts too (the paper) instead of being cast by rays;
-//! with `COLD=1` the timed path is the frame's first (by default a first round over it comes
-//! before, so the timed one sees a warm frame); with `EAGER=1` every move merges all the
-//! vertices it changes (by default those facing away from the eye wait:
-//! `Frame::set_deferred_merges`; each step prints how many); with
-//! `NO_MERGED_CACHE=1` the frame keeps no merged cuts (`Frame::set_merged_cache`), with
-//! `NO_CELL_CACHE=1` no field cells between moves (`Frame::set_cell_cache`), with
-//! `NO_STORED_CACHE=1` the stored cuts left in the file (`Frame::set_stored_cache`); `FIELD_REACH=R`
-//! sets how far fields reach, in radii (`Frame::set_field_reach`); `FLAT_EDGE_LEAVES=N` how
-//! finely a ground's cut follows its edges (`Frame::set_flat_edge_leaves`; `interactive`:
-//! `Frame::interactive_flat_edge_leaves`). Over the path it prints the
-//! merged cuts' nodes per re-merged vertex, the merge's nanoseconds per node and the move's
-//! microseconds per re-merged vertex. Last, a
-//! lighting change (`relight_ms`: light tree and the shading lists facing the eye; a merge of
-//! those without the merged cache), the camera turned to the other side after it (`turn_ms`:
-//! the lists it now sees), a BRDF edit (`edit_ms`: the exponent changed, every vertex shaded)
-//! and the frame's memory (`frame_memory_mb`; `setup_peak_mb`: the peak of opening the file and
-//! setting the frame up, over the memory before, with the caches asked off off from the start).
+//! `cargo run --release -p vcut-shade --example move_path -- FILE.vcuts [OBJECT] [STEPS]
+//! [FRAME OPTIONS]`: the frame takes the options `vcuts render` takes for its settings
+//! (`--eager-merges`, `--no-cache stored,svc,cells,merged`, `--field-reach R`,
+//! `--flat-edge-leaves N|interactive`, `--no-sun-rays`, …; `FrameArgs`). `--vs-index` also times
+//! the index baseline over the same path (`index_move_ms`, move + shade), between two rounds of
+//! the frame's own merge, for a ratio in one run; `--cold` times the frame's first path (by
+//! default a first round over it comes before, so the timed one sees a warm frame). The
+//! environment variables of earlier versions still set the same: `EAGER=1`, `NO_SVC_CACHE=1`,
+//! `NO_SUN_RAYS=1`, `NO_MERGED_CACHE=1`, `NO_CELL_CACHE=1`, `NO_STORED_CACHE=1`, `FIELD_REACH=R`,
+//! `FLAT_EDGE_LEAVES=N`, `VS_INDEX=1`, `COLD=1`. Over the path it prints the merged cuts' nodes
+//! per re-merged vertex, the merge's nanoseconds per node and the move's microseconds per
+//! re-merged vertex. Last, a lighting change (`relight_ms`: light tree and the shading lists
+//! facing the eye; a merge of those without the merged cache), the camera turned to the other
+//! side after it (`turn_ms`: the lists it now sees), a BRDF edit (`edit_ms`: the exponent
+//! changed, every vertex shaded) and the frame's memory (`frame_memory_mb`; `setup_peak_mb`: the
+//! peak of opening the file and setting the frame up, over the memory before, with the caches
+//! asked off off from the start).
 
+use clap::Parser;
 use glam::Vec3;
-use std::path::Path;
+use std::path::PathBuf;
 use std::time::Instant;
 use vcut_data::Precomputed;
 use vcut_envmap::procedural;
 use vcut_scene::budget::{peak_memory, reset_peak_memory, resident_memory, trim_heap};
 use vcut_shade::measure::{edit_ms, first_movable, median, path_step};
-use vcut_shade::{FlatEdges, Frame, FrameCaches, MergeAlgorithm};
+use vcut_shade::{Frame, FrameArgs, FrameSettings, MergeAlgorithm};
+
+/// The arguments: the file, the object and the steps, the frame's settings.
+#[derive(Parser)]
+struct Args {
+    /// The precomputed file.
+    file: PathBuf,
+    /// The object moved (default: the first movable one).
+    object: Option<String>,
+    /// Steps of the path.
+    #[arg(default_value_t = 8)]
+    steps: usize,
+    /// Also time the index baseline over the same path.
+    #[arg(long)]
+    vs_index: bool,
+    /// Time the frame's first path (no warm-up round).
+    #[arg(long)]
+    cold: bool,
+    #[command(flatten)]
+    frame: FrameArgs,
+}
 
 /// User + system CPU seconds of this process so far (Linux, whose clock ticks are 1/100 s;
 /// `None` elsewhere).
@@ -45,65 +61,68 @@ fn cpu_seconds() -> Option<f64> {
     Some(ticks / 100.0)
 }
 
+/// The settings the options ask for, with the environment variables of earlier versions.
+fn settings(args: &FrameArgs) -> Result<FrameSettings, String> {
+    let mut s = args.settings();
+    let set = |name: &str| std::env::var_os(name).is_some();
+    for (var, cache) in [
+        ("NO_STORED_CACHE", "stored"),
+        ("NO_SVC_CACHE", "svc"),
+        ("NO_CELL_CACHE", "cells"),
+        ("NO_MERGED_CACHE", "merged"),
+    ] {
+        if set(var) {
+            s.caches = s.caches.without(cache).unwrap_or(s.caches);
+        }
+    }
+    s.deferred_merges &= !set("EAGER");
+    s.sun_rays &= !set("NO_SUN_RAYS");
+    if let Some(r) = std::env::var_os("FIELD_REACH") {
+        s.field_reach = r.to_string_lossy().parse().map_err(|e| format!("FIELD_REACH: {e}"))?;
+    }
+    if let Some(n) = std::env::var_os("FLAT_EDGE_LEAVES") {
+        s.flat_edge_leaves = n.to_string_lossy().parse().map_err(|e| format!("FLAT_EDGE_LEAVES: {e}"))?;
+    }
+    Ok(s)
+}
+
 fn main() -> Result<(), String> {
-    let args: Vec<String> = std::env::args().skip(1).collect();
-    let file = args.first().ok_or("usage: move_path FILE.vcuts [OBJECT] [STEPS]")?;
+    let args = Args::parse();
     let env = procedural::PreethamSky::default().bake(1024);
+    let settings = settings(&args.frame)?;
     // The caches asked off are off from the setup on, so that its peak holds none of them.
-    let off = |name: &str| std::env::var_os(name).is_some();
-    let caches = FrameCaches {
-        stored: !off("NO_STORED_CACHE"),
-        svc: !off("NO_SVC_CACHE"),
-        cells: !off("NO_CELL_CACHE"),
-        merged: !off("NO_MERGED_CACHE"),
-    };
     trim_heap();
     let (before, fresh) = (resident_memory(), reset_peak_memory());
-    let mut data = Precomputed::open(Path::new(file)).map_err(|e| e.to_string())?;
+    let mut data = Precomputed::open(&args.file).map_err(|e| e.to_string())?;
     let t = Instant::now();
-    let mut frame = Frame::with_caches(&mut data, &env, caches).map_err(|e| e.to_string())?;
+    let mut frame = Frame::open(&mut data, &env, &settings, None).map_err(|e| e.to_string())?;
     println!("setup_s={:.3}", t.elapsed().as_secs_f64());
     if let (Some(b), Some(p), true) = (before, peak_memory(), fresh) {
         // The file opened and the frame set up, over the memory before.
         println!("setup_peak_mb={:.1}", p.saturating_sub(b) as f64 / 1e6);
     }
-    if off("NO_SUN_RAYS") {
-        frame.set_sun_rays(None);
-    }
-    println!("sun_leaves={}", frame.sun_leaves());
-    println!("svc_cache_mb={:.1}", frame.svc_cache_bytes() as f64 / 1e6);
-    if let Some(r) = std::env::var_os("FIELD_REACH") {
-        let r: f32 = r.to_string_lossy().parse().map_err(|e| format!("FIELD_REACH: {e}"))?;
-        frame.set_field_reach(Some(r)).map_err(|e| e.to_string())?;
-    }
-    if let Some(n) = std::env::var_os("FLAT_EDGE_LEAVES") {
-        let n = n.to_string_lossy().parse::<FlatEdges>().map_err(|e| format!("FLAT_EDGE_LEAVES: {e}"))?.leaves(&frame);
-        frame.set_flat_edge_leaves(n).map_err(|e| e.to_string())?;
-        println!("flat_edge_leaves={n}");
-    }
-    if std::env::var_os("EAGER").is_some() {
-        frame.set_deferred_merges(false).map_err(|e| e.to_string())?;
-    }
-    let o = match args.get(1) {
+    println!("sun_leaves={}", frame.stats().sun_leaves);
+    println!("svc_cache_mb={:.1}", frame.memory().svc_cache as f64 / 1e6);
+    println!("flat_edge_leaves={}", settings.flat_edge_leaves.leaves(frame.tree().leaf_count()));
+    let o = match &args.object {
         Some(name) => frame.object_index(name).ok_or(format!("no object {name}"))?,
         None => first_movable(&frame).ok_or("nothing movable")?,
     };
-    let steps: usize = args.get(2).map(|s| s.parse().map_err(|e| format!("STEPS: {e}"))).transpose()?.unwrap_or(8);
+    let steps = args.steps;
     let step = path_step(&frame, o);
     let eye = Vec3::new(0.0, 2.0, 6.0);
     let mut rows: Vec<[f64; 7]> = Vec::new();
     // The path, then (with VS_INDEX set) the index baseline over it and the path again: the
     // machine's speed drifts, the ratio of the two in one run does not.
     // `COLD=1`: no round before the timed one (the path's first drag, as the bench times it).
-    let rounds =
-        if std::env::var_os("VS_INDEX").is_some() { 3 } else { usize::from(std::env::var_os("COLD").is_none()) };
+    let vs_index = args.vs_index || std::env::var_os("VS_INDEX").is_some();
+    let cold = args.cold || std::env::var_os("COLD").is_some();
+    let rounds = if vs_index { 3 } else { usize::from(!cold) };
+    let own = frame.settings().clone();
+    let index = FrameSettings { merge_algorithm: MergeAlgorithm::Index, ..own.clone() };
     let mut index_ms = Vec::new();
     for round in 0..rounds {
-        if round == 1 {
-            frame.set_merge_algorithm(MergeAlgorithm::Index).map_err(|e| e.to_string())?;
-        } else {
-            frame.set_merge_algorithm(MergeAlgorithm::Counter).map_err(|e| e.to_string())?;
-        }
+        frame.reconfigure(if round == 1 { &index } else { &own }).map_err(|e| e.to_string())?;
         frame.translate(o, Vec3::ZERO).map_err(|e| e.to_string())?;
         for i in 1..=steps {
             let t = Instant::now();
@@ -114,7 +133,7 @@ fn main() -> Result<(), String> {
             }
         }
     }
-    frame.set_merge_algorithm(MergeAlgorithm::Counter).map_err(|e| e.to_string())?;
+    frame.reconfigure(&own).map_err(|e| e.to_string())?;
     frame.translate(o, Vec3::ZERO).map_err(|e| e.to_string())?;
     let (cpu0, wall0) = (cpu_seconds(), Instant::now());
     let mut totals = (0usize, 0usize, 0.0f64, 0.0f64);
@@ -125,7 +144,7 @@ fn main() -> Result<(), String> {
         let t = Instant::now();
         std::hint::black_box(frame.shade(eye));
         let shade_ms = t.elapsed().as_secs_f64() * 1e3;
-        let m = frame.last_move();
+        let m = frame.stats().last_move;
         let row =
             [move_ms, m.keys_s * 1e3, m.decode_s * 1e3, m.refine_s * 1e3, m.merge_s * 1e3, shade_ms, m.sun_s * 1e3];
         println!(

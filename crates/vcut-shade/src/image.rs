@@ -66,7 +66,7 @@ pub fn rasterize(
     let mut target = Target::new(w, h);
     for (o, rad) in radiance.iter().enumerate().take(frame.object_count()) {
         let crate::FrameObject { mesh, .. } = frame.object(o);
-        let clip: Vec<Vec4> = frame.positions(o).iter().map(|p| vp * p.extend(1.0)).collect();
+        let clip: Vec<Vec4> = frame.object(o).positions().iter().map(|p| vp * p.extend(1.0)).collect();
         for t in mesh.triangles() {
             target.triangle(t.map(|i| clip[i as usize]), t.map(|i| rad[i as usize]));
         }
@@ -139,7 +139,7 @@ pub fn albedo_image(frame: &Frame, camera: &Camera, width: u32, height: u32) -> 
     for (c, (&covered, uv)) in image.rgb.iter_mut().zip(image.covered.iter().zip(&uv.rgb)) {
         *c = if covered {
             let o = (c.x.round() as usize).min(frame.object_count().saturating_sub(1));
-            frame.albedo_at(o, frame.object(o).mesh.uvs().map(|_| uv.truncate()))
+            frame.object(o).albedo_at(frame.object(o).mesh.uvs().map(|_| uv.truncate()))
         } else {
             Vec3::ZERO
         };
@@ -212,7 +212,7 @@ pub fn write_ply(frame: &Frame, radiance: &[Vec<Vec3>], path: &Path) -> Result<(
     let mut faces = Vec::new();
     for (o, rad) in radiance.iter().enumerate().take(frame.object_count()) {
         let crate::FrameObject { mesh, .. } = frame.object(o);
-        for ((p, n), c) in frame.positions(o).iter().zip(mesh.normals()).zip(rad) {
+        for ((p, n), c) in frame.object(o).positions().iter().zip(mesh.normals()).zip(rad) {
             for x in [p.x, p.y, p.z, n.x, n.y, n.z, c.x, c.y, c.z] {
                 body.extend_from_slice(&x.to_le_bytes());
             }

@@ -22,7 +22,7 @@
 //! use vcut_shade::frame::Frame;
 //! let mut data = Precomputed::open(std::path::Path::new("target/vcuts/teapot-fast.vcuts")).unwrap();
 //! let sky = vcut_envmap::procedural::PreethamSky::default().bake(512);
-//! let mut frame = Frame::new(&mut data, &sky).unwrap();
+//! let mut frame = Frame::open(&mut data, &sky, &vcut_shade::FrameSettings::default(), None).unwrap();
 //! let teapot = frame.object_index("teapot").unwrap();
 //! frame.translate(teapot, glam::Vec3::new(1.0, 0.0, 0.0)).unwrap();
 //! let radiance = frame.shade(glam::Vec3::new(5.0, 6.0, 10.0));
@@ -38,8 +38,10 @@ pub mod passes;
 pub mod reference;
 pub mod sun;
 
+#[cfg(feature = "clap")]
+pub use frame::FrameArgs;
 pub use frame::{
-    CutFailure, FIELD_REACH, FlatEdges, Frame, FrameCaches, FrameError, FrameMemory, FrameObject,
-    INTERACTIVE_EDGE_SHARE, LightChoice, MergeAlgorithm, MoveTiming, Parts,
+    CutFailure, FIELD_REACH, FieldReach, FlatEdges, Frame, FrameCaches, FrameError, FrameMemory, FrameObject,
+    FrameSettings, FrameStats, INTERACTIVE_EDGE_SHARE, LightChoice, MergeAlgorithm, MoveTiming, Parts, SettingError,
 };
 pub use sun::SunRays;

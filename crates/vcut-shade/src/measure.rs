@@ -2,7 +2,7 @@
 //! sweeps and the `move_path` example — so they time the same work: a move along a fixed path,
 //! a BRDF edit, a camera turn after a move. Medians, not means: the machines are shared.
 
-use crate::{Frame, FrameError, MergeAlgorithm, MoveTiming};
+use crate::{Frame, FrameError, FrameSettings, MergeAlgorithm, MoveTiming};
 use glam::Vec3;
 use std::time::Instant;
 use vcut_scene::{Material, Motion};
@@ -84,7 +84,7 @@ impl PathTiming {
 }
 
 /// Moves object `o` from rest along `steps` steps of [`path_step`] with `algorithm`, shading
-/// from `eye` after each, then back to rest (with the counter merge again).
+/// from `eye` after each, then back to rest (with the frame's own merge again).
 pub fn move_path(
     frame: &mut Frame,
     o: usize,
@@ -93,7 +93,8 @@ pub fn move_path(
     steps: usize,
 ) -> Result<PathTiming, FrameError> {
     let step = path_step(frame, o);
-    frame.set_merge_algorithm(algorithm)?;
+    let own = frame.settings().clone();
+    frame.reconfigure(&FrameSettings { merge_algorithm: algorithm, ..own.clone() })?;
     frame.translate(o, Vec3::ZERO)?;
     let (mut times, mut merge_ms, mut merged, mut deferred, mut timings) = (Vec::new(), Vec::new(), 0, 0, Vec::new());
     for i in 1..=steps {
@@ -101,12 +102,12 @@ pub fn move_path(
         merged += frame.translate(o, step * i as f32)?;
         std::hint::black_box(frame.shade(eye));
         times.push(t.elapsed().as_secs_f64() * 1e3);
-        merge_ms.push(frame.last_move().merge_s * 1e3);
-        deferred += frame.last_move().deferred;
-        timings.push(frame.last_move());
+        merge_ms.push(frame.stats().last_move.merge_s * 1e3);
+        deferred += frame.stats().last_move.deferred;
+        timings.push(frame.stats().last_move);
     }
     frame.translate(o, Vec3::ZERO)?;
-    frame.set_merge_algorithm(MergeAlgorithm::Counter)?;
+    frame.reconfigure(&own)?;
     let n = steps.max(1);
     Ok(PathTiming { move_ms: median(times), merge_ms, merged: merged / n, deferred: deferred / n, steps: timings })
 }

@@ -112,7 +112,7 @@ pub fn render_passes(
                     (0..frame.object_count())
                         .map(|o| {
                             let depth = |p: &Vec3| Vec3::splat((*p - camera.position).dot(forward));
-                            frame.positions(o).iter().map(depth).collect()
+                            frame.object(o).positions().iter().map(depth).collect()
                         })
                         .collect(),
                 ),

@@ -25,7 +25,7 @@ fn moved_occluder(frame: &Frame) -> Occluder {
     let moved: Vec<Mesh> = (0..frame.object_count())
         .map(|o| {
             let crate::FrameObject { mesh, .. } = frame.object(o);
-            Mesh::from_valid_parts(frame.positions(o), mesh.normals().to_vec(), mesh.triangles().to_vec())
+            Mesh::from_valid_parts(frame.object(o).positions(), mesh.normals().to_vec(), mesh.triangles().to_vec())
                 .unwrap_or_else(|e| unreachable!("a translated valid mesh stays valid: {e}"))
         })
         .collect();
@@ -38,7 +38,7 @@ pub fn exact_direction(frame: &Frame, eye: Vec3, origin_offset: f32) -> Vec<Vec<
     let reference = ExactReference::new(frame, origin_offset);
     (0..frame.object_count())
         .map(|o| {
-            let positions = frame.positions(o);
+            let positions = frame.object(o).positions();
             (0..positions.len()).into_par_iter().map(|v| reference.vertex(frame, o, v, positions[v], eye)).collect()
         })
         .collect()
@@ -58,13 +58,13 @@ impl ExactReference {
     }
 
     /// Outgoing radiance toward `eye` of vertex `v` of object `o`, at world position `x` (its
-    /// current position, as `frame.positions(o)[v]`).
+    /// current position, as `frame.object(o).positions()[v]`).
     pub fn vertex(&self, frame: &Frame, o: usize, v: usize, x: Vec3, eye: Vec3) -> Vec3 {
         let crate::FrameObject { mesh, .. } = frame.object(o);
-        let material = frame.material(o, v);
+        let material = frame.object(o).vertex_material(v);
         let offset = origin_offset(self.origin_offset, mesh);
         let n = mesh.normals()[v];
-        if !frame.seen(o, v, eye) {
+        if !frame.object(o).seen(v, eye) {
             return Vec3::ZERO;
         }
         let leaves = frame.tree().leaf_directions();
@@ -167,16 +167,16 @@ pub fn monte_carlo(
         .map(|o| {
             let crate::FrameObject { mesh, .. } = frame.object(o);
             let offset = vcut_rays::origin_offset(origin_offset, mesh);
-            let positions = frame.positions(o);
+            let positions = frame.object(o).positions();
             (0..positions.len())
                 .into_par_iter()
                 .map(|v| {
                     let (x, n) = (positions[v], mesh.normals()[v]);
-                    if !frame.seen(o, v, eye) {
+                    if !frame.object(o).seen(v, eye) {
                         return (Vec3::ZERO, 0, false);
                     }
                     let wo = brdf::view_direction(n, x, eye);
-                    let material = frame.material(o, v);
+                    let material = frame.object(o).vertex_material(v);
                     let origin = vcut_rays::origin(x, n, offset);
                     let mut rng = SplitMix64::new(params.seed ^ ((o as u64) << 40) ^ v as u64);
                     let (mut sum, mut lum, mut lum2, mut count) = (glam::DVec3::ZERO, 0.0f64, 0.0f64, 0u64);

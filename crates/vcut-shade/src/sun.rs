@@ -1,5 +1,5 @@
 //! **The sun by rays**: the frame's default beside the paper's cuts
-//! ([`crate::Frame::set_sun_rays`]; `None` carries the sun through the cuts too, as the paper).
+//! ([`crate::FrameSettings::sun_rays`]; off carries the sun through the cuts too, as the paper).
 //!
 //! A sun is a step in the light: its shadow edge is a step in every field that sees it, and
 //! trilinear interpolation between field samples blurs that step over one sample spacing. On

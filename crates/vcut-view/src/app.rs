@@ -315,7 +315,7 @@ fn panel(
             let choice = session.frame().light_choice();
             let label = format!(
                 "sun by rays ({} leaves, {:.1} rays/vertex)",
-                session.frame().sun_leaves(),
+                session.frame().stats().sun_leaves,
                 choice.rays_per_vertex()
             );
             let hover = format!(
@@ -324,17 +324,21 @@ fn panel(
                 100.0 * choice.estimate_cuts
             );
             if ui.checkbox(&mut sun_rays, label).on_hover_text(hover).changed() {
-                session.set_sun_rays(sun_rays);
+                if let Err(e) = session.set_sun_rays(sun_rays) {
+                    actions.error = Some(e.to_string());
+                }
                 actions.changed = true;
             }
-            let interactive = session.frame().interactive_flat_edge_leaves();
-            let mut estimated = session.frame().flat_edge_leaves() > 1;
+            let directions = session.frame().tree().leaf_count();
+            let interactive = vcut_shade::FlatEdges::Interactive.leaves(directions);
+            let mut estimated = session.settings().flat_edge_leaves.leaves(directions) > 1;
             let label = format!("ground edges estimated ({interactive} directions a node)");
             let hover = "a ground's shadow estimated across its edges instead of cut to single directions: \
                          about half a drag's time at the paper preset, +0.02 to 0.05 point of error";
             let edges = ui.add_enabled(interactive > 1, egui::Checkbox::new(&mut estimated, label));
             if edges.on_hover_text(hover).changed() {
-                if let Err(e) = session.set_flat_edge_leaves(if estimated { interactive } else { 1 }) {
+                let edges = if estimated { vcut_shade::FlatEdges::Interactive } else { vcut_shade::FlatEdges::Leaves(1) };
+                if let Err(e) = session.set_flat_edge_leaves(edges) {
                     actions.error = Some(e.to_string());
                 }
                 actions.changed = true;
@@ -342,7 +346,9 @@ fn panel(
             let mut target = 100.0 * session.light_error();
             let slider = egui::Slider::new(&mut target, 0.02..=5.0).logarithmic(true).text("light error target %");
             if ui.add_enabled(sun_rays, slider).changed() {
-                session.set_light_error(target / 100.0);
+                if let Err(e) = session.set_light_error(target / 100.0) {
+                    actions.error = Some(e.to_string());
+                }
                 actions.changed = true;
             }
             let mut auto = session.exposure.is_none();

@@ -8,9 +8,9 @@ use rayon::prelude::*;
 use std::time::{Duration, Instant};
 use vcut_envmap::EnvMap;
 use vcut_scene::{Material, Motion};
-use vcut_shade::Frame;
 use vcut_shade::image::{auto_exposure, rasterize};
 use vcut_shade::reference::ExactReference;
+use vcut_shade::{FlatEdges, Frame, FrameSettings};
 
 /// What the image shows.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -84,7 +84,7 @@ pub struct Timings {
     /// Vertices re-merged by the last move.
     pub merged_vertices: usize,
     /// Vertices the last camera turn merged: those a move left facing away
-    /// (`Frame::set_deferred_merges`).
+    /// (`FrameSettings::deferred_merges`).
     pub turn_merged: usize,
 
     /// Last shading pass (all vertices toward the eye).
@@ -135,8 +135,6 @@ pub struct Session {
     env: EnvMap,
     env_name: String,
     env_rotation_deg: f32,
-    /// What "sun by rays" casts ([`Session::set_light_error`]).
-    sun_rays: vcut_shade::SunRays,
     env_version: u64,
     /// Display exposure (a factor before tone mapping); `None`: automatic.
     pub exposure: Option<f32>,
@@ -166,11 +164,9 @@ impl Session {
     /// surface, as `Precomputed::svc_origin_offset`), lit by `env` called `env_name`.
     pub fn new(frame: Frame, env: EnvMap, env_name: &str, origin_offset: f32, camera: OrbitCamera) -> Session {
         let selected = (0..frame.object_count()).find(|&o| frame.object(o).motion == Motion::Movable);
-        let frame_rays = frame.sun_rays().unwrap_or_default();
         let mut s = Session {
             frame,
             env_rotation_deg: 0.0,
-            sun_rays: frame_rays,
             env,
             env_name: env_name.into(),
             env_version: 0,
@@ -318,52 +314,52 @@ impl Session {
         }
     }
 
+    /// The frame's settings ([`vcut_shade::FrameSettings`]).
+    pub fn settings(&self) -> &FrameSettings {
+        self.frame.settings()
+    }
+
+    /// Changes the frame's settings (`Frame::reconfigure`: it merges only what they change) and
+    /// re-shades; the time goes to `timings.light_ms` (a settings change is not a move).
+    pub fn reconfigure(&mut self, settings: &FrameSettings) -> Result<(), SessionError> {
+        if settings == self.frame.settings() {
+            return Ok(());
+        }
+        let start = Instant::now();
+        self.frame.reconfigure(settings)?;
+        self.timings.light_ms = start.elapsed().as_secs_f64() * 1e3;
+        self.invalidate_shading();
+        self.update();
+        Ok(())
+    }
+
     /// Whether the sun's leaves are cast by rays (see `vcut_shade::sun`).
     pub fn sun_rays(&self) -> bool {
-        self.frame.sun_rays().is_some()
+        self.frame.settings().sun_rays
     }
 
     /// Casts the light's brightest leaves by rays at run time (`on`, the frame's default) or
     /// carries all light through the cuts, as the paper (no merge either way).
-    pub fn set_sun_rays(&mut self, on: bool) {
-        if on != self.sun_rays() {
-            let start = Instant::now();
-            self.frame.set_sun_rays(on.then_some(self.sun_rays));
-            self.timings.light_ms = start.elapsed().as_secs_f64() * 1e3;
-            self.invalidate_shading();
-            self.update();
-        }
+    pub fn set_sun_rays(&mut self, on: bool) -> Result<(), SessionError> {
+        self.reconfigure(&FrameSettings { sun_rays: on, ..self.settings().clone() })
     }
 
-    /// How finely a ground's shadow follows its edges: `Frame::set_flat_edge_leaves` (1, the
-    /// default, exact; `Frame::interactive_flat_edge_leaves` is the setting measured for
-    /// drags). Re-merges the vertices a ground shadows (not counted as a move's timing).
-    pub fn set_flat_edge_leaves(&mut self, leaves: u32) -> Result<(), SessionError> {
-        if self.frame.set_flat_edge_leaves(leaves)? > 0 {
-            self.invalidate_shading();
-            self.update();
-        }
-        Ok(())
+    /// How finely a ground's shadow follows its edges ([`FlatEdges`]: 1, the default, exact;
+    /// `interactive` the setting measured for drags). Re-merges the vertices a ground shadows
+    /// (not counted as a move's timing).
+    pub fn set_flat_edge_leaves(&mut self, edges: FlatEdges) -> Result<(), SessionError> {
+        self.reconfigure(&FrameSettings { flat_edge_leaves: edges, ..self.settings().clone() })
     }
 
     /// The target error of the light left in the cuts (`vcut_shade::SunRays::target`).
     pub fn light_error(&self) -> f64 {
-        self.sun_rays.target
+        self.frame.sun_rays().target
     }
 
     /// Sets the target error of the light left in the cuts and, with sun rays on, chooses and
-    /// casts the leaves again (no merge). Values outside (0, 1) are ignored.
-    pub fn set_light_error(&mut self, target: f64) {
-        if target.is_finite() && target > 0.0 && target < 1.0 && target != self.sun_rays.target {
-            self.sun_rays.target = target;
-            if self.sun_rays() {
-                let start = Instant::now();
-                self.frame.set_sun_rays(Some(self.sun_rays));
-                self.timings.light_ms = start.elapsed().as_secs_f64() * 1e3;
-                self.invalidate_shading();
-                self.update();
-            }
-        }
+    /// casts the leaves again (no merge). A value outside (0, 1) is an error naming it.
+    pub fn set_light_error(&mut self, target: f64) -> Result<(), SessionError> {
+        self.reconfigure(&FrameSettings { light_error: Some(target), ..self.settings().clone() })
     }
 
     fn relight(&mut self) {
@@ -446,7 +442,7 @@ impl Session {
                 continue;
             }
             let v1 = (v0 + chunk).min(r.values[o].len());
-            let positions = frame.positions(o);
+            let positions = frame.object(o).positions();
             let exact = &r.exact;
             let got: Vec<Vec3> =
                 (v0..v1).into_par_iter().map(|v| exact.vertex(frame, o, v, positions[v], eye)).collect();
@@ -537,7 +533,7 @@ impl Session {
             let objects: Vec<vcut_ssdo::Object> = (0..frame.object_count())
                 .map(|o| {
                     let vcut_shade::FrameObject { mesh, translation, .. } = frame.object(o);
-                    vcut_ssdo::Object::from_mesh(mesh, translation, frame.mean_albedo(o))
+                    vcut_ssdo::Object::from_mesh(mesh, translation, frame.object(o).mean_albedo())
                 })
                 .collect();
             let light = vcut_ssdo::Lighting::new(env, &objects, 16);
@@ -549,7 +545,7 @@ impl Session {
 
     /// The object and distance hit first by the ray (`origin`, `dir`), at current positions.
     pub fn pick(&self, origin: Vec3, dir: Vec3) -> Option<(usize, f32)> {
-        let placed: Vec<Vec<Vec3>> = (0..self.frame.object_count()).map(|o| self.frame.positions(o)).collect();
+        let placed: Vec<Vec<Vec3>> = (0..self.frame.object_count()).map(|o| self.frame.object(o).positions()).collect();
         let objects = placed.iter().enumerate().map(|(o, p)| (self.frame.object(o).mesh.triangles(), p.as_slice()));
         vcut_rays::pick(objects, origin, dir)
     }
@@ -579,7 +575,7 @@ impl crate::render::Meshes for Session {
             .enumerate()
             .map(|(o, colours)| {
                 let object = self.frame.object(o);
-                let positions = self.frame.positions(o);
+                let positions = self.frame.object(o).positions();
                 match (object.textures.base_colour.as_ref(), object.mesh.uvs()) {
                     (Some(_), Some(uvs)) if per_pixel => {
                         let kd = Vec3::from(object.material.kd);

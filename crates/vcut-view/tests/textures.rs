@@ -146,11 +146,11 @@ fn a_metallic_roughness_texture_varies_the_brdf_per_vertex() {
     assert_eq!((left.len(), right.len()), (17, 17));
     let loaded = *s.frame().object(quad).material;
     for &v in &left {
-        let m = s.frame().material(quad, v);
+        let m = s.frame().object(quad).vertex_material(v);
         assert!(m.kd[0] > 0.25 && (m.ks[0] - 0.04).abs() < 1e-6 && m.roughness > 0.9, "left {v}: {m:?}");
     }
     for &v in &right {
-        let m = s.frame().material(quad, v);
+        let m = s.frame().object(quad).vertex_material(v);
         assert!(
             m.kd[0] < 1e-6 && m.ks[0] > 0.25 && (m.roughness - (180.0f32 / 255.0).powi(2)).abs() < 1e-4,
             "right {v}: {m:?}"
@@ -176,7 +176,7 @@ fn a_metallic_roughness_texture_varies_the_brdf_per_vertex() {
     // The exact reference shades each vertex with its own material too.
     let eye = s.camera.eye();
     let exact = vcut_shade::reference::ExactReference::new(s.frame(), s.origin_offset());
-    let positions = s.frame().positions(quad);
+    let positions = s.frame().object(quad).positions();
     for (name, vs) in [("dielectric", &left), ("metal", &right)] {
         let pairs = vs.iter().map(|&v| (s.radiance()[quad][v], exact.vertex(s.frame(), quad, v, positions[v], eye)));
         let (rel, _) = vcut_shade::reference::relative_errors(pairs);
@@ -184,11 +184,11 @@ fn a_metallic_roughness_texture_varies_the_brdf_per_vertex() {
         assert!(rel < 0.1, "{name}: {rel}");
     }
     // An edit overrides the texture everywhere; the loaded material brings it back.
-    let textured = *s.frame().material(quad, right[0]);
+    let textured = *s.frame().object(quad).vertex_material(right[0]);
     let mut edited = loaded;
     edited.roughness = 0.9;
     s.set_material(quad, edited);
-    assert_eq!(s.frame().material(quad, right[0]).roughness, 0.9);
+    assert_eq!(s.frame().object(quad).vertex_material(right[0]).roughness, 0.9);
     s.set_material(quad, loaded);
-    assert_eq!(*s.frame().material(quad, right[0]), textured);
+    assert_eq!(*s.frame().object(quad).vertex_material(right[0]), textured);
 }

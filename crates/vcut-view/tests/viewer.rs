@@ -45,46 +45,46 @@ fn a_move_a_brdf_edit_and_a_rotation_each_change_the_frame_and_only_a_move_merge
     let (ground, ball) = (s.frame().object_index("ground").unwrap(), s.frame().object_index("ball").unwrap());
     assert_eq!(s.selected, Some(ball), "the movable object is selected first");
     let rest = s.radiance().to_vec();
-    let merges = s.frame().merges();
+    let merges = s.frame().stats().merges;
 
     // Drag the ball sideways: its shadow on the ground moves (ground radiance changes), and the
     // move re-merges some vertices.
     s.translate(ball, Vec3::new(0.8, 0.0, 0.0)).unwrap();
     let moved = s.radiance().to_vec();
-    assert!(s.frame().merges() > merges && s.timings.merged_vertices > 0);
+    assert!(s.frame().stats().merges > merges && s.timings.merged_vertices > 0);
     let dg = max_change(&rest, &moved, ground);
     assert!(dg > 0.05 * rest[ground].iter().map(|c| c.max_element()).fold(0.0, f32::max), "ground change {dg}");
 
     // Blinn-Phong exponent 15 → 70: the ball changes, nothing merges.
-    let merges = s.frame().merges();
+    let merges = s.frame().stats().merges;
     let mut m = *s.frame().object(ball).material;
     m.exponent = 70.0;
     s.set_material(ball, m);
     let edited = s.radiance().to_vec();
-    assert_eq!(s.frame().merges(), merges, "a BRDF edit merges nothing");
+    assert_eq!(s.frame().stats().merges, merges, "a BRDF edit merges nothing");
     assert!(max_change(&moved, &edited, ball) > 0.0);
     assert_eq!(max_change(&moved, &edited, ground), 0.0, "the Lambert ground does not change");
 
     // Rotating the sky moves the sun: everything changes, nothing merges.
     s.set_env_rotation(90.0);
     let rotated = s.radiance().to_vec();
-    assert_eq!(s.frame().merges(), merges, "a rotation merges nothing");
+    assert_eq!(s.frame().stats().merges, merges, "a rotation merges nothing");
     assert!(max_change(&edited, &rotated, ground) > 0.0);
     assert!(s.timings.light_ms > 0.0);
 
     // The sun through the cuts instead of by rays (the default): the ground's sun shadow
     // changes, nothing merges; by rays again, as before.
-    assert!(s.sun_rays() && s.frame().sun_leaves() > 0);
-    s.set_sun_rays(false);
-    assert!(!s.sun_rays() && s.frame().sun_leaves() == 0);
+    assert!(s.sun_rays() && s.frame().stats().sun_leaves > 0);
+    s.set_sun_rays(false).unwrap();
+    assert!(!s.sun_rays() && s.frame().stats().sun_leaves == 0);
     assert!(max_change(&rotated, s.radiance(), ground) > 0.0);
-    assert_eq!(s.frame().merges(), merges, "the sun's rays merge nothing");
-    s.set_sun_rays(true);
+    assert_eq!(s.frame().stats().merges, merges, "the sun's rays merge nothing");
+    s.set_sun_rays(true).unwrap();
     assert_eq!(s.radiance(), rotated.as_slice());
 
     // Turning the camera to the far side merges what the move left facing away (and only
     // that); turning back merges nothing.
-    let merges = s.frame().merges();
+    let merges = s.frame().stats().merges;
     let waiting = s.frame().pending_merges();
     assert!(waiting > 0, "the drag left the ball's far side for later");
     let yaw = s.camera.yaw;
@@ -92,24 +92,24 @@ fn a_move_a_brdf_edit_and_a_rotation_each_change_the_frame_and_only_a_move_merge
     s.update();
     let turned = s.timings.turn_merged;
     assert!(turned > 0 && turned <= waiting, "{turned} of {waiting}");
-    assert_eq!(s.frame().merges(), merges + turned as u64);
+    assert_eq!(s.frame().stats().merges, merges + turned as u64);
     assert_eq!(s.frame().pending_merges(), waiting - turned);
     s.camera.yaw = yaw;
     s.update();
-    assert_eq!((s.timings.turn_merged, s.frame().merges()), (0, merges + turned as u64));
+    assert_eq!((s.timings.turn_merged, s.frame().stats().merges), (0, merges + turned as u64));
 
     // A ground's shadow estimated across its edges (the interactive setting: 4 of the 1,024
     // directions a node) changes the ball, which the ground shadows; exact again, as before
     // (the setting merges the vertices the drag left waiting too). A setting that is not a
     // power of two is refused by name.
     let turned_back = s.radiance().to_vec();
-    assert_eq!(s.frame().interactive_flat_edge_leaves(), 4);
-    s.set_flat_edge_leaves(4).unwrap();
+    assert_eq!(vcut_shade::FlatEdges::Interactive.leaves(s.frame().tree().leaf_count()), 4);
+    s.set_flat_edge_leaves(vcut_shade::FlatEdges::Leaves(4)).unwrap();
     assert!(max_change(&turned_back, s.radiance(), ball) > 0.0);
-    s.set_flat_edge_leaves(1).unwrap();
+    s.set_flat_edge_leaves(vcut_shade::FlatEdges::Leaves(1)).unwrap();
     assert_eq!(s.radiance(), turned_back.as_slice());
-    let e = s.set_flat_edge_leaves(3).unwrap_err().to_string();
-    assert!(e.contains("flat edge leaves = 3"), "{e}");
+    let e = s.set_flat_edge_leaves(vcut_shade::FlatEdges::Leaves(3)).unwrap_err().to_string();
+    assert!(e.contains("flat_edge_leaves = 3"), "{e}");
 
     // Moving back restores the merged cuts bit for bit.
     s.set_env_rotation(0.0);

@@ -14,7 +14,7 @@ use vcut_envmap::EnvMap;
 use vcut_envmap::procedural::{PreethamSky, Studio};
 use vcut_shade::measure::{edit_ms, move_path, path_step};
 use vcut_shade::reference::{MonteCarloParams, errors, exact_direction, monte_carlo};
-use vcut_shade::{Frame, MergeAlgorithm, SunRays};
+use vcut_shade::{Frame, FrameSettings, MergeAlgorithm};
 
 /// One scene, preset, map and pose.
 #[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
@@ -249,13 +249,15 @@ pub fn measure_map(
     mut mc: Option<(&mut McCache, &MonteCarloParams)>,
 ) -> Result<Vec<AccuracyRow>> {
     frame.set_environment(env);
-    let rays = frame.sun_rays().unwrap_or_default();
+    let own = frame.settings().clone();
+    // Every vertex merged (the exact reference compares all), the sun by rays and not.
+    let eager = FrameSettings { deferred_merges: false, sun_rays: true, ..own.clone() };
+    let cuts = FrameSettings { sun_rays: false, ..eager.clone() };
     let mut rows = Vec::new();
     let moved = path_step(frame, s.movable) * 4.0;
     for (pose, at) in [("rest", Vec3::ZERO), ("moved", moved)] {
-        frame.set_sun_rays(Some(rays));
+        frame.reconfigure(&eager).context("merging every vertex")?;
         frame.translate(s.movable, at).context("placing the movable object")?;
-        frame.set_deferred_merges(false).context("merging every vertex")?;
         let shaded = frame.shade(s.eye);
         let exact = exact_direction(frame, s.eye, s.offset);
         let (rel_l2_exact, max_err_exact) = errors(&shaded, &exact);
@@ -269,7 +271,7 @@ pub fn measure_map(
             }
             None => (None, None),
         };
-        let sun_leaves = frame.sun_leaves();
+        let sun_leaves = frame.stats().sun_leaves;
         let choice = frame.light_choice().clone();
         let light_concentration = vcut_shade::sun::concentration(frame.light(), &[]);
         let light_concentration_left = vcut_shade::sun::concentration(frame.light(), &choice.cast);
@@ -280,12 +282,11 @@ pub fn measure_map(
         let rays_per_move = path.steps.iter().map(|t| t.sun_rays as f64).sum::<f64>() / steps;
         let mv = path.move_ms;
         frame.translate(s.movable, at)?;
-        frame.set_sun_rays(None);
+        frame.reconfigure(&cuts)?;
         let (rel_l2_exact_cuts_only, _) = errors(&frame.shade(s.eye), &exact);
         let edit_cuts = edit_ms(frame, s.movable, s.eye, 11);
         let mv_cuts = move_path(frame, s.movable, s.eye, MergeAlgorithm::Counter, 4)?.move_ms;
-        frame.set_sun_rays(Some(rays));
-        frame.set_deferred_merges(true)?;
+        frame.reconfigure(&own)?;
         let share = |part: f64, whole: f64| (part / whole.max(1e-9)).clamp(0.0, 1.0);
         rows.push(AccuracyRow {
             scene: s.scene.into(),
@@ -336,14 +337,15 @@ pub const KNOB_TARGETS: [f64; 5] = [0.02, 0.005, 0.002, 0.001, 0.0005];
 /// The target-error sweep of `frame` under `env` (named `map`) at rest: one row per target of
 /// [`KNOB_TARGETS`]; leaves the frame at its setting before.
 pub fn measure_knob(frame: &mut Frame, s: &Subject<'_>, map: &str, env: &EnvMap) -> Result<Vec<KnobRow>> {
-    let before = frame.sun_rays();
+    let own = frame.settings().clone();
     frame.set_environment(env);
     frame.translate(s.movable, Vec3::ZERO).context("placing the movable object")?;
-    frame.set_deferred_merges(false).context("merging every vertex")?;
+    let eager = FrameSettings { deferred_merges: false, sun_rays: true, ..own.clone() };
+    frame.reconfigure(&eager).context("merging every vertex")?;
     let exact = exact_direction(frame, s.eye, s.offset);
     let mut rows = Vec::new();
     for target in KNOB_TARGETS {
-        frame.set_sun_rays(Some(SunRays { target, ..before.unwrap_or_default() }));
+        frame.reconfigure(&FrameSettings { light_error: Some(target), ..eager.clone() })?;
         let (rel_l2_exact, _) = errors(&frame.shade(s.eye), &exact);
         let c = frame.light_choice();
         rows.push(KnobRow {
@@ -365,8 +367,7 @@ pub fn measure_knob(frame: &mut Frame, s: &Subject<'_>, map: &str, env: &EnvMap)
             c.estimate
         );
     }
-    frame.set_sun_rays(before);
-    frame.set_deferred_merges(true)?;
+    frame.reconfigure(&own)?;
     Ok(rows)
 }
 

@@ -13,10 +13,12 @@ pub mod csv;
 pub mod directions;
 pub mod distributed;
 pub mod farm;
+pub mod frame_report;
 pub mod inspect;
 pub mod leaves;
 pub mod machine;
 pub mod open;
+pub mod outcome;
 #[cfg(feature = "plots")]
 pub mod plots;
 pub mod precompute;
@@ -28,6 +30,7 @@ pub mod scaling;
 pub mod shard;
 pub mod ssdo;
 pub mod table1;
+pub mod values;
 #[cfg(feature = "viewer")]
 pub mod view;
 
@@ -46,6 +49,9 @@ pub struct GlobalArgs {
     /// Worker threads for everything that computes (default: every core).
     #[arg(long, global = true, value_name = "N")]
     pub threads: Option<usize>,
+    /// Results on stdout as one JSON object (the same keys as the `key=value` lines).
+    #[arg(long, global = true)]
+    pub json: bool,
 }
 
 impl GlobalArgs {
@@ -71,6 +77,7 @@ impl GlobalArgs {
                 level => writeln!(buf, "{}: {}", level.as_str().to_lowercase(), record.args()),
             })
             .try_init();
+        outcome::set_json(self.json);
         if let Some(n) = self.threads {
             anyhow::ensure!(n >= 1, "--threads {n}: at least 1");
             rayon::ThreadPoolBuilder::new().num_threads(n).build_global().context("--threads")?;
@@ -110,7 +117,7 @@ pub enum Command {
     /// drag objects, edit BRDFs, rotate the environment, compare with the exact reference; with
     /// --screenshot out.png render the same frame with no window on any wgpu adapter.
     #[cfg(feature = "viewer")]
-    View(view::ViewArgs),
+    View(Box<view::ViewArgs>),
     /// Plant leaves (Wang et al. 2005): build the procedural plant (or load one), precompute the
     /// sun's light-visibility convolution (RLE) and the SH transfer, shade a frame in two passes,
     /// and compare it and the SH-only rendering with the path-traced reference: images and
@@ -125,10 +132,10 @@ pub fn run(command: Command) -> Result<()> {
         Command::Directions(args) => directions::run(&args),
         Command::Precompute(args) => precompute::run(&args).map(|_| ()),
         Command::Farm(args) => farm::run(&args),
-        Command::Render(args) => render::run(&args).map(|_| ()),
+        Command::Render(args) => render::run(&args).map(|o| outcome::print(&o)),
         Command::Reference(mut args) => {
             args.compare.get_or_insert(render::Compare::Both);
-            render::run(&args).map(|_| ())
+            render::run(&args).map(|o| outcome::print(&o))
         }
         #[cfg(feature = "viewer")]
         Command::View(args) => view::run(&args),

@@ -9,14 +9,15 @@ use std::time::Instant;
 use vcut_data::{Precomputed, View};
 use vcut_envmap::EnvMap;
 use vcut_scene::{Camera, Scene};
-use vcut_shade::brdf::parse_spec;
-use vcut_shade::{Frame, FrameCaches};
+use vcut_shade::{Frame, FrameSettings};
+
+use crate::values::{BrdfEdit, Move};
 
 /// A `.vcuts` file opened for rendering.
 pub struct Opened {
     /// The data.
     pub data: Precomputed,
-    /// Its frame under `env`, every vertex merged.
+    /// Its frame under `env`, every vertex merged once.
     pub frame: Frame,
     /// The environment lighting it.
     pub env: EnvMap,
@@ -29,18 +30,22 @@ pub struct Opened {
     pub setup_s: f64,
 }
 
-/// Opens `input` under environment `env` (default: the one recorded, else the scene's).
+/// Opens `input` under environment `env` (default: the one recorded, else the scene's) with the
+/// default settings.
 pub fn open(input: &Path, env: Option<&str>) -> Result<Opened> {
-    open_with(input, env, None, FrameCaches::default())
+    open_with(input, env, None, &FrameSettings::default(), None)
 }
 
-/// [`open`] with the map reconstructed as `reconstruction` (default: as recorded) and a frame
-/// that keeps `caches` ([`Frame::with_caches`]).
+/// [`open`] with the map reconstructed as `reconstruction` (default: as recorded), a frame under
+/// `settings`, set up facing the camera `camera` names (the file's first without a name, else
+/// one framing the objects; a name the file lacks is an error later, when the camera is asked
+/// for: then the setup faces no eye).
 pub fn open_with(
     input: &Path,
     env: Option<&str>,
     reconstruction: Option<vcut_envmap::Reconstruction>,
-    caches: FrameCaches,
+    settings: &FrameSettings,
+    camera: Option<&str>,
 ) -> Result<Opened> {
     let mut data = Precomputed::open(input)?;
     let embedded = data.environment()?;
@@ -83,8 +88,20 @@ pub fn open_with(
         Some(r) => env.with_reconstruction(r).with_context(|| format!("--reconstruction {}", r.name()))?,
         None => env,
     };
-    let frame = Frame::with_caches(&mut data, &env, caches)?;
+    let rest = vcut_scene::Bounds::of_points(data.objects.iter().flat_map(|o| o.mesh.positions().iter().copied()));
+    let eye = find_camera(view.as_ref(), camera, rest).ok().map(|c| c.position);
+    let frame = Frame::open(&mut data, &env, settings, eye).map_err(|e| frame_error(e, input))?;
     Ok(Opened { data, frame, env, env_name, view, setup_s: t.elapsed().as_secs_f64() })
+}
+
+/// A frame's error, a setting's named as the command-line option that sets it.
+fn frame_error(e: vcut_shade::FrameError, input: &Path) -> anyhow::Error {
+    match e {
+        vcut_shade::FrameError::Setting(s) => {
+            anyhow::anyhow!("{} {}: {}", vcut_shade::FrameArgs::option(s.key), s.value, s.reason)
+        }
+        e => anyhow::Error::new(e).context(format!("{}", input.display())),
+    }
 }
 
 /// The frame's object named `name`, or an error listing the names.
@@ -99,46 +116,31 @@ pub fn object_names(frame: &Frame) -> String {
 
 /// Applies `--brdf NAME=SPEC` and `--move NAME=DX,DY,DZ` edits; returns the moves' merge
 /// milliseconds and the vertices they re-merged.
-pub fn apply_edits(frame: &mut Frame, brdfs: &[String], moves: &[String]) -> Result<(f64, usize)> {
+pub fn apply_edits(frame: &mut Frame, brdfs: &[BrdfEdit], moves: &[Move]) -> Result<(f64, usize)> {
     for b in brdfs {
-        let Some((name, spec)) = b.split_once('=') else { bail!("--brdf {b}: expected NAME=SPEC") };
-        let o = object(frame, name)?;
-        let m = parse_spec(*frame.object(o).material, spec).map_err(|e| anyhow::anyhow!("--brdf {b}: {e}"))?;
+        let o = object(frame, &b.object)?;
+        let m = b.apply(*frame.object(o).material).with_context(|| format!("--brdf {b}"))?;
         frame.set_material(o, m);
     }
     let mut move_ms = 0.0;
     let mut moved = 0;
     for m in moves {
-        let Some((name, v)) = m.split_once('=') else { bail!("--move {m}: expected NAME=DX,DY,DZ") };
-        let c: Vec<f32> = v
-            .split(',')
-            .map(|x| x.trim().parse::<f32>())
-            .collect::<Result<_, _>>()
-            .with_context(|| format!("--move {m}"))?;
-        let [dx, dy, dz] = c.as_slice() else { bail!("--move {m}: expected three numbers") };
-        let o = object(frame, name)?;
+        let o = object(frame, &m.object)?;
         let t = Instant::now();
-        moved += frame.translate(o, Vec3::new(*dx, *dy, *dz))?;
+        moved += frame.translate(o, m.translation)?;
         move_ms += t.elapsed().as_secs_f64() * 1e3;
     }
     Ok((move_ms, moved))
 }
 
-/// The target error for the light left in the cuts: `--light-error` when given (refused
-/// outside (0, 1)), else the scene file's `[environment] light_error`, else `None` (the
-/// frame's default).
-pub fn light_error(flag: Option<f64>, scene: Option<f64>) -> Result<Option<f64>> {
-    match flag {
-        Some(e) if !(e.is_finite() && e > 0.0 && e < 1.0) => {
-            bail!("--light-error {e}: must lie in (0, 1): a relative error, e.g. 0.002 for 0.2 %")
-        }
-        Some(e) => Ok(Some(e)),
-        None => Ok(scene),
-    }
-}
-
 /// The camera called `name` of `view`, else its first, else one framing every object.
 pub fn camera(view: Option<&View>, name: Option<&str>, frame: &Frame) -> Result<Camera> {
+    let placed = vcut_scene::Bounds::of_points((0..frame.object_count()).flat_map(|o| frame.object(o).positions()));
+    find_camera(view, name, placed)
+}
+
+/// The camera called `name` of `view`, else its first, else one framing `bounds`.
+fn find_camera(view: Option<&View>, name: Option<&str>, bounds: vcut_scene::Bounds) -> Result<Camera> {
     let cameras = view.map_or(&[][..], |v| v.cameras.as_slice());
     Ok(match name {
         Some(name) => cameras.iter().find(|c| c.name == name).cloned().with_context(|| {
@@ -146,7 +148,7 @@ pub fn camera(view: Option<&View>, name: Option<&str>, frame: &Frame) -> Result<
             format!("no camera '{name}' (cameras: {})", if names.is_empty() { "none".into() } else { names.join(", ") })
         })?,
         None if !cameras.is_empty() => cameras[0].clone(),
-        None => auto_camera(vcut_scene::Bounds::of_points((0..frame.object_count()).flat_map(|o| frame.positions(o)))),
+        None => auto_camera(bounds),
     })
 }
 

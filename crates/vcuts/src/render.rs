@@ -1,21 +1,25 @@
-//! `cargo xtask render`: a frame from a `.vcuts` file — objects moved, BRDFs edited — as PNG
-//! (and EXR, PLY), with merge, shade and raster times, and optionally the error against the
-//! exact-direction reference.
+//! `vcuts render`: a frame from a `.vcuts` file — objects moved, BRDFs edited — as PNG (and
+//! EXR, PLY, glTF), with merge, shade and raster times, and optionally the error against the
+//! references. Returns a typed [`RenderOutcome`]; the command prints it.
 
 use anyhow::{Context, Result, bail};
+use glam::Vec3;
+use serde::Serialize;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
-use vcut_data::InsideSamples;
 use vcut_envmap::EnvMap;
 use vcut_scene::Camera;
 use vcut_shade::glb::write_glb;
-use vcut_shade::image::{auto_exposure, frame_image, pixel_errors, rasterize, write_exr, write_ply, write_png};
+use vcut_shade::image::{Image, auto_exposure, frame_image, pixel_errors, rasterize, write_exr, write_ply, write_png};
 use vcut_shade::passes::{Pass, render_passes, write_exr_passes};
 use vcut_shade::reference::{MonteCarloParams, errors, exact_direction, monte_carlo};
-use vcut_shade::{FlatEdges, Frame, FrameCaches, SunRays};
+use vcut_shade::{Frame, FrameArgs, Parts};
 
-pub use crate::open::{Opened, apply_edits, auto_camera, camera, light_error, open, open_with};
+use crate::frame_report::FrameReport;
+pub use crate::open::{Opened, apply_edits, auto_camera, camera, open, open_with};
+use crate::outcome::ms_since;
 use crate::ssdo::ScreenMode;
+use crate::values::{BrdfEdit, Move};
 
 /// What `render` draws.
 #[derive(clap::ValueEnum, Clone, Copy, PartialEq, Eq, Debug)]
@@ -67,26 +71,33 @@ impl Compare {
     }
 }
 
-/// Field samples inside an object (`--inside-samples`).
-#[derive(clap::ValueEnum, Clone, Copy, PartialEq, Eq, Debug)]
-pub enum Inside {
-    /// Blended in as fully occluded.
-    Occluded,
-    /// Dropped, their weight given to the others.
-    Dropped,
+/// A reference a frame was compared with.
+#[derive(Clone, Copy, PartialEq, Eq, Debug, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Reference {
+    /// Every leaf direction cast ([`exact_direction`]).
+    Exact,
+    /// Monte Carlo over the map's texels ([`monte_carlo`]).
+    Mc,
+    /// The ray-traced reference of a screen-space mode.
+    Raytraced,
 }
 
-/// Sets the frame's `Frame::set_flat_edge_leaves` to `edges` (`--flat-edge-leaves` of render and
-/// view; an error names the flag).
-pub fn set_flat_edges(frame: &mut Frame, edges: FlatEdges) -> Result<()> {
-    frame.set_flat_edge_leaves(edges.leaves(frame)).map_err(|e| anyhow::anyhow!("--flat-edge-leaves: {e}"))?;
-    Ok(())
+impl Reference {
+    /// Its name in report keys and file names.
+    pub fn name(self) -> &'static str {
+        match self {
+            Reference::Exact => "exact",
+            Reference::Mc => "mc",
+            Reference::Raytraced => "raytraced",
+        }
+    }
 }
 
 /// Arguments of `render`.
 #[derive(clap::Args, Clone)]
 pub struct RenderArgs {
-    /// The precomputed file (from `cargo xtask precompute`).
+    /// The precomputed file (from `vcuts precompute`).
     pub input: PathBuf,
     /// Environment map (default: the scene's).
     #[arg(long)]
@@ -96,23 +107,23 @@ pub struct RenderArgs {
     #[arg(long)]
     pub reconstruction: Option<vcut_envmap::Reconstruction>,
     /// Move an object: NAME=dx,dy,dz (repeatable; from its rest position).
-    #[arg(long = "move", value_name = "NAME=DX,DY,DZ")]
-    pub moves: Vec<String>,
+    #[arg(long = "move", value_name = "NAME=DX,DY,DZ", allow_hyphen_values = true)]
+    pub moves: Vec<Move>,
     /// Edit a BRDF: NAME=MODEL[:KEY=VALUE,...], e.g. teapot=blinn-phong:alpha=70 (repeatable).
     #[arg(long = "brdf", value_name = "NAME=SPEC")]
-    pub brdfs: Vec<String>,
+    pub brdfs: Vec<BrdfEdit>,
     /// Camera name (default: the scene's first).
     #[arg(long)]
     pub camera: Option<String>,
-    /// Image width.
-    #[arg(long, default_value_t = 640)]
+    /// Image width in pixels (1 to 16,384).
+    #[arg(long, default_value_t = 640, value_parser = crate::values::side)]
     pub width: u32,
-    /// Image height.
-    #[arg(long, default_value_t = 480)]
+    /// Image height in pixels (1 to 16,384).
+    #[arg(long, default_value_t = 480, value_parser = crate::values::side)]
     pub height: u32,
-    /// Exposure applied before tone mapping (PNG only); default: the geometry's log-average
-    /// luminance to middle grey.
-    #[arg(long)]
+    /// Exposure applied before tone mapping (PNG only; finite, above 0); default: the
+    /// geometry's log-average luminance to middle grey.
+    #[arg(long, value_parser = exposure, allow_negative_numbers = true)]
     pub exposure: Option<f32>,
     /// Output PNG (tone-mapped: ACES filmic, Narkowicz's fit, sRGB).
     #[arg(short, long, default_value = "target/render/frame.png")]
@@ -145,61 +156,9 @@ pub struct RenderArgs {
     /// screen-space mode with `raytraced` (direct light with visibility plus one bounce).
     #[arg(long, value_enum)]
     pub compare: Option<Compare>,
-    /// Field samples inside an object: `occluded` (blended in as fully occluded, the default)
-    /// or `dropped` (their weight given to the others); see `vcut_data::InsideSamples`.
-    #[arg(long, value_enum, default_value_t = Inside::Occluded)]
-    pub inside_samples: Inside,
-    /// Carry the sun through the cuts too, as the paper does. By default the leaves of the
-    /// light whose error through the cuts is largest are cast by rays at run time, until the
-    /// estimated error is within `--light-error` (`vcut_shade::sun`).
-    #[arg(long, conflicts_with = "light_error")]
-    pub no_sun_rays: bool,
-    /// The target error of the light left in the cuts: a relative L2 error in (0, 1), default
-    /// 0.002 (or the scene file's `[environment] light_error`). Smaller casts more of the
-    /// brightest leaves by rays (at most 32): `light_error_estimate`, `sun_leaves` and
-    /// `sun_rays_per_vertex` report the choice and its cost.
-    #[arg(long, value_name = "REL")]
-    pub light_error: Option<f64>,
-    /// The cost cap of `--light-error`: at most N leaves cast by rays (1 to 64, default 32).
-    /// Each costs a ray per vertex facing it on a lighting change and a move, and a BRDF
-    /// evaluation per vertex facing it on every shading.
-    #[arg(long, value_name = "N", conflicts_with = "no_sun_rays", value_parser = clap::value_parser!(u8).range(1..=64))]
-    pub light_max_leaves: Option<u8>,
-    /// Multiply every field within reach into a vertex's cut, as the paper does. By default a
-    /// field whose object lies wholly below the vertex's horizon is left out
-    /// (`Frame::set_horizon_culling`).
-    #[arg(long)]
-    pub no_horizon_culling: bool,
-    /// How far a field shadows, in its object's bounding radii (default 6; 10, the default
-    /// precompute's outermost sphere, is the paper's reach): shorter is fewer fields per
-    /// vertex and cheaper moves, the sky shadows of farther objects left out
-    /// (`Frame::set_field_reach`).
-    #[arg(long, value_name = "RADII")]
-    pub field_reach: Option<f32>,
-    /// How finely a flat occluder's (a ground's) shadow follows its edges: a node of up to N
-    /// leaves across an edge takes its estimated visible share instead of being split to its
-    /// leaves (a power of two; default 1, exact). Larger is a cheaper move on a scene with a
-    /// ground, the light near its edges blended (`Frame::set_flat_edge_leaves`); `interactive`
-    /// is 1/256 of the directions (`Frame::interactive_flat_edge_leaves`: 128 at the paper
-    /// preset, 16 at `fast`).
-    #[arg(long, value_name = "N|interactive")]
-    pub flat_edge_leaves: Option<FlatEdges>,
-    /// Merge every vertex a move changes at once. By default a move merges the vertices facing
-    /// the camera and leaves the others until a camera sees them (`Frame::set_deferred_merges`):
-    /// the image is the same bit for bit.
-    #[arg(long)]
-    pub eager_merges: bool,
-    /// Keep no merged cut per vertex, only its shading list: less memory (the merged cuts are
-    /// the frame's largest part), the same moves, edits and image; a lighting change or a
-    /// camera turn merges the vertices it relists again (`Frame::set_merged_cache`).
-    #[arg(long)]
-    pub no_merged_cache: bool,
-    /// Hold the frame's memory (`frame_memory_mb`) to MB: the stored cuts stay in the file
-    /// (read from it as merges need them), no merged cuts and no field cells between moves are
-    /// kept, and the decoded SVCs only if they fit (`Frame::fit_memory`); `frame_caches` says
-    /// which are kept. A warning says when even none fits.
-    #[arg(long, value_name = "MB", conflicts_with = "no_merged_cache")]
-    pub memory_budget: Option<f64>,
+    /// The frame's settings: how it looks fields up, merges, caches and casts the sun.
+    #[command(flatten)]
+    pub frame: FrameArgs,
 }
 
 impl RenderArgs {
@@ -222,98 +181,164 @@ impl RenderArgs {
             export_ply: None,
             compare: None,
             mode: RenderMode::Cuts,
-            inside_samples: Inside::Occluded,
-            no_sun_rays: false,
-            light_error: None,
-            no_horizon_culling: false,
-            field_reach: None,
-            flat_edge_leaves: None,
-            light_max_leaves: None,
-            eager_merges: false,
-            no_merged_cache: false,
-            memory_budget: None,
+            frame: FrameArgs::default(),
         }
     }
 }
 
-/// What a render measured and wrote (it prints the same as `key=value` lines).
-#[derive(Debug, Default)]
+/// `--exposure`: finite and above 0.
+fn exposure(s: &str) -> Result<f32, String> {
+    s.parse::<f32>()
+        .ok()
+        .filter(|e| e.is_finite() && *e > 0.0)
+        .ok_or_else(|| format!("{s:?}: must be a finite number above 0"))
+}
+
+/// What a render measured and wrote, its fields named as the keys it prints.
+#[derive(Debug, Clone, Serialize)]
 pub struct RenderOutcome {
     /// Seconds to read the data and merge every vertex.
     pub setup_s: f64,
-    /// Light-tree leaves cast by rays as the sun.
-    pub sun_leaves: usize,
-    /// The moves and BRDF edits asked for: their time (ms) and the vertices re-merged.
-    pub move_ms: f64,
+    /// The map's reconstruction.
+    pub reconstruction: &'static str,
+    /// How field lookups treat samples inside an object.
+    pub inside_samples: &'static str,
+    /// The nodes across a ground's edges whose share is estimated, in leaves (1: exact).
+    pub flat_edge_leaves: u32,
+    /// The moves and BRDF edits asked for: their time (ms).
+    pub move_merge_ms: f64,
     /// Vertices the moves re-merged.
-    pub moved_vertices: usize,
-    /// Where the last move's time went, when there was one.
-    pub last_move: Option<vcut_shade::MoveTiming>,
-    /// Shading and rasterising the frame (ms); `None` in the screen-space modes.
+    pub move_merged_vertices: usize,
+    /// Vertices a camera turn after the moves merged (they faced away from the eye before).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub turn_merged_vertices: Option<usize>,
+    /// That turn's time (ms).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub turn_ms: Option<f64>,
+    /// The screen-space method's times, in a screen-space mode.
+    #[serde(flatten)]
+    pub screen: Option<ScreenTimes>,
+    /// Shading (ms); `None` in the screen-space modes.
     pub shade_ms: Option<f64>,
+    /// The frame's figures: caches, light, merges, last move, memory.
+    #[serde(flatten)]
+    pub frame: FrameReport,
     /// Rasterising the frame (ms); `None` in the screen-space modes.
     pub raster_ms: Option<f64>,
     /// The image written.
     pub png: PathBuf,
+    /// Its tone mapping (the cuts' image).
+    pub tone_map: Option<&'static str>,
     /// The exposure it was written with.
     pub exposure: f32,
+    /// The EXR written, its passes and their time.
+    pub exr: Option<PathBuf>,
+    /// The passes the EXR holds besides the image.
+    pub exr_passes: Option<String>,
+    /// Rendering those passes (ms).
+    pub exr_passes_ms: Option<f64>,
+    /// The PLY written.
+    pub ply: Option<PathBuf>,
+    /// The glTF written.
+    pub glb: Option<PathBuf>,
     /// Each reference compared with (`--compare`).
-    pub comparisons: Vec<Comparison>,
-    /// Every `key=value` line printed, in order.
-    pub printed: Vec<(String, String)>,
+    #[serde(flatten)]
+    pub comparisons: Comparisons,
+}
+
+/// A screen-space mode's times (ms): lighting, the G-buffer, the method.
+#[derive(Debug, Clone, Serialize)]
+pub struct ScreenTimes {
+    /// Prefiltering the lighting.
+    pub lighting_ms: f64,
+    /// The G-buffer.
+    pub gbuffer_ms: f64,
+    /// `--mode ssao`.
+    pub ssao_ms: Option<f64>,
+    /// `--mode ssdo`.
+    pub ssdo_ms: Option<f64>,
+    /// `--mode ssdo-peeled`.
+    pub ssdo_peeled_ms: Option<f64>,
 }
 
 /// The frame against one reference.
 #[derive(Debug, Clone)]
 pub struct Comparison {
-    /// `exact`, `mc` or `raytraced`.
-    pub reference: &'static str,
-    /// Relative L2 error over the vertices (`None` for the screen-space reference).
-    pub vertex_rel_l2: Option<f64>,
-    /// Relative L2 error over the pixels.
-    pub pixel_rel_l2: f64,
+    /// The reference.
+    pub reference: Reference,
+    /// Seconds to compute it.
+    pub seconds: f64,
+    /// Relative L2 error over the vertices (`None` for the screen-space reference) and the
+    /// largest vertex error.
+    pub vertex: Option<(f64, f64)>,
+    /// Relative L2 error over the pixels and the largest pixel error (`None` for the
+    /// screen-space reference's largest).
+    pub pixel: (f64, Option<f64>),
     /// The reference's image.
     pub png: PathBuf,
 }
 
-impl RenderOutcome {
-    fn emit(&mut self, key: impl Into<String>, value: String) {
-        let key = key.into();
-        println!("{key}={value}");
-        self.printed.push((key, value));
-    }
+/// Every comparison made, and the Monte Carlo reference's own figures.
+#[derive(Debug, Clone, Default)]
+pub struct Comparisons {
+    /// Each reference, in the order computed.
+    pub list: Vec<Comparison>,
+    /// The Monte Carlo reference's samples and unconverged vertices.
+    pub mc: Option<(u64, usize)>,
+    /// The exact reference against the Monte Carlo one (relative L2, largest error).
+    pub exact_vs_mc: Option<(f64, f64)>,
+}
 
+impl Comparisons {
     /// The comparison with `reference`, if made.
-    pub fn comparison(&self, reference: &str) -> Option<&Comparison> {
-        self.comparisons.iter().find(|c| c.reference == reference)
+    pub fn get(&self, reference: Reference) -> Option<&Comparison> {
+        self.list.iter().find(|c| c.reference == reference)
+    }
+}
+
+impl Serialize for Comparisons {
+    /// The keys `reference_<name>_s`, `vertex_rel_l2_vs_<name>`, `vertex_max_err_vs_<name>`,
+    /// `pixel_rel_l2_vs_<name>`, `pixel_max_err_vs_<name>`, `reference_<name>_png` per
+    /// reference; `reference_mc_samples`, `reference_mc_unconverged_vertices`;
+    /// `vertex_rel_l2_exact_vs_mc`, `vertex_max_err_exact_vs_mc`.
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        use serde::ser::SerializeMap;
+        let mut m = s.serialize_map(None)?;
+        for c in &self.list {
+            let n = c.reference.name();
+            m.serialize_entry(&format!("reference_{n}_s"), &c.seconds)?;
+            if let Some((l2, max)) = c.vertex {
+                m.serialize_entry(&format!("vertex_rel_l2_vs_{n}"), &l2)?;
+                m.serialize_entry(&format!("vertex_max_err_vs_{n}"), &max)?;
+            }
+            m.serialize_entry(&format!("pixel_rel_l2_vs_{n}"), &c.pixel.0)?;
+            if let Some(max) = c.pixel.1 {
+                m.serialize_entry(&format!("pixel_max_err_vs_{n}"), &max)?;
+            }
+            m.serialize_entry(&format!("reference_{n}_png"), &c.png)?;
+        }
+        if let Some((samples, unconverged)) = self.mc {
+            m.serialize_entry("reference_mc_samples", &samples)?;
+            m.serialize_entry("reference_mc_unconverged_vertices", &unconverged)?;
+        }
+        if let Some((l2, max)) = self.exact_vs_mc {
+            m.serialize_entry("vertex_rel_l2_exact_vs_mc", &l2)?;
+            m.serialize_entry("vertex_max_err_exact_vs_mc", &max)?;
+        }
+        m.end()
     }
 }
 
 /// Runs `render`; returns what it measured and wrote.
 pub fn run(args: &RenderArgs) -> Result<RenderOutcome> {
-    let mut out = RenderOutcome::default();
-    // Checked before the data is read and merged.
-    let inside = match args.inside_samples {
-        Inside::Occluded => InsideSamples::Occluded,
-        Inside::Dropped => InsideSamples::Dropped,
-    };
-    let budget = match args.memory_budget {
-        Some(mb) if !(mb.is_finite() && mb > 0.0) => bail!("--memory-budget {mb}: expected a positive number of MB"),
-        Some(mb) => Some((mb * 1e6) as usize),
-        None => None,
-    };
-    // Under a budget the frame keeps no stored cuts, merged cuts or field cells from the start,
-    // so that the setup's peak stays low too (it reads one object's arrays at a time and merges
-    // in ranges then).
-    let caches = match budget {
-        Some(_) => FrameCaches { stored: false, svc: true, cells: false, merged: false },
-        None => FrameCaches { merged: !args.no_merged_cache, ..FrameCaches::default() },
-    };
+    if args.compare == Some(Compare::Raytraced) && args.mode.screen().is_none() {
+        bail!("--compare raytraced: only a screen-space --mode (ssao, ssdo, ssdo-peeled) compares with it");
+    }
+    let settings = args.frame.settings();
     let Opened { data, mut frame, env, view, setup_s, .. } =
-        open_with(&args.input, args.env.as_deref(), args.reconstruction, caches)?;
-    if let Some(budget) = budget {
-        frame.fit_memory(budget)?;
-        let need = frame.memory().total();
+        open_with(&args.input, args.env.as_deref(), args.reconstruction, &settings, args.camera.as_deref())?;
+    if let Some(budget) = settings.memory_budget {
+        let need = frame.memory().total() as u64;
         if need > budget {
             log::warn!(
                 "--memory-budget {:.1}: the frame needs {:.1} MB without any cache",
@@ -322,179 +347,150 @@ pub fn run(args: &RenderArgs) -> Result<RenderOutcome> {
             );
         }
     }
-    let kept = frame.caches();
-    let names: Vec<&str> = [("stored", kept.stored), ("svc", kept.svc), ("cells", kept.cells), ("merged", kept.merged)]
-        .iter()
-        .filter(|c| c.1)
-        .map(|c| c.0)
-        .collect();
-    out.emit("frame_caches", if names.is_empty() { "none".into() } else { names.join(",") });
-    out.setup_s = setup_s;
-    out.emit("setup_s", format!("{setup_s:.3}"));
-    out.emit("reconstruction", env.reconstruction().name().to_string());
-    if inside != InsideSamples::default() {
-        frame.set_inside_samples(inside)?;
-    }
-    out.emit("inside_samples", inside.name().into());
-    if args.no_horizon_culling {
-        frame.set_horizon_culling(false)?;
-    }
-    if args.field_reach.is_some() {
-        frame.set_field_reach(args.field_reach).map_err(|e| anyhow::anyhow!("--field-reach: {e}"))?;
-    }
-    if let Some(edges) = args.flat_edge_leaves {
-        set_flat_edges(&mut frame, edges)?;
-    }
-    out.emit("flat_edge_leaves", frame.flat_edge_leaves().to_string());
-    if args.no_sun_rays {
-        frame.set_sun_rays(None);
-    } else {
-        let target = light_error(args.light_error, view.as_ref().and_then(|v| v.light_error))?;
-        if target.is_some() || args.light_max_leaves.is_some() {
-            let rays = frame.sun_rays().unwrap_or_default();
-            frame.set_sun_rays(Some(SunRays {
-                target: target.unwrap_or(rays.target),
-                max_leaves: args.light_max_leaves.map_or(rays.max_leaves, usize::from),
-            }));
-        }
-    }
-    out.sun_leaves = frame.sun_leaves();
-    out.emit("sun_leaves", format!("{}", out.sun_leaves));
-    let choice = frame.light_choice();
-    if let Some(rays) = frame.sun_rays() {
-        out.emit("light_error_target", format!("{}", choice.target));
-        out.emit("light_max_leaves", format!("{}", rays.max_leaves));
-        out.emit("light_error_estimate_cuts", format!("{:.5}", choice.estimate_cuts));
-        out.emit("light_error_estimate", format!("{:.5}", choice.estimate));
-        out.emit("light_choice_ms", format!("{:.2}", choice.estimate_s * 1e3));
-        out.emit("sun_rays_per_vertex", format!("{:.2}", choice.rays_per_vertex()));
-        out.emit("sun_cast_us_per_vertex", format!("{:.3}", choice.cast_us_per_vertex()));
-    }
-    frame.set_deferred_merges(!args.eager_merges)?;
-    // The moves build the shading lists of the vertices facing the camera (a framing camera
-    // may shift with the moves: then shading builds the few others it needs).
-    if let Ok(c) = camera(view.as_ref(), args.camera.as_deref(), &frame) {
-        frame.set_eye(c.position)?;
-    }
     let (move_ms, moved) = apply_edits(&mut frame, &args.brdfs, &args.moves)?;
-    (out.move_ms, out.moved_vertices) = (move_ms, moved);
-    out.emit("move_merge_ms", format!("{move_ms:.2}"));
-    out.emit("move_merged_vertices", format!("{moved}"));
-    if moved > 0 {
-        // Where the last move's time went (wall clock over all cores).
-        let t = frame.last_move();
-        out.last_move = Some(t);
-        out.emit("move_keys_ms", format!("{:.2}", t.keys_s * 1e3));
-        out.emit("move_decode_ms", format!("{:.2}", t.decode_s * 1e3));
-        out.emit("move_refine_ms", format!("{:.2}", t.refine_s * 1e3));
-        // The merges proper, shading lists built as the nodes are emitted.
-        out.emit("move_merge_only_ms", format!("{:.2}", t.merge_s * 1e3));
-        out.emit("move_sun_ms", format!("{:.2}", t.sun_s * 1e3));
-        out.emit("move_deferred_vertices", format!("{}", t.deferred));
-        out.emit("move_fields_per_vertex", format!("{:.2}", t.fields as f64 / t.vertices.max(1) as f64));
-    }
     let camera = camera(view.as_ref(), args.camera.as_deref(), &frame)?;
     // A framing camera may have shifted with the moves: the vertices now facing it that a
     // move left are merged here.
     let t = Instant::now();
     let turned = frame.set_eye(camera.position)?;
-    if turned > 0 {
-        out.emit("turn_merged_vertices", format!("{turned}"));
-        out.emit("turn_ms", format!("{:.2}", t.elapsed().as_secs_f64() * 1e3));
-    }
+    let mut out = RenderOutcome {
+        setup_s,
+        reconstruction: env.reconstruction().name(),
+        inside_samples: settings.inside_samples.name(),
+        flat_edge_leaves: settings.flat_edge_leaves.leaves(frame.tree().leaf_count()),
+        move_merge_ms: move_ms,
+        move_merged_vertices: moved,
+        turn_merged_vertices: (turned > 0).then_some(turned),
+        turn_ms: (turned > 0).then(|| ms_since(t)),
+        screen: None,
+        shade_ms: None,
+        frame: FrameReport::of(&frame, moved > 0),
+        raster_ms: None,
+        png: args.output.clone(),
+        tone_map: None,
+        exposure: 1.0,
+        exr: None,
+        exr_passes: None,
+        exr_passes_ms: None,
+        ply: None,
+        glb: None,
+        comparisons: Comparisons::default(),
+    };
     if let Some(mode) = args.mode.screen() {
-        return screen_space(args, mode, &frame, &env, &camera, out);
+        screen_space(args, mode, &frame, &env, &camera, &mut out)?;
+        return Ok(out);
     }
     let t = Instant::now();
     let parts = frame.shade_parts(camera.position, false);
     let radiance = frame.radiance(&parts);
-    let shade_ms = t.elapsed().as_secs_f64() * 1e3;
-    out.shade_ms = Some(shade_ms);
-    out.emit("shade_ms", format!("{shade_ms:.2}"));
-    emit_memory(&frame, &mut out);
+    out.shade_ms = Some(ms_since(t));
+    out.frame = FrameReport::of(&frame, moved > 0);
     let t = Instant::now();
     // A textured object takes its albedo per pixel.
     let image = frame_image(&frame, (&parts, &radiance), &camera, args.width, args.height, Some(&env));
-    let raster_ms = t.elapsed().as_secs_f64() * 1e3;
-    out.raster_ms = Some(raster_ms);
-    out.emit("raster_ms", format!("{raster_ms:.2}"));
+    out.raster_ms = Some(ms_since(t));
+    write_image(args, &image, &mut out)?;
+    out.tone_map = Some("aces-narkowicz");
+    exports(args, &mut frame, &parts, &camera, &image, &mut out)?;
+    let shaded = Shaded { frame: &frame, radiance: &radiance, image: &image, camera: &camera, env: &env };
+    out.comparisons = compare(args, &shaded, data.svc_origin_offset(), out.exposure)?;
+    Ok(out)
+}
+
+/// Writes the PNG (creating its folder) at `--exposure` or the image's own; records both.
+fn write_image(args: &RenderArgs, image: &Image, out: &mut RenderOutcome) -> Result<()> {
     if let Some(dir) = args.output.parent().filter(|d| !d.as_os_str().is_empty()) {
         std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
     }
-    let exposure = args.exposure.unwrap_or_else(|| auto_exposure(&image));
-    write_png(&image, &args.output, exposure)?;
+    let exposure = args.exposure.unwrap_or_else(|| auto_exposure(image));
+    write_png(image, &args.output, exposure)?;
     (out.png, out.exposure) = (args.output.clone(), exposure);
-    out.emit("png", format!("{}", args.output.display()));
-    out.emit("tone_map", "aces-narkowicz".into());
-    out.emit("exposure", format!("{exposure:.4}"));
+    Ok(())
+}
+
+/// The EXR with its passes, the PLY and the glTF asked for.
+fn exports(
+    args: &RenderArgs,
+    frame: &mut Frame,
+    parts: &[Vec<Parts>],
+    camera: &Camera,
+    image: &Image,
+    out: &mut RenderOutcome,
+) -> Result<()> {
     if let Some(p) = &args.exr {
         let passes = args.exr_passes.as_ref().map_or(&[][..], |p| p.0.as_slice());
         let t = Instant::now();
-        let layers = render_passes(&frame, &parts, &camera, args.width, args.height, passes);
-        let passes_ms = t.elapsed().as_secs_f64() * 1e3;
-        write_exr_passes(&image, &layers, p)?;
-        out.emit("exr", format!("{}", p.display()));
+        let layers = render_passes(frame, parts, camera, args.width, args.height, passes);
+        let passes_ms = ms_since(t);
+        write_exr_passes(image, &layers, p)?;
+        out.exr = Some(p.clone());
         if !passes.is_empty() {
-            out.emit("exr_passes", passes.iter().map(|p| p.name()).collect::<Vec<_>>().join(","));
-            out.emit("exr_passes_ms", format!("{passes_ms:.2}"));
+            out.exr_passes = Some(passes.iter().map(|p| p.name()).collect::<Vec<_>>().join(","));
+            out.exr_passes_ms = Some(passes_ms);
         }
     }
     if args.export_ply.is_some() || args.export_glb.is_some() {
         // Every vertex: those the camera cannot see toward their own normals.
         let all = frame.shade_all(camera.position);
         if let Some(p) = &args.export_ply {
-            write_ply(&frame, &all, p)?;
-            out.emit("ply", format!("{}", p.display()));
+            write_ply(frame, &all, p)?;
+            out.ply = Some(p.clone());
         }
         if let Some(p) = &args.export_glb {
             let aspect = args.width.max(1) as f32 / args.height.max(1) as f32;
-            write_glb(&frame, &all, &camera, aspect, exposure, p)?;
-            out.emit("glb", format!("{}", p.display()));
+            write_glb(frame, &all, camera, aspect, out.exposure, p)?;
+            out.glb = Some(p.clone());
         }
     }
-    let compare = args.compare;
-    if compare == Some(Compare::Raytraced) {
-        bail!("--compare raytraced: only a screen-space --mode (ssao, ssdo, ssdo-peeled) compares with it");
-    }
-    let offset = data.svc_origin_offset();
-    let stem = args.output.file_stem().and_then(|s| s.to_str()).unwrap_or("frame").to_string();
+    Ok(())
+}
+
+/// A frame as shaded for its image: what the comparisons read.
+struct Shaded<'a> {
+    frame: &'a Frame,
+    radiance: &'a [Vec<Vec3>],
+    image: &'a Image,
+    camera: &'a Camera,
+    env: &'a EnvMap,
+}
+
+/// The references `--compare` asks for, each against the frame per vertex and per pixel, its
+/// image written beside the output.
+fn compare(args: &RenderArgs, shaded: &Shaded<'_>, offset: f32, exposure: f32) -> Result<Comparisons> {
+    let Shaded { frame, radiance, image, camera, env } = *shaded;
+    let mut out = Comparisons::default();
     let mut refs = Vec::new();
-    if matches!(compare, Some(Compare::Exact | Compare::Both)) {
+    if matches!(args.compare, Some(Compare::Exact | Compare::Both)) {
         let t = Instant::now();
-        let r = exact_direction(&frame, camera.position, offset);
-        out.emit("reference_exact_s", format!("{:.3}", t.elapsed().as_secs_f64()));
-        refs.push(("exact", r));
+        refs.push((Reference::Exact, exact_direction(frame, camera.position, offset), t.elapsed().as_secs_f64()));
     }
-    if matches!(compare, Some(Compare::Mc | Compare::Both)) {
+    if matches!(args.compare, Some(Compare::Mc | Compare::Both)) {
         let t = Instant::now();
-        let (r, stats) = monte_carlo(&frame, &env, camera.position, offset, &MonteCarloParams::default());
-        out.emit("reference_mc_s", format!("{:.3}", t.elapsed().as_secs_f64()));
-        out.emit("reference_mc_samples", format!("{}", stats.samples));
-        out.emit("reference_mc_unconverged_vertices", format!("{}", stats.unconverged));
-        refs.push(("mc", r));
+        let (r, stats) = monte_carlo(frame, env, camera.position, offset, &MonteCarloParams::default());
+        refs.push((Reference::Mc, r, t.elapsed().as_secs_f64()));
+        out.mc = Some((stats.samples, stats.unconverged as usize));
     }
     // The references are per vertex: with a textured object, the pixel errors compare them with
     // the cuts' image at per-vertex albedo too, so texture detail does not count as error.
     let per_vertex = (frame.has_textures() && !refs.is_empty())
-        .then(|| rasterize(&frame, &radiance, &camera, args.width, args.height, Some(&env)));
-    let compared = per_vertex.as_ref().unwrap_or(&image);
-    for (name, reference) in &refs {
-        let (l2, max) = errors(&radiance, reference);
-        out.emit(format!("vertex_rel_l2_vs_{name}"), format!("{l2:.5}"));
-        out.emit(format!("vertex_max_err_vs_{name}"), format!("{max:.5}"));
-        let ref_image = rasterize(&frame, reference, &camera, args.width, args.height, Some(&env));
+        .then(|| rasterize(frame, radiance, camera, args.width, args.height, Some(env)));
+    let compared = per_vertex.as_ref().unwrap_or(image);
+    let stem = args.output.file_stem().and_then(|s| s.to_str()).unwrap_or("frame").to_string();
+    for (reference, r, seconds) in &refs {
+        let ref_image = rasterize(frame, r, camera, args.width, args.height, Some(env));
         let (pl2, pmax) = pixel_errors(compared, &ref_image);
-        out.emit(format!("pixel_rel_l2_vs_{name}"), format!("{pl2:.5}"));
-        out.emit(format!("pixel_max_err_vs_{name}"), format!("{pmax:.5}"));
-        let ref_path = args.output.with_file_name(format!("{stem}-{name}.png"));
-        write_png(&ref_image, &ref_path, exposure)?;
-        out.emit(format!("reference_{name}_png"), format!("{}", ref_path.display()));
-        out.comparisons.push(Comparison { reference: name, vertex_rel_l2: Some(l2), pixel_rel_l2: pl2, png: ref_path });
+        let png = args.output.with_file_name(format!("{stem}-{}.png", reference.name()));
+        write_png(&ref_image, &png, exposure)?;
+        out.list.push(Comparison {
+            reference: *reference,
+            seconds: *seconds,
+            vertex: Some(errors(radiance, r)),
+            pixel: (pl2, Some(pmax)),
+            png,
+        });
     }
-    if let [(_, exact), (_, mc)] = refs.as_slice() {
-        let (l2, max) = errors(exact, mc);
-        out.emit("vertex_rel_l2_exact_vs_mc", format!("{l2:.5}"));
-        out.emit("vertex_max_err_exact_vs_mc", format!("{max:.5}"));
+    if let [(_, exact, _), (_, mc, _)] = refs.as_slice() {
+        out.exact_vs_mc = Some(errors(exact, mc));
     }
     Ok(out)
 }
@@ -515,16 +511,8 @@ fn screen_space(
     frame: &Frame,
     env: &EnvMap,
     camera: &Camera,
-    mut out: RenderOutcome,
-) -> Result<RenderOutcome> {
-    let objects = crate::ssdo::objects(frame);
-    let t = Instant::now();
-    let light = crate::ssdo::lighting(env, &objects);
-    out.emit("lighting_ms", format!("{:.2}", t.elapsed().as_secs_f64() * 1e3));
-    let f = crate::ssdo::frame(&objects, &light, camera, (args.width, args.height), mode);
-    out.emit("gbuffer_ms", format!("{:.2}", f.gbuffer_ms));
-    out.emit(format!("{}_ms", mode.key()), format!("{:.2}", f.pass_ms));
-    let image = crate::ssdo::image(&f.output);
+    out: &mut RenderOutcome,
+) -> Result<()> {
     for (set, flag) in [
         (args.exr_passes.is_some(), "--exr-passes"),
         (args.export_ply.is_some(), "--export-ply"),
@@ -534,52 +522,43 @@ fn screen_space(
             bail!("{flag}: exports the cuts' shading (--mode cuts); a screen-space mode writes its image only");
         }
     }
-    if let Some(dir) = args.output.parent().filter(|d| !d.as_os_str().is_empty()) {
-        std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
+    if let Some(c) = args.compare.filter(|c| *c != Compare::Raytraced) {
+        bail!("--compare {}: a screen-space mode compares with `raytraced`", c.name());
     }
-    let exposure = args.exposure.unwrap_or_else(|| auto_exposure(&image));
-    write_png(&image, &args.output, exposure)?;
-    (out.png, out.exposure) = (args.output.clone(), exposure);
-    out.emit("png", format!("{}", args.output.display()));
-    out.emit("exposure", format!("{exposure:.4}"));
+    let objects = crate::ssdo::objects(frame);
+    let t = Instant::now();
+    let light = crate::ssdo::lighting(env, &objects);
+    let lighting_ms = ms_since(t);
+    let f = crate::ssdo::frame(&objects, &light, camera, (args.width, args.height), mode);
+    let pass = |m: ScreenMode| (m == mode).then_some(f.pass_ms);
+    out.screen = Some(ScreenTimes {
+        lighting_ms,
+        gbuffer_ms: f.gbuffer_ms,
+        ssao_ms: pass(ScreenMode::Ssao),
+        ssdo_ms: pass(ScreenMode::Ssdo),
+        ssdo_peeled_ms: pass(ScreenMode::SsdoPeeled),
+    });
+    let image = crate::ssdo::image(&f.output);
+    write_image(args, &image, out)?;
     if let Some(p) = &args.exr {
         write_exr(&image, p)?;
-        out.emit("exr", format!("{}", p.display()));
+        out.exr = Some(p.clone());
     }
-    if let Some(c) = args.compare {
-        if c != Compare::Raytraced {
-            bail!("--compare {}: a screen-space mode compares with `raytraced`", c.name());
-        }
+    if args.compare == Some(Compare::Raytraced) {
         let t = Instant::now();
         let r = vcut_ssdo::reference(&objects, &f.gbuffer, &light, &Default::default());
-        out.emit("reference_raytraced_s", format!("{:.3}", t.elapsed().as_secs_f64()));
+        let seconds = t.elapsed().as_secs_f64();
         let e = vcut_ssdo::rel_l2(&f.output.total(), &r.total(), &f.output.covered);
-        out.emit("pixel_rel_l2_vs_raytraced", format!("{e:.5}"));
         let stem = args.output.file_stem().and_then(|s| s.to_str()).unwrap_or("frame").to_string();
-        let ref_path = args.output.with_file_name(format!("{stem}-raytraced.png"));
-        write_png(&crate::ssdo::image(&r), &ref_path, exposure)?;
-        out.emit("reference_raytraced_png", format!("{}", ref_path.display()));
-        out.comparisons.push(Comparison {
-            reference: "raytraced",
-            vertex_rel_l2: None,
-            pixel_rel_l2: e,
-            png: ref_path,
+        let png = args.output.with_file_name(format!("{stem}-raytraced.png"));
+        write_png(&crate::ssdo::image(&r), &png, out.exposure)?;
+        out.comparisons.list.push(Comparison {
+            reference: Reference::Raytraced,
+            seconds,
+            vertex: None,
+            pixel: (e, None),
+            png,
         });
     }
-    Ok(out)
-}
-
-/// The frame's memory by part (`frame_memory_*_mb`), per vertex, and the process's peak.
-fn emit_memory(frame: &Frame, out: &mut RenderOutcome) {
-    let m = frame.memory();
-    let vertices: usize = (0..frame.object_count()).map(|o| frame.object(o).mesh.vertex_count()).sum();
-    let mb = |b: usize| format!("{:.1}", b as f64 / 1e6);
-    out.emit("frame_memory_mb", mb(m.total()));
-    out.emit("frame_bytes_per_vertex", format!("{}", m.total() / vertices.max(1)));
-    for (part, bytes) in m.parts() {
-        out.emit(format!("frame_memory_{part}_mb"), mb(bytes));
-    }
-    if let Some(peak) = vcut_scene::budget::peak_memory() {
-        out.emit("peak_rss_mb", mb(peak as usize));
-    }
+    Ok(())
 }

@@ -121,7 +121,7 @@ pub struct SceneFigures {
     pub rel_l2_exact_cuts_only: f64,
     pub max_err_exact_cuts_only: f64,
     pub move_ms_cuts_only: f64,
-    /// The knob `Frame::set_flat_edge_leaves` at this many leaves (`Frame::interactive_flat_edge_leaves`):
+    /// The knob `FrameSettings::flat_edge_leaves` at this many leaves (`FlatEdges::Interactive`):
     /// the eager move and the error.
     pub flat_edge_leaves: u32,
     pub move_ms_eager_flat_edges: f64,

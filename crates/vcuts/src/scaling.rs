@@ -22,7 +22,7 @@ use vcut_scene::budget::{peak_memory, reset_peak_memory, resident_memory, trim_h
 use vcut_scene::{Motion, Scene};
 use vcut_shade::measure::{edit_ms, move_path};
 use vcut_shade::reference::{ExactReference, relative_errors};
-use vcut_shade::{Frame, FrameCaches, MergeAlgorithm};
+use vcut_shade::{Frame, FrameCaches, FrameSettings, MergeAlgorithm};
 
 /// One scene measured.
 #[derive(Serialize, Deserialize, Clone, Debug, Default, PartialEq)]
@@ -65,7 +65,7 @@ pub struct ScalingPoint {
     pub ns_per_merged_node: f64,
     pub edit_ms: f64,
     /// A frame keeping no cache (`FrameCaches` all off, as `render --memory-budget` with a
-    /// budget below its needs) set up for the camera's eye (`Frame::with_caches_facing`: the
+    /// budget below its needs) set up for the camera's eye (`Frame::open` with the eye: the
     /// lists of the vertices facing it only): its peak resident memory over the memory before
     /// (setup, an eager drag, a shading), the same per vertex, what it holds after, and its
     /// eager drag.
@@ -268,15 +268,16 @@ pub fn measure(sweep: &str, scene: &str, preset: &str, data_dir: &Path) -> Resul
     let t = Instant::now();
     let mut data = Precomputed::open(&file)?;
     let offset = data.svc_origin_offset();
-    let mut frame = Frame::new(&mut data, &opened.environment)?;
+    let settings = FrameSettings::default();
+    let mut frame = Frame::open(&mut data, &opened.environment, &settings, None)?;
     let frame_setup_s = t.elapsed().as_secs_f64();
     let moved = central_movable(&frame).with_context(|| format!("{scene} has no movable object"))?;
     let vertices: usize = (0..frame.object_count()).map(|o| frame.object(o).mesh.vertex_count()).sum();
     frame.set_eye(eye)?;
     let edit = edit_ms(&mut frame, moved, eye, 5);
-    frame.set_deferred_merges(false)?;
+    frame.reconfigure(&FrameSettings { deferred_merges: false, ..settings.clone() })?;
     let eager = move_path(&mut frame, moved, eye, MergeAlgorithm::Counter, 4)?;
-    frame.set_deferred_merges(true)?;
+    frame.reconfigure(&settings)?;
     let deferred = move_path(&mut frame, moved, eye, MergeAlgorithm::Counter, 4)?;
     let shaded = frame.shade(eye);
     let frame_peak = peak_since(before);
@@ -306,9 +307,8 @@ pub fn measure(sweep: &str, scene: &str, preset: &str, data_dir: &Path) -> Resul
     // The same with no cache kept.
     let before = start_peak();
     let mut data = Precomputed::open(&file)?;
-    let none = FrameCaches { stored: false, svc: false, cells: false, merged: false };
-    let mut lean = Frame::with_caches_facing(&mut data, &opened.environment, none, eye)?;
-    lean.set_deferred_merges(false)?;
+    let none = FrameSettings { caches: FrameCaches::NONE, deferred_merges: false, ..settings };
+    let mut lean = Frame::open(&mut data, &opened.environment, &none, Some(eye))?;
     let lean_drag = move_path(&mut lean, moved, eye, MergeAlgorithm::Counter, 4)?;
     std::hint::black_box(lean.shade(eye));
     let lean_peak = peak_since(before);

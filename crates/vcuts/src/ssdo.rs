@@ -47,7 +47,7 @@ pub fn objects(frame: &Frame) -> Vec<Object> {
     (0..frame.object_count())
         .map(|o| {
             let vcut_shade::FrameObject { mesh, translation, .. } = frame.object(o);
-            Object::from_mesh(mesh, translation, frame.mean_albedo(o))
+            Object::from_mesh(mesh, translation, frame.object(o).mean_albedo())
         })
         .collect()
 }

@@ -28,16 +28,16 @@ pub struct ViewArgs {
     #[arg(long)]
     pub camera: Option<String>,
     /// Move an object first: NAME=dx,dy,dz (repeatable).
-    #[arg(long = "move", value_name = "NAME=DX,DY,DZ")]
-    pub moves: Vec<String>,
+    #[arg(long = "move", value_name = "NAME=DX,DY,DZ", allow_hyphen_values = true)]
+    pub moves: Vec<crate::values::Move>,
     /// Edit a BRDF first: NAME=MODEL[:KEY=VALUE,...] (repeatable).
     #[arg(long = "brdf", value_name = "NAME=SPEC")]
-    pub brdfs: Vec<String>,
-    /// Environment rotation about +Y, degrees.
-    #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
+    pub brdfs: Vec<crate::values::BrdfEdit>,
+    /// Environment rotation about +Y, degrees (finite).
+    #[arg(long, default_value_t = 0.0, allow_hyphen_values = true, value_parser = finite)]
     pub env_rotation: f32,
-    /// Exposure before tone mapping (default: automatic).
-    #[arg(long)]
+    /// Exposure before tone mapping (finite, above 0; default: automatic).
+    #[arg(long, value_parser = positive, allow_negative_numbers = true)]
     pub exposure: Option<f32>,
     /// What to show: cuts, exact (the exact-direction reference), difference (heat map), or
     /// the screen-space methods ssao and ssdo (WGSL passes, no precomputation).
@@ -46,30 +46,24 @@ pub struct ViewArgs {
     /// Render one frame with no window into this PNG and exit.
     #[arg(long)]
     pub screenshot: Option<PathBuf>,
-    /// Screenshot width.
-    #[arg(long, default_value_t = 1280)]
+    /// Screenshot width in pixels (1 to 16,384).
+    #[arg(long, default_value_t = 1280, value_parser = crate::values::side)]
     pub width: u32,
-    /// Screenshot height.
-    #[arg(long, default_value_t = 720)]
+    /// Screenshot height in pixels (1 to 16,384).
+    #[arg(long, default_value_t = 720, value_parser = crate::values::side)]
     pub height: u32,
     /// Close the window after this many frames (scripted runs).
     #[arg(long)]
     pub frames: Option<u64>,
-    /// Re-merge at every mouse move while dragging if a move costs less than this (ms).
-    #[arg(long, default_value_t = 120.0)]
+    /// Re-merge at every mouse move while dragging if a move costs less than this (ms; finite,
+    /// at least 0).
+    #[arg(long, default_value_t = 120.0, value_parser = non_negative)]
     pub live_move_ms: f64,
-    /// Start with the sun through the cuts too, as the paper (the panel's "sun by rays" box
-    /// unticked); by default the light's brightest leaves are cast by rays at run time.
-    #[arg(long)]
-    pub no_sun_rays: bool,
-    /// The target error of the light left in the cuts, as `render --light-error` (the panel's
-    /// slider).
-    #[arg(long, value_name = "REL")]
-    pub light_error: Option<f64>,
-    /// How finely a ground's shadow follows its edges, as `render --flat-edge-leaves` (the
-    /// panel's "ground edges estimated" box): a power of two, or `interactive`.
-    #[arg(long, value_name = "N|interactive")]
-    pub flat_edge_leaves: Option<vcut_shade::FlatEdges>,
+    /// The frame's settings, as `render`'s (`--no-sun-rays` starts with the panel's "sun by
+    /// rays" box unticked, `--light-error` sets its slider, `--flat-edge-leaves interactive`
+    /// ticks "ground edges estimated").
+    #[command(flatten)]
+    pub frame: vcut_shade::FrameArgs,
     /// The plant-leaf viewer instead (`vcut-leaf`: the plant precomputed first, then the sun,
     /// method, level of detail and leaf panel); the plant options below apply.
     #[arg(long, conflicts_with_all = ["input", "scene"])]
@@ -77,6 +71,24 @@ pub struct ViewArgs {
     /// The plant, leaves and sun (with --leaves).
     #[command(flatten)]
     pub plant: crate::leaves::PlantArgs,
+}
+
+/// A finite number (`--env-rotation`).
+fn finite(s: &str) -> Result<f32, String> {
+    s.parse::<f32>().ok().filter(|x| x.is_finite()).ok_or_else(|| format!("{s:?}: not a finite number"))
+}
+
+/// A finite number above 0 (`--exposure`).
+fn positive(s: &str) -> Result<f32, String> {
+    finite(s).and_then(|x| if x > 0.0 { Ok(x) } else { Err(format!("{s:?}: must be above 0")) })
+}
+
+/// A finite number, at least 0 (`--live-move-ms`).
+fn non_negative(s: &str) -> Result<f64, String> {
+    s.parse::<f64>()
+        .ok()
+        .filter(|x| x.is_finite() && *x >= 0.0)
+        .ok_or_else(|| format!("{s:?}: must be a finite number, at least 0"))
 }
 
 /// `view --leaves`: the plant precomputed, then the leaf window (or a screenshot).
@@ -209,12 +221,11 @@ pub fn run(args: &ViewArgs) -> Result<()> {
         (Some(p), _) => p.clone(),
         (None, scene) => crate::precompute::cached_or_run(scene.as_deref().unwrap_or("builtin:teapot"), &args.preset)?,
     };
-    let opened = crate::render::open_with(&input, args.env.as_deref(), args.reconstruction, Default::default())?;
+    let settings = args.frame.settings();
+    let opened =
+        crate::render::open_with(&input, args.env.as_deref(), args.reconstruction, &settings, args.camera.as_deref())?;
     let crate::render::Opened { data, mut frame, env, env_name, view, setup_s } = opened;
     crate::render::apply_edits(&mut frame, &args.brdfs, &args.moves)?;
-    if let Some(edges) = args.flat_edge_leaves {
-        crate::render::set_flat_edges(&mut frame, edges)?;
-    }
     let camera = crate::render::camera(view.as_ref(), args.camera.as_deref(), &frame)?;
     let summary = vec![
         ("file".to_string(), input.display().to_string()),
@@ -234,12 +245,6 @@ pub fn run(args: &ViewArgs) -> Result<()> {
     let offset = data.svc_origin_offset();
     let mut session = Session::new(frame, env.clone(), &env_name, offset, OrbitCamera::from_camera(&camera));
     session.exposure = args.exposure;
-    if let Some(target) = crate::render::light_error(args.light_error, view.as_ref().and_then(|v| v.light_error))? {
-        session.set_light_error(target);
-    }
-    if args.no_sun_rays {
-        session.set_sun_rays(false);
-    }
     if args.env_rotation != 0.0 {
         session.set_env_rotation(args.env_rotation);
     }

@@ -23,7 +23,7 @@ fn a_constant_map_casts_nothing_and_the_sun_is_cast_by_rays() {
     let mut data = precomputed(&s);
     let offset = data.svc_origin_offset();
     let env = vcut_envmap::EnvMap::constant([1.0; 3]);
-    let mut frame = Frame::new(&mut data, &env).unwrap();
+    let mut frame = Frame::open(&mut data, &env, &vcut_shade::FrameSettings::default(), None).unwrap();
     let movable = first_movable(&frame).unwrap();
     let subject = Subject { scene: "test", preset: "fast", movable, eye: Vec3::new(0.0, 3.0, 5.0), offset };
     let mut section = AccuracySection::default();
@@ -78,7 +78,9 @@ fn two_suns_and_a_window_get_their_bright_leaves_cast_and_the_target_moves_the_e
     let s = scratch("accuracy-suns");
     let mut data = precomputed(&s);
     let offset = data.svc_origin_offset();
-    let mut frame = Frame::new(&mut data, &vcut_envmap::EnvMap::constant([1.0; 3])).unwrap();
+    let mut frame =
+        Frame::open(&mut data, &vcut_envmap::EnvMap::constant([1.0; 3]), &vcut_shade::FrameSettings::default(), None)
+            .unwrap();
     let eye = Vec3::new(0.0, 3.0, 5.0);
     let cast_dirs = |frame: &Frame| -> Vec<Vec3> {
         frame.light_choice().cast.iter().map(|&l| frame.tree().leaf_directions()[l as usize]).collect()
@@ -96,7 +98,7 @@ fn two_suns_and_a_window_get_their_bright_leaves_cast_and_the_target_moves_the_e
         assert!(cast.iter().any(|&d| angle_deg(d, sun) < 10.0), "no leaf cast near the sun at {sun}: {cast:?}");
     }
     let with_rays = error(&mut frame);
-    frame.set_sun_rays(None);
+    frame.reconfigure(&vcut_shade::FrameSettings { sun_rays: false, ..frame.settings().clone() }).unwrap();
     let cuts_only = error(&mut frame);
     assert!(with_rays < cuts_only, "two suns: {with_rays} with rays, {cuts_only} through the cuts");
 
@@ -106,7 +108,7 @@ fn two_suns_and_a_window_get_their_bright_leaves_cast_and_the_target_moves_the_e
         (20.0..40.0).contains(&e) && (-15.0..15.0).contains(&a)
     };
     let window_map = map_with(window, 30.0);
-    frame.set_sun_rays(Some(vcut_shade::SunRays::default()));
+    frame.reconfigure(&vcut_shade::FrameSettings { sun_rays: true, ..frame.settings().clone() }).unwrap();
     frame.set_environment(&window_map);
     let cast = cast_dirs(&frame);
     assert!(!cast.is_empty(), "the window casts nothing");
@@ -115,12 +117,13 @@ fn two_suns_and_a_window_get_their_bright_leaves_cast_and_the_target_moves_the_e
         assert!(angle_deg(*d, dir(30.0, 0.0)) < 18.0 + 8.0, "a leaf cast outside the window: {d}");
     }
     let with_rays = error(&mut frame);
-    frame.set_sun_rays(None);
+    frame.reconfigure(&vcut_shade::FrameSettings { sun_rays: false, ..frame.settings().clone() }).unwrap();
     let cuts_only = error(&mut frame);
     assert!(with_rays < cuts_only, "window: {with_rays} with rays, {cuts_only} through the cuts");
 
     // The target: smaller casts the same leaves and more, and the error does not grow.
-    frame.set_sun_rays(Some(vcut_shade::SunRays::default()));
+    frame.reconfigure(&vcut_shade::FrameSettings { sun_rays: true, ..frame.settings().clone() }).unwrap();
+    let before = frame.settings().clone();
     let movable = first_movable(&frame).unwrap();
     let subject = Subject { scene: "test", preset: "fast", movable, eye, offset };
     let knob = vcuts::accuracy::measure_knob(&mut frame, &subject, "window", &window_map).unwrap();
@@ -131,5 +134,5 @@ fn two_suns_and_a_window_get_their_bright_leaves_cast_and_the_target_moves_the_e
     }
     let (loose, tight) = (&knob[0], &knob[knob.len() - 1]);
     assert!(tight.leaves > loose.leaves && tight.rel_l2_exact < loose.rel_l2_exact, "{loose:?} {tight:?}");
-    assert_eq!(frame.sun_rays(), Some(vcut_shade::SunRays::default()), "the sweep restores the setting");
+    assert_eq!(frame.settings(), &before, "the sweep restores the setting");
 }

@@ -82,8 +82,8 @@ fn precompute_logs_progress_without_a_terminal_and_render_works_from_another_fol
         assert!(String::from_utf8_lossy(&o.stdout).contains(key), "no {key}: {}", text(&o));
     }
     let o = vcuts(&elsewhere, &[&small[..], &["--light-error", "2"]].concat());
-    assert_eq!(o.status.code(), Some(1), "{}", text(&o));
-    assert!(text(&o).contains("--light-error 2: must lie in (0, 1)"), "{}", text(&o));
+    assert_eq!(o.status.code(), Some(2), "{}", text(&o));
+    assert!(text(&o).contains("--light-error") && text(&o).contains("must lie in (0, 1)"), "{}", text(&o));
     // The cost cap reaches the frame: at most that many leaves cast; 0 is refused by name.
     let o = vcuts(&elsewhere, &[&small[..], &["--light-error", "0.0001", "--light-max-leaves", "1"]].concat());
     assert!(o.status.success(), "{}", text(&o));
@@ -105,8 +105,38 @@ fn precompute_logs_progress_without_a_terminal_and_render_works_from_another_fol
     assert_eq!(o.status.code(), Some(2), "{}", text(&o));
     assert!(text(&o).contains("`interactive`"), "{}", text(&o));
     let o = vcuts(&elsewhere, &[&small[..], &["--flat-edge-leaves", "3"]].concat());
+    assert_eq!(o.status.code(), Some(2), "{}", text(&o));
+    assert!(text(&o).contains("--flat-edge-leaves") && text(&o).contains("power of two"), "{}", text(&o));
+    // Every setting of the frame given: each vertex merges once, at setup.
+    let every = [
+        "--inside-samples",
+        "dropped",
+        "--no-horizon-culling",
+        "--field-reach",
+        "outermost",
+        "--flat-edge-leaves",
+        "4",
+        "--eager-merges",
+        "--merge-algorithm",
+        "index",
+        "--light-error",
+        "0.001",
+        "--light-max-leaves",
+        "4",
+        "--no-cache",
+        "cells,svc",
+        "--json",
+    ];
+    let o = vcuts(&elsewhere, &[&small[..], &every].concat());
+    assert!(o.status.success(), "{}", text(&o));
+    let json: serde_json::Value = serde_json::from_slice(&o.stdout).expect("--json prints one object");
+    assert_eq!(json["setup_merges"], json["vertices"], "{json}");
+    assert_eq!((json["merges"].as_u64(), json["inside_samples"].as_str()), (Some(0), Some("dropped")), "{json}");
+    assert_eq!(json["frame_caches"], "stored,merged", "{json}");
+    // More leaves than the file has directions: refused once the file is read, naming the option.
+    let o = vcuts(&elsewhere, &[&small[..], &["--flat-edge-leaves", "512"]].concat());
     assert_eq!(o.status.code(), Some(1), "{}", text(&o));
-    assert!(text(&o).contains("--flat-edge-leaves: flat edge leaves = 3"), "{}", text(&o));
+    assert!(text(&o).contains("--flat-edge-leaves 512: must be at most the number of directions, 256"), "{}", text(&o));
     // Under a memory budget the stored cuts stay in the file and no cache is kept when none
     // fits: the same picture, byte for byte, from a frame that says so; 0 MB is refused.
     let budget = |extra: &[&str], png: &str| {
@@ -125,8 +155,8 @@ fn precompute_logs_progress_without_a_terminal_and_render_works_from_another_fol
     assert!(stored(&lean) * 4.0 < stored(&full), "{lean}\n{full}");
     assert!(lean_png == full_png, "the picture under a budget differs");
     let o = vcuts(&elsewhere, &[&small[..], &["--memory-budget", "0"]].concat());
-    assert_eq!(o.status.code(), Some(1), "{}", text(&o));
-    assert!(text(&o).contains("--memory-budget 0"), "{}", text(&o));
+    assert_eq!(o.status.code(), Some(2), "{}", text(&o));
+    assert!(text(&o).contains("--memory-budget") && text(&o).contains("positive number of MB"), "{}", text(&o));
     // -q: results on stdout as before, nothing about progress on stderr.
     let o = vcuts(
         &work,

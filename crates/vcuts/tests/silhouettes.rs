@@ -87,7 +87,9 @@ fn silhouette_ratios(image: &vcut_shade::image::Image) -> Vec<f32> {
 fn silhouette_pixels_match_their_neighbours_and_the_ply_shades_every_vertex() {
     let s = scratch("silhouettes");
     let mut data = precomputed(&s, SPHERE);
-    let mut frame = Frame::new(&mut data, &vcut_envmap::EnvMap::constant([1.0; 3])).unwrap();
+    let mut frame =
+        Frame::open(&mut data, &vcut_envmap::EnvMap::constant([1.0; 3]), &vcut_shade::FrameSettings::default(), None)
+            .unwrap();
     let eye = Vec3::new(0.3, 0.4, 4.0);
     let camera = Camera { name: "test".into(), position: eye, target: Vec3::ZERO, up: Vec3::Y, fov_y_deg: 35.0 };
     let radiance = frame.shade(eye);
@@ -113,7 +115,7 @@ fn silhouette_pixels_match_their_neighbours_and_the_ply_shades_every_vertex() {
     let unseen = radiance[0].iter().filter(|c| **c == Vec3::ZERO).count();
     assert!(unseen > 100, "{unseen} unseen vertices");
     let all = frame.shade_all(eye);
-    let seen_same = (0..all[0].len()).filter(|&v| frame.seen(0, v, eye)).all(|v| all[0][v] == radiance[0][v]);
+    let seen_same = (0..all[0].len()).filter(|&v| frame.object(0).seen(v, eye)).all(|v| all[0][v] == radiance[0][v]);
     assert!(seen_same, "the export shades seen vertices as the render does");
     let path = s.0.join("scene.ply");
     write_ply(&frame, &all, &path).unwrap();
@@ -145,7 +147,9 @@ fn the_bunnys_silhouette_pixels_stay_near_their_neighbours() {
     }
     let s = scratch("silhouettes-bunny");
     let mut data = precomputed(&s, BUNNY);
-    let mut frame = Frame::new(&mut data, &vcut_envmap::EnvMap::constant([1.0; 3])).unwrap();
+    let mut frame =
+        Frame::open(&mut data, &vcut_envmap::EnvMap::constant([1.0; 3]), &vcut_shade::FrameSettings::default(), None)
+            .unwrap();
     let eye = Vec3::new(1.2, 0.9, 2.4);
     let target = Vec3::new(0.0, 0.45, 0.0);
     let camera = Camera { name: "test".into(), position: eye, target, up: Vec3::Y, fov_y_deg: 30.0 };

@@ -1,9 +1,9 @@
 //! Which leaves of the light leave the cuts for rays: the error each would add through the
 //! cuts, estimated at sampled vertices, against the target error ([`crate::sun`] has the rule).
 
-use super::Frame;
 use super::lists::{ShadeList, ShadeNode, shade_nodes, unpack};
-use super::object::placed;
+use super::object::{MergeState, placed};
+use super::{Context, Frame};
 use crate::sun::{self, CANDIDATES, SAMPLES, SunRays};
 use rayon::prelude::*;
 use std::time::Instant;
@@ -62,12 +62,15 @@ impl Frame {
     /// What the last lighting change chose: the leaves cast by rays, the error estimate and its
     /// cost, the cast's cost.
     pub fn light_choice(&self) -> &LightChoice {
-        &self.choice
+        &self.ctx.choice
     }
+}
 
+impl Context {
     /// Chooses the leaves to cast under `rays` for the current light and translations; builds
-    /// the objects' hierarchies when there is a candidate and they are not built yet.
-    pub(super) fn choose(&mut self, rays: &SunRays) -> LightChoice {
+    /// the objects' hierarchies when there is a candidate and they are not built yet. The
+    /// vertices sampled take their kept merged cuts from `states` unless `stale`.
+    pub(super) fn choose(&mut self, rays: &SunRays, states: &[MergeState], stale: bool) -> LightChoice {
         let start = Instant::now();
         let candidates = sun::candidates(&self.light, CANDIDATES);
         let vertices: usize = self.objects.iter().map(|s| s.mesh.vertex_count()).sum();
@@ -86,8 +89,10 @@ impl Frame {
             offsets: (0..self.objects.len()).map(|o| self.sun_origin_offset(o)).collect(),
             first_leaf: self.tree.node_count() - self.tree.leaf_directions().len(),
         };
-        let errors: Vec<(f64, Vec<f32>)> =
-            samples.par_iter().filter_map(|&(o, v)| self.sample_errors(o, v, &candidates, &at)).collect();
+        let errors: Vec<(f64, Vec<f32>)> = samples
+            .par_iter()
+            .filter_map(|&(o, v)| self.sample_errors(o, v, &candidates, &at, &states[o], stale))
+            .collect();
         let norm = errors.iter().map(|(r, _)| r * r).sum::<f64>().sqrt();
         let columns: Vec<&[f32]> = errors.iter().map(|(_, e)| e.as_slice()).collect();
         let cap = rays.max_leaves.min(sun::MAX_SUN_LEAVES);
@@ -121,12 +126,22 @@ impl Frame {
     /// light (`table`), and each candidate leaf's error through the cuts, `(w − V·max(0, n·ω))·Y`
     /// (w: the weight the vertex's shading list gives the node holding the leaf). `None` when the
     /// vertex's cut does not merge (the setup's merge then fails too).
-    fn sample_errors(&self, o: usize, v: usize, candidates: &[u32], at: &Sampling<'_>) -> Option<(f64, Vec<f32>)> {
+    fn sample_errors(
+        &self,
+        o: usize,
+        v: usize,
+        candidates: &[u32],
+        at: &Sampling<'_>,
+        state: &MergeState,
+        stale: bool,
+    ) -> Option<(f64, Vec<f32>)> {
         let s = &self.objects[o];
         // The kept cut where it is current (a lighting change), else merged here (the setup's
-        // choice, before its merges; the merged cache off; a merge that waits).
+        // choice, before its merges; the merged cache off; a merge that waits; settings that
+        // change the cuts).
         let mut merged = MergedCut::default();
-        let cut = match s.merged.get(v).filter(|_| !s.pending.get(v).copied().unwrap_or(true)) {
+        let kept = state.merged.get(v).filter(|_| !stale && !state.pending.get(v).copied().unwrap_or(true));
+        let cut = match kept {
             Some(kept) => kept.nodes(),
             None => {
                 self.merge_one(o, v, &self.keys(o, v), &mut merged).ok()?;

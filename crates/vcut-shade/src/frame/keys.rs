@@ -2,7 +2,8 @@
 //! cells those samples make (shared by neighbouring vertices), and the lookup at the current
 //! translations.
 
-use super::Frame;
+use super::object::MergeState;
+use super::{Context, Frame};
 use vcut_data::{FieldLayout, FieldSample};
 use vcut_scene::Motion;
 
@@ -23,12 +24,20 @@ pub(super) enum Input {
     /// A flat convex object ([`vcut_scene::flat::FlatOutline`]): its exact cut
     /// ([`crate::flat::flat_cut`]) at this ray origin, relative to the object's placement.
     Flat(glam::Vec3),
+    /// The vertex's last merge failed: no lookup gives this, so any later move merges the
+    /// vertex again; until then it shades as occluded.
+    Failed,
 }
 
 impl FieldKey {
-    /// The key of an occluder that hides the whole sphere of directions.
-    pub(super) fn inside(object: u32) -> FieldKey {
-        FieldKey { object, input: Input::Inside }
+    /// The one key of a vertex whose merge failed ([`Input::Failed`]).
+    pub(super) fn failed() -> FieldKey {
+        FieldKey { object: 0, input: Input::Failed }
+    }
+
+    /// Whether this input hides every direction (the vertex's cut is one zero node).
+    pub(super) fn occludes_all(&self) -> bool {
+        matches!(self.input, Input::Inside | Input::Failed)
     }
 
     /// The ray origin of a flat occluder's cut, if it is one.
@@ -40,11 +49,20 @@ impl FieldKey {
     }
 }
 
-/// A field lookup's kept samples — (object, sphere, point), in lookup order, the order of the
-/// sum — the cuts one factor of a vertex's product sums. Vertices near each other share cells.
+/// One stored field cut: object `object`'s field, sphere `sphere`, point `point` on it. Ordered
+/// by object, then sphere, then point (the order a file stores them in).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub(super) struct SampleId {
+    pub(super) object: u32,
+    pub(super) sphere: u32,
+    pub(super) point: u32,
+}
+
+/// A field lookup's kept samples, in lookup order (the order of the sum): the cuts one factor
+/// of a vertex's product sums. Vertices near each other share cells.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
 pub(super) struct CellKey {
-    pub(super) samples: [(u32, u32, u32); 8],
+    pub(super) samples: [SampleId; 8],
     pub(super) len: u8,
 }
 
@@ -54,17 +72,17 @@ impl CellKey {
         let Input::Samples(samples) = k.input else {
             return None;
         };
-        let mut cell = CellKey { samples: [(0, 0, 0); 8], len: 0 };
+        let mut cell = CellKey { samples: [SampleId::default(); 8], len: 0 };
         let mut weights = [0.0f32; 8];
         for x in samples.iter().filter(|x| x.weight > 0.0) {
-            cell.samples[usize::from(cell.len)] = (k.object, x.sphere, x.point);
+            cell.samples[usize::from(cell.len)] = SampleId { object: k.object, sphere: x.sphere, point: x.point };
             weights[usize::from(cell.len)] = x.weight;
             cell.len += 1;
         }
         Some((cell, weights))
     }
 
-    pub(super) fn samples(&self) -> &[(u32, u32, u32)] {
+    pub(super) fn samples(&self) -> &[SampleId] {
         &self.samples[..usize::from(self.len)]
     }
 }
@@ -86,9 +104,31 @@ impl Frame {
     /// Object `j`'s exact visibility cut at world point `at` when it is flat and convex
     /// ([`crate::flat::flat_cut`] of its outline where it stands); `None` for any other object.
     pub fn flat_cut(&self, j: usize, at: glam::Vec3) -> Option<vcut_cut::Cut> {
-        self.flat_cut_at_rest(j, at - self.objects.get(j)?.translation, &[], Default::default())
+        self.ctx.flat_cut_at_rest(j, at - self.ctx.objects.get(j)?.translation, &[], Default::default())
     }
 
+    /// The objects whose fields shadow vertex `v` of object `o` at the current translations,
+    /// with their layouts (centre at rest; add the object's translation). Flat convex objects
+    /// shadow it by their exact cut instead ([`Frame::flat_sources`]).
+    pub fn field_sources(&self, o: usize, v: usize) -> Vec<(usize, FieldLayout)> {
+        self.states[o].keys[v]
+            .iter()
+            .filter(|k| k.flat().is_none() && k.input != Input::Failed)
+            .filter_map(|k| self.ctx.objects.get(k.object as usize)?.layout.map(|l| (k.object as usize, l)))
+            .collect()
+    }
+
+    /// The flat convex objects that shadow vertex `v` of object `o` by their exact cut
+    /// ([`crate::flat::flat_cut`]), with the cut's ray origin in world space.
+    pub fn flat_sources(&self, o: usize, v: usize) -> Vec<(usize, glam::Vec3)> {
+        let keys = &self.states[o].keys[v];
+        keys.iter()
+            .filter_map(|k| Some((k.object as usize, k.flat()? + self.ctx.objects[k.object as usize].translation)))
+            .collect()
+    }
+}
+
+impl Context {
     /// [`Frame::flat_cut`] at `at` relative to object `j`'s placement (what a key holds), for a
     /// product that is zero on the leaf ranges `zeros` ([`crate::flat::flat_cut_where`]), built
     /// in `buffers` ([`crate::flat::flat_cut_in`]).
@@ -100,27 +140,7 @@ impl Frame {
         buffers: (Vec<u8>, Vec<f32>),
     ) -> Option<vcut_cut::Cut> {
         let outline = self.objects.get(j)?.flat.as_ref()?;
-        Some(crate::flat::flat_cut_in(&self.tree, outline.corners(), at, zeros, self.flat_edge_leaves, buffers))
-    }
-
-    /// The objects whose fields shadow vertex `v` of object `o` at the current translations,
-    /// with their layouts (centre at rest; add the object's translation). Flat convex objects
-    /// shadow it by their exact cut instead ([`Frame::flat_sources`]).
-    pub fn field_sources(&self, o: usize, v: usize) -> Vec<(usize, FieldLayout)> {
-        self.objects[o].keys[v]
-            .iter()
-            .filter(|k| k.flat().is_none())
-            .filter_map(|k| self.objects.get(k.object as usize)?.layout.map(|l| (k.object as usize, l)))
-            .collect()
-    }
-
-    /// The flat convex objects that shadow vertex `v` of object `o` by their exact cut
-    /// ([`crate::flat::flat_cut`]), with the cut's ray origin in world space.
-    pub fn flat_sources(&self, o: usize, v: usize) -> Vec<(usize, glam::Vec3)> {
-        let keys = &self.objects[o].keys[v];
-        keys.iter()
-            .filter_map(|k| Some((k.object as usize, k.flat()? + self.objects[k.object as usize].translation)))
-            .collect()
+        Some(crate::flat::flat_cut_in(&self.tree, outline.corners(), at, zeros, self.flat_leaves, buffers))
     }
 
     /// The field inputs of vertex `v` of object `o` at the current translations, in object
@@ -143,22 +163,30 @@ impl Frame {
             // weighs).
             let n = me.mesh.normals()[v];
             let at = vcut_rays::origin(p, n, me.ray_offset) - other.translation;
-            if self.horizon_culling && outline.corners().iter().all(|c| (*c - at).dot(n) <= 0.0) {
+            if self.settings.horizon_culling && outline.corners().iter().all(|c| (*c - at).dot(n) <= 0.0) {
                 return None;
             }
             return Some(FieldKey { object: j as u32, input: Input::Flat(at) });
         }
         let layout = other.layout?;
-        if self.field_reach.is_some_and(|r| p.distance(layout.center + other.translation) > r * layout.radius) {
+        if self
+            .settings
+            .field_reach
+            .radii()
+            .is_some_and(|r| p.distance(layout.center + other.translation) > r * layout.radius)
+        {
             return None;
         }
-        if self.horizon_culling
+        if self.settings.horizon_culling
             && wholly_below(p, me.mesh.normals()[v], layout.center + other.translation, layout.radius)
         {
             return None;
         }
         let mut samples = layout.lookup(p - other.translation)?;
-        let kept = self.inside.apply(&mut samples, |x| other.field[x.sphere as usize].inside(x.point as usize));
+        let kept = self
+            .settings
+            .inside_samples
+            .apply(&mut samples, |x| other.field[x.sphere as usize].inside(x.point as usize));
         Some(FieldKey { object: j as u32, input: if kept > 0 { Input::Samples(samples) } else { Input::Inside } })
     }
 
@@ -166,16 +194,22 @@ impl Frame {
     /// same). A vertex whose kept inputs are current (not waiting, not failed) looks up only
     /// what `changed` says may differ: after a move of another object, that object's input (one
     /// lookup instead of one per object); nothing when nothing moved.
-    pub(super) fn changed_keys(&self, o: usize, v: usize, changed: Changed) -> Option<Vec<FieldKey>> {
-        let kept = &self.objects[o].keys[v];
-        let current = !self.objects[o].pending[v] && kept.iter().all(|k| k.object != FAILED);
+    pub(super) fn changed_keys(
+        &self,
+        o: usize,
+        v: usize,
+        state: &MergeState,
+        changed: Changed,
+    ) -> Option<Vec<FieldKey>> {
+        let kept = &state.keys[v];
+        let current = !state.pending[v] && kept.iter().all(|k| k.input != Input::Failed);
         let j = match changed {
             Changed::Nothing if current => return None,
             Changed::Object(j) if j != o && current => j,
-            Changed::Flat => {
-                // Same keys, but a cut with a flat occluder in it is another cut now.
-                let keys = if current { kept.clone() } else { self.keys(o, v) };
-                return (keys != *kept || keys.iter().any(|k| k.flat().is_some())).then_some(keys);
+            Changed::Settings { keys: lookups, flat } => {
+                // A cut with a flat occluder in it is another cut when flat cuts changed.
+                let keys = if current && !lookups { kept.clone() } else { self.keys(o, v) };
+                return (keys != *kept || (flat && keys.iter().any(|k| k.flat().is_some()))).then_some(keys);
             }
             _ => {
                 let keys = self.keys(o, v);
@@ -216,16 +250,17 @@ pub(super) fn wholly_below(p: glam::Vec3, n: glam::Vec3, c: glam::Vec3, r: f32) 
 /// What changed since the kept field inputs were looked up.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub(super) enum Changed {
-    /// Anything (how lookups treat inside samples): every input is looked up again.
-    All,
     /// Object `j` moved.
     Object(usize),
     /// Nothing: only the waiting vertices' inputs are looked up (to merge them).
     Nothing,
-    /// How flat occluders are cut: the vertices one shadows merge again, and the waiting ones.
-    Flat,
+    /// Settings: `keys`, how lookups go (inside samples, horizon, reach), so every input is
+    /// looked up again; `flat`, how flat occluders are cut, so the vertices one shadows merge
+    /// again.
+    Settings {
+        /// Lookups changed.
+        keys: bool,
+        /// Flat cuts changed.
+        flat: bool,
+    },
 }
-
-/// The object of the key a vertex gets when its merge failed: no lookup gives it, so any later
-/// move merges the vertex again.
-pub(super) const FAILED: u32 = u32::MAX;

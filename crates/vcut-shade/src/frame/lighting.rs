@@ -1,11 +1,12 @@
 //! Lighting and materials: the environment's light tree, the sun by rays, the shading table
-//! and the lists rebuilt after a lighting change; BRDF edits. None of them merges.
+//! and the lists rebuilt after a lighting change; BRDF edits. None of them merges but to
+//! rebuild lists without the merged cache.
 
-use super::Frame;
 use super::lists::{shade_nodes, specular_nodes};
-use super::object::placed;
+use super::object::{MergeState, placed};
+use super::{Context, Frame};
 use crate::brdf;
-use crate::sun::{self, Sun, SunRays};
+use crate::sun::{self, Sun};
 use std::time::Instant;
 use vcut_envmap::EnvMap;
 use vcut_scene::Material;
@@ -15,7 +16,7 @@ impl Frame {
     /// takes the new material everywhere (the texture applies again when its loaded material
     /// is set back); a base-colour texture keeps multiplying `kd`.
     pub fn set_material(&mut self, o: usize, material: Material) {
-        let s = &mut self.objects[o];
+        let s = &mut self.ctx.objects[o];
         if s.material.exponent != material.exponent {
             s.pow = brdf::PowTable::new(material.exponent);
         }
@@ -26,40 +27,46 @@ impl Frame {
     /// Rebuilds the light tree for a new or rotated environment (no merge; with sun rays on,
     /// the sun's rays are cast again).
     pub fn set_environment(&mut self, env: &EnvMap) {
-        self.light = self.builder.build(env);
-        self.relight();
+        self.ctx.light = self.ctx.builder.build(env);
+        self.ctx.light_state(&self.states, false);
+        self.relist_all(None);
     }
 
-    /// Casts the sun's leaves by rays at run time instead of through the cuts (the default,
-    /// [`SunRays::default`]; `None`: the paper's cuts for all light). See [`crate::sun`]. No
-    /// merge.
-    pub fn set_sun_rays(&mut self, rays: Option<SunRays>) {
-        self.sun_rays = rays;
-        self.relight();
+    /// The sun by rays as the frame applies it when on ([`super::FrameSettings::sun_rays`]):
+    /// the settings' target error, else the file's recorded one, else the default, and the
+    /// settings' cap.
+    pub fn sun_rays(&self) -> crate::SunRays {
+        let on = super::FrameSettings { sun_rays: true, ..self.ctx.settings.clone() };
+        on.sun(self.ctx.recorded_light_error).unwrap_or_default()
     }
 
-    /// The sun-rays setting (`None`: all light through the cuts).
-    pub fn sun_rays(&self) -> Option<SunRays> {
-        self.sun_rays
+    /// Rebuilds the shading lists after a lighting change: those of the vertices facing the
+    /// last eye (all without one) that are not waiting and not in `skip` (merged with the
+    /// current light already); the others' are marked stale. Without the merged cache this
+    /// merges them again; a cut that fails to merge there (the same bytes merged at setup, so
+    /// not in practice) leaves its list stale, and a shading that needs it shades it black.
+    pub(super) fn relist_all(&mut self, skip: Option<&[Vec<bool>]>) {
+        for (o, state) in self.states.iter_mut().enumerate() {
+            let fresh = |v: usize| skip.and_then(|s| s.get(o)).is_some_and(|m| m.get(v).copied().unwrap_or(false));
+            let which: Vec<bool> = state.pending.iter().enumerate().map(|(v, p)| !p && !fresh(v)).collect();
+            for (list, _) in state.lists.iter_mut().zip(&state.pending).filter(|(_, p)| **p) {
+                list.mark_stale();
+            }
+            if let Ok(again) = self.ctx.relist(o, state, &which) {
+                self.tally.merges += again as u64;
+            }
+        }
     }
+}
 
-    /// Leaves of the light cast by rays (0 with sun rays off, or none chosen):
-    /// [`Frame::light_choice`] has which and why.
-    pub fn sun_leaves(&self) -> usize {
-        self.sun.as_ref().map_or(0, Sun::len)
-    }
-
-    /// The sun, the shading table and every list for the current light and sun setting.
-    fn relight(&mut self) {
-        self.light_state();
-        self.relist_all();
-    }
-
+impl Context {
     /// The leaves cast by rays (chosen by their estimated error, [`crate::sun`]), their masks,
-    /// and the shading table of the light the cuts carry, for the current light and setting.
-    pub(super) fn light_state(&mut self) {
-        let mut choice = match self.sun_rays {
-            Some(rays) => self.choose(&rays),
+    /// and the shading table of the light the cuts carry, for the current light and settings.
+    /// `stale`: the kept merged cuts are of settings that changed since (the choice merges its
+    /// samples anew).
+    pub(super) fn light_state(&mut self, states: &[MergeState], stale: bool) {
+        let mut choice = match self.settings.sun(self.recorded_light_error) {
+            Some(rays) => self.choose(&rays, states, stale),
             None => super::LightChoice::default(),
         };
         self.sun = None;
@@ -76,20 +83,5 @@ impl Frame {
         }
         self.specular = specular_nodes(&self.nodes);
         self.choice = choice;
-    }
-
-    /// Rebuilds the shading lists after a lighting change: those of the vertices facing the
-    /// last eye (all without one); the others' are marked stale. With the merged cache off this
-    /// merges them again; a cut that fails to merge there (the same bytes merged at setup, so
-    /// not in practice) leaves its list stale, and a shading that needs it shades it black.
-    fn relist_all(&mut self) {
-        for o in 0..self.objects.len() {
-            let s = &mut self.objects[o];
-            let which: Vec<bool> = s.pending.iter().map(|p| !p).collect();
-            for (list, _) in s.lists.iter_mut().zip(&s.pending).filter(|(_, p)| **p) {
-                list.mark_stale();
-            }
-            let _ = self.relist(o, &which);
-        }
     }
 }

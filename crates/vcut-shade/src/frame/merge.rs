@@ -1,23 +1,22 @@
 //! Merges: a move looks up every vertex's field inputs again and re-merges those that changed
 //! (`rekey`, deferring the ones facing away: see the module docs of [`super`]); each cell's cuts
-//! are prepared once per move and kept for the next; one [`Frame::merge_vertex`] serves a
+//! are prepared once per move and kept for the next; one [`Context::merge_vertex`] serves a
 //! move's batch and a merge on the spot, whichever [`super::MergeAlgorithm`] prepared its
 //! inputs (the seam is `vcut_merge::prepared`).
 
 use super::kept::KeptCut;
-use super::keys::{CellKey, Changed, FAILED, FieldKey, Input, take_held};
+use super::keys::{CellKey, Changed, FieldKey, SampleId, take_held};
 use super::lists::ShadeList;
-use super::object::placed;
-use super::{CutFailure, Frame, FrameError, MoveTiming};
+use super::object::{MergeState, placed};
+use super::{Context, CutFailure, Frame, FrameError, MoveTiming};
 use glam::Vec3;
 use rayon::prelude::*;
 use std::borrow::Cow;
 use std::time::Instant;
 use vcut_cut::Cut;
-use vcut_data::InsideSamples;
 use vcut_merge::{MergedCut, Prepared, merge_prepared};
 
-/// What [`Frame::merge_vertex`] builds per vertex and a thread reuses for the next: the SVC
+/// What [`Context::merge_vertex`] builds per vertex and a thread reuses for the next: the SVC
 /// decoded when it is not kept decoded, each flat occluder's prepared cut, the SVC's zero
 /// ranges, and the buffers a flat cut is walked into.
 #[derive(Default)]
@@ -31,21 +30,21 @@ pub(super) struct MergeScratch {
 /// What the last merge of an object's vertices built, for the next move (a move along a path
 /// needs mostly the same cells and samples again): the cells prepared for the merge (refined
 /// for the counter merge), sorted by cell, and
-/// the field cuts it decoded, by (object, sphere, point), sorted.
+/// the field cuts it decoded, by sample, sorted.
 #[derive(Default)]
 pub(super) struct FieldCache {
-    pub(super) keys: Vec<(u32, u32, u32)>,
+    pub(super) keys: Vec<SampleId>,
     pub(super) cuts: Vec<Cut>,
     pub(super) cells: Vec<CellKey>,
     pub(super) refined: Vec<Prepared>,
 }
 
-/// Merged vertices a range of [`Frame::merge_all`] holds at most without the cell cache: on
+/// Merged vertices a range of [`Context::merge_all`] holds at most without the cell cache: on
 /// `builtin:showroom:32` at `balanced` a lean frame peaks at 290 MB with 1,024 (172.8 MB held),
 /// 344 MB with 4,096; 256 peaks lower but decodes 1.5× as long (CHANGELOG, 2026-12-05).
 const MERGE_BATCH: usize = 1024;
 
-/// Field inputs (lookups) a range of [`Frame::merge_all`] holds at most without the cell cache:
+/// Field inputs (lookups) a range of [`Context::merge_all`] holds at most without the cell cache:
 /// a vertex that many fields reach (a ground among many objects) brings as many cells, so a
 /// range ends at this many inputs too. On `builtin:showroom:32` at `balanced` with no cache
 /// (the ground: 3,136 vertices, ~8 fields each) the setup peaked at 119.0–119.1 MB with ranges
@@ -60,134 +59,20 @@ pub(super) fn full_zero(h: u32) -> MergedCut {
     MergedCut { root_height: h, heights: vec![h as u8], values: vec![0.0], indices: vec![0] }
 }
 
-/// A value of [`Frame::set_flat_edge_leaves`] as users write it: a number of leaves, or
-/// `interactive` ([`Frame::interactive_flat_edge_leaves`]). The one parser of the word for the
-/// command line, the viewer, Python and the examples.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum FlatEdges {
-    /// Nodes of up to this many leaves (a power of two; 1: the exact cut).
-    Leaves(u32),
-    /// The setting measured for interactive drags.
-    Interactive,
-}
-
-impl std::str::FromStr for FlatEdges {
-    type Err = String;
-
-    fn from_str(s: &str) -> Result<FlatEdges, String> {
-        match s {
-            "interactive" => Ok(FlatEdges::Interactive),
-            _ => s
-                .parse()
-                .map(FlatEdges::Leaves)
-                .map_err(|_| format!("{s:?}: not a number of leaves (a power of two) or `interactive`")),
-        }
-    }
-}
-
-impl FlatEdges {
-    /// The number of leaves this is in `frame`.
-    pub fn leaves(self, frame: &Frame) -> u32 {
-        match self {
-            FlatEdges::Leaves(n) => n,
-            FlatEdges::Interactive => frame.interactive_flat_edge_leaves(),
-        }
-    }
-}
-
 impl Frame {
     /// Moves object `o` to `translation` (from its rest position) and re-merges the vertices
     /// whose field inputs changed: its own, and other objects' vertices near it. Returns how
     /// many vertices were merged.
     pub fn translate(&mut self, o: usize, translation: Vec3) -> Result<usize, FrameError> {
-        self.objects[o].translation = translation;
-        self.rekey(Changed::Object(o), true)
+        self.ctx.objects[o].translation = translation;
+        Ok(super::deferral::count(&self.rekey(Rekey::moved(o))?))
     }
+}
 
-    /// How field lookups treat samples inside the object (default [`InsideSamples::Occluded`]);
-    /// re-merges the vertices whose field inputs change. Returns how many.
-    pub fn set_inside_samples(&mut self, inside: InsideSamples) -> Result<usize, FrameError> {
-        self.inside = inside;
-        self.rekey(Changed::All, true)
-    }
-
-    /// Whether a field whose object's bounding sphere lies wholly below a vertex's horizon is
-    /// left out of the vertex's product (the default): the object can hide none of the light
-    /// the vertex's cut weighs by max(0, n·ω), and the field's sum over a cut node that
-    /// straddles the horizon would darken the node's upper part for directions below it. Off:
-    /// the paper's product of every field within reach. Re-merges the vertices whose inputs
-    /// change; returns how many.
-    pub fn set_horizon_culling(&mut self, on: bool) -> Result<usize, FrameError> {
-        self.horizon_culling = on;
-        self.rekey(Changed::All, true)
-    }
-
-    /// How far a field shadows, in its object's bounding radii: `Some(r)` to r radii (the
-    /// default [`super::FIELD_REACH`], 6; 0 < r, and beyond the outermost sphere it changes
-    /// nothing), `None` to the outermost sphere (the precompute's `field_outer`, 10 by
-    /// default: the paper's reach, where the object's bounding cone covers under 0.25 % of the
-    /// sphere of directions). A shorter reach multiplies fewer fields into each vertex's cut —
-    /// a move re-merges fewer vertices, each faster — and leaves out the sky shadows of objects
-    /// farther away (the sun's shadows are cast by rays at any distance,
-    /// [`Frame::set_sun_rays`]); the trilinear samples of the far spheres overstate those, so
-    /// the error against the exact reference did not grow at 6 radii on any scene measured
-    /// (the module documentation has the figures). Re-merges the vertices whose inputs change;
-    /// returns how many.
-    pub fn set_field_reach(&mut self, radii: Option<f32>) -> Result<usize, FrameError> {
-        if let Some(r) = radii
-            && !(r.is_finite() && r > 0.0)
-        {
-            return Err(FrameError::Setting {
-                setting: "field reach",
-                value: r,
-                reason: "must be a finite number of radii above 0",
-            });
-        }
-        self.field_reach = radii;
-        self.rekey(Changed::All, true)
-    }
-
-    /// How finely a flat convex occluder's cut (a ground's) follows its edges: a node of at most
-    /// `leaves` leaves (a power of two) across an edge takes its estimated visible share
-    /// instead of being split down to its leaves ([`crate::flat`]); 1, the default, splits to
-    /// the leaves. Walking down along the edges is most of a move's merge on a scene with a
-    /// ground, and the share only shifts light near the occluder's silhouette; `docs/
-    /// benchmarks.md` has the time and the error; [`Frame::interactive_flat_edge_leaves`] is
-    /// the measured setting for interactive moves. Re-merges the vertices a flat occluder
-    /// shadows; returns how many.
-    pub fn set_flat_edge_leaves(&mut self, leaves: u32) -> Result<usize, FrameError> {
-        if !leaves.is_power_of_two() || leaves as usize > self.tree.leaf_count() {
-            return Err(FrameError::Setting {
-                setting: "flat edge leaves",
-                value: leaves as f32,
-                reason: "must be a power of two from 1 to the number of directions",
-            });
-        }
-        if leaves == self.flat_edge_leaves {
-            return Ok(0);
-        }
-        self.flat_edge_leaves = leaves;
-        // Every one now, seen or not: a waiting vertex is one whose keys changed.
-        let defer = std::mem::replace(&mut self.defer, false);
-        let merged = self.rekey(Changed::Flat, true);
-        self.defer = defer;
-        merged
-    }
-
-    /// The largest node across a flat occluder's edge whose visible share is estimated
-    /// ([`Frame::set_flat_edge_leaves`]; 1: none, the exact cut).
-    pub fn flat_edge_leaves(&self) -> u32 {
-        self.flat_edge_leaves
-    }
-
-    /// The [`Frame::set_flat_edge_leaves`] setting for interactive moves: nodes of
-    /// 1/[`super::INTERACTIVE_EDGE_SHARE`] of the directions (4π/256 ≈ 0.049 sr, ~13° across), so at
-    /// least 1 and as coarse on the sphere at every direction count (128 leaves at the paper's
-    /// 32,768, 16 at `fast`'s 4,096). Measured 2026-12-06 (`docs/benchmarks.md`, "A ground's
-    /// edges"): the paper-preset bunny scene's eager move 0.48× the exact cut's time, its error
-    /// against the exact reference +0.03 point, the teapot scene's 0.7× and +0.02 point.
-    pub fn interactive_flat_edge_leaves(&self) -> u32 {
-        (self.tree.leaf_count() as u32 / super::INTERACTIVE_EDGE_SHARE).max(1)
+impl Context {
+    /// The stored field cut of sample `s`, decoded.
+    fn sample_cut(&self, s: SampleId) -> Result<Cut, vcut_data::sections::CutDecodeError> {
+        self.objects[s.object as usize].field[s.sphere as usize].cut(s.point as usize)
     }
 
     /// Decodes the field cuts of `wanted` (sorted samples), taking those `old` holds (sorted
@@ -196,17 +81,17 @@ impl Frame {
         &self,
         o: usize,
         vertex: usize,
-        wanted: &[(u32, u32, u32)],
-        old_keys: Vec<(u32, u32, u32)>,
+        wanted: &[SampleId],
+        old_keys: Vec<SampleId>,
         old_cuts: Vec<Cut>,
     ) -> Result<Vec<Cut>, FrameError> {
         let reused = take_held(old_keys, old_cuts, wanted);
         wanted
             .par_iter()
             .zip(reused.into_par_iter())
-            .map(|(&(j, sphere, point), hit)| match hit {
+            .map(|(&s, hit)| match hit {
                 Some(c) => Ok(c),
-                None => self.objects[j as usize].field[sphere as usize].cut(point as usize),
+                None => self.sample_cut(s),
             })
             .collect::<Result<_, _>>()
             .map_err(|e| FrameError::cut(o, vertex, e))
@@ -215,7 +100,7 @@ impl Frame {
     /// Merges the vertices of object `o` marked in `changed` with their keys into `merged`
     /// (`None` with the merged cache off: each cut lives until its list is built) and builds
     /// their shading `lists` (in place, reusing each buffer), in parallel. Returns how many
-    /// were merged. With the cell cache off ([`Frame::set_cell_cache`]) it goes in ranges of
+    /// were merged. Without the cell cache ([`super::FrameCaches::cells`]) it goes in ranges of
     /// at most [`MERGE_BATCH`] merged vertices and [`MERGE_BATCH_INPUTS`] field inputs, so that
     /// the cells decoded and refined at once stay few (a range reuses those it shares with the one before, and none is kept after).
     #[allow(clippy::too_many_arguments)]
@@ -229,8 +114,8 @@ impl Frame {
         cache: &mut FieldCache,
         timing: &mut MoveTiming,
     ) -> Result<usize, FrameError> {
-        let (n, batch) = (changed.len(), if self.cell_cache { usize::MAX } else { MERGE_BATCH });
-        let inputs_max = if self.cell_cache { usize::MAX } else { MERGE_BATCH_INPUTS };
+        let (n, batch) = (changed.len(), if self.caches.cells { usize::MAX } else { MERGE_BATCH });
+        let inputs_max = if self.caches.cells { usize::MAX } else { MERGE_BATCH_INPUTS };
         let (mut total, mut start) = (0, 0);
         while start < n {
             let (mut end, mut count, mut inputs) = (start, 0, 0);
@@ -255,13 +140,13 @@ impl Frame {
             )?;
             start = end;
         }
-        if !self.cell_cache {
+        if !self.caches.cells {
             *cache = FieldCache::default();
         }
         Ok(total)
     }
 
-    /// [`Frame::merge_all`] over the vertices `offset..offset + changed.len()` (every slice
+    /// [`Context::merge_all`] over the vertices `offset..offset + changed.len()` (every slice
     /// starts at vertex `offset`); leaves in `cache` the cells and samples it used.
     #[allow(clippy::too_many_arguments)]
     fn merge_range(
@@ -280,7 +165,7 @@ impl Frame {
         let first = offset + vertices.first().copied().unwrap_or(0);
         let me = &self.objects[o];
         let normals = &me.mesh.normals()[offset..];
-        let eye = self.eye();
+        let eye = self.eye;
         let facing = |v: usize| eye.is_none_or(|e| me.seen(offset + v, e));
         let table = &self.nodes;
         let old = std::mem::take(cache);
@@ -292,7 +177,7 @@ impl Frame {
         cells.dedup();
         let reused = take_held(old.cells, old.refined, &cells);
         // The new cells' samples, each decoded once.
-        let mut wanted: Vec<(u32, u32, u32)> = cells
+        let mut wanted: Vec<SampleId> = cells
             .iter()
             .zip(&reused)
             .filter(|(_, r)| r.is_none())
@@ -305,7 +190,7 @@ impl Frame {
         let decoded = self.decode_samples(o, first, &wanted, old.keys, old.cuts)?;
         timing.decode_s += start.elapsed().as_secs_f64();
         let start = Instant::now();
-        let algorithm = self.algorithm;
+        let algorithm = self.settings.merge_algorithm;
         let refined: Vec<Prepared> = cells
             .par_iter()
             .zip(reused.into_par_iter())
@@ -371,7 +256,7 @@ impl Frame {
         scratch: &'r mut MergeScratch,
         out: &mut MergedCut,
     ) -> Result<Option<Cow<'r, [u32]>>, FrameError> {
-        if keys.iter().any(|k| k.input == Input::Inside) {
+        if keys.iter().any(FieldKey::occludes_all) {
             *out = full_zero(self.tree.height());
             return Ok(None);
         }
@@ -382,7 +267,7 @@ impl Frame {
             Some(cached) => cached,
             None => {
                 let cut = me.svc_cut(v).map_err(|e| err(e.into()))?;
-                self.algorithm.prepare_into(&[&cut], decoded).map_err(|e| err(e.into()))?;
+                self.settings.merge_algorithm.prepare_into(&[&cut], decoded).map_err(|e| err(e.into()))?;
                 &*decoded
             }
         };
@@ -395,7 +280,7 @@ impl Frame {
         {
             let outline =
                 self.objects[*j].flat.as_ref().unwrap_or_else(|| unreachable!("a flat key is a flat object's"));
-            crate::flat::flat_product(&self.tree, outline.corners(), *at, self.flat_edge_leaves, r, out)
+            crate::flat::flat_product(&self.tree, outline.corners(), *at, self.flat_leaves, r, out)
                 .map_err(|e| err(e.into()))?;
             return Ok(Some(svc.ends()));
         }
@@ -410,7 +295,7 @@ impl Frame {
             let cut = self
                 .flat_cut_at_rest(j, at, zeros, std::mem::take(nodes))
                 .unwrap_or_else(|| unreachable!("a flat key is a flat object's"));
-            self.algorithm.prepare_into(&[&cut], prepared).map_err(|e| err(e.into()))?;
+            self.settings.merge_algorithm.prepare_into(&[&cut], prepared).map_err(|e| err(e.into()))?;
             *nodes = cut.into_parts();
         }
         let mut factors: Vec<(&Prepared, &[f32])> = Vec::with_capacity(1 + lookups.len() + planes.len());
@@ -427,7 +312,7 @@ impl Frame {
 
     /// Vertex `v`'s cut with field inputs `keys`, merged on the spot and not kept (a vertex
     /// whose merge waits, at its current inputs; with the merged cache off, any vertex at its
-    /// kept ones): [`Frame::merge_vertex`] with its cells refined here, so the cut a merge
+    /// kept ones): [`Context::merge_vertex`] with its cells refined here, so the cut a merge
     /// would keep, bit for bit.
     pub(super) fn merge_one(
         &self,
@@ -442,10 +327,13 @@ impl Frame {
             let cuts = cell
                 .samples()
                 .iter()
-                .map(|&(j, sphere, point)| self.objects[j as usize].field[sphere as usize].cut(point as usize))
+                .map(|&s| self.sample_cut(s))
                 .collect::<Result<Vec<Cut>, _>>()
                 .map_err(|e| err(e.into()))?;
-            local.push((cell, self.algorithm.prepare(&cuts.iter().collect::<Vec<_>>()).map_err(|e| err(e.into()))?));
+            local.push((
+                cell,
+                self.settings.merge_algorithm.prepare(&cuts.iter().collect::<Vec<_>>()).map_err(|e| err(e.into()))?,
+            ));
         }
         let cell = |c: &CellKey| &local.iter().find(|(k, _)| k == c).unwrap_or_else(|| unreachable!("refined above")).1;
         self.merge_vertex(o, v, keys, &cell, &mut MergeScratch::default(), out)?;
@@ -453,108 +341,134 @@ impl Frame {
     }
 
     /// Builds the shading lists of object `o`'s vertices marked in `which` (none waiting for
-    /// a merge) for the current light, from their kept merged cuts — or, with the merged cache
-    /// off, by merging them again at their kept field inputs in one batch (the cuts they had,
+    /// a merge) for the current light, from their kept merged cuts — or, without the merged
+    /// cache, by merging them again at their kept field inputs in one batch (the cuts they had,
     /// bit for bit). Those facing away from the eye are marked stale instead. Returns how many
     /// vertices were merged again.
-    pub(super) fn relist(&mut self, o: usize, which: &[bool]) -> Result<usize, FrameError> {
-        let eye = self.eye();
-        let state = &mut self.objects[o];
-        let mut lists = std::mem::take(&mut state.lists);
-        if self.merged_cache {
-            let (state, nodes) = (&*state, &self.nodes);
-            lists.par_iter_mut().enumerate().filter(|(v, _)| which[*v]).for_each_init(Vec::new, |below, (v, list)| {
-                if eye.is_none_or(|e| state.seen(v, e)) {
-                    state.relist(v, nodes, list, below);
-                } else {
-                    list.mark_stale();
-                }
-            });
-            self.objects[o].lists = lists;
+    pub(super) fn relist(&self, o: usize, state: &mut MergeState, which: &[bool]) -> Result<usize, FrameError> {
+        let eye = self.eye;
+        if self.caches.merged {
+            let (me, nodes, merged) = (&self.objects[o], &self.nodes, &state.merged);
+            state.lists.par_iter_mut().enumerate().filter(|(v, _)| which[*v]).for_each_init(
+                Vec::new,
+                |below, (v, list)| {
+                    if eye.is_none_or(|e| me.seen(v, e)) {
+                        me.relist(v, &merged[v], nodes, list, below);
+                    } else {
+                        list.mark_stale();
+                    }
+                },
+            );
             return Ok(0);
         }
-        let keys = std::mem::take(&mut state.keys);
-        let mut cache = std::mem::take(&mut state.decoded);
-        let result = self.merge_all(o, &keys, which, None, &mut lists, &mut cache, &mut MoveTiming::default());
-        let state = &mut self.objects[o];
+        let MergeState { keys, lists, decoded, .. } = state;
+        let result = self.merge_all(o, keys, which, None, lists, decoded, &mut MoveTiming::default());
         if result.is_err() {
             // Built on the spot by a shading instead (which shades black what fails there).
             for (list, _) in lists.iter_mut().zip(which).filter(|(_, w)| **w) {
                 list.mark_stale();
             }
         }
-        (state.keys, state.lists, state.decoded) = (keys, lists, cache);
-        let merged = result?;
-        self.merges += merged as u64;
-        Ok(merged)
+        result
+    }
+}
+
+/// What [`Frame::rekey`] merges.
+#[derive(Debug, Clone, Copy)]
+pub(super) struct Rekey {
+    /// What may have changed since the kept field inputs were looked up.
+    pub(super) changed: Changed,
+    /// Merge every changed vertex now, whichever way it faces (else, with deferred merges,
+    /// those facing the eye; the others wait).
+    pub(super) eager: bool,
+    /// Merge every vertex, changed or not (to fill the merged cache): implies `eager`.
+    pub(super) all: bool,
+    /// Keep the timing as the last move's.
+    pub(super) record: bool,
+}
+
+impl Rekey {
+    /// A move of object `o`.
+    pub(super) fn moved(o: usize) -> Rekey {
+        Rekey { changed: Changed::Object(o), eager: false, all: false, record: true }
     }
 
+    /// The waiting vertices (those an eye sees, or all when `eager`).
+    pub(super) fn waiting(eager: bool) -> Rekey {
+        Rekey { changed: Changed::Nothing, eager, all: false, record: false }
+    }
+}
+
+impl Frame {
     /// Looks up the vertices' field inputs again and re-merges those that changed (with
-    /// deferred merges, those facing the eye; the others wait). `changed`: what may differ
-    /// ([`Frame::changed_keys`] looks up only that). `record`: keep the timing as the last
-    /// move's.
-    pub(super) fn rekey(&mut self, changed: Changed, record: bool) -> Result<usize, FrameError> {
+    /// deferred merges and not `eager`, those facing the eye; the others wait), or every vertex
+    /// (`all`). Returns per object which vertices it merged.
+    pub(super) fn rekey(&mut self, how: Rekey) -> Result<Vec<Vec<bool>>, FrameError> {
         let mut total = 0;
         let mut timing = MoveTiming::default();
-        let eye = self.eye().filter(|_| self.defer);
-        for k in 0..self.objects.len() {
-            let n = self.objects[k].mesh.vertex_count();
+        let ctx = &self.ctx;
+        let eye = ctx.eye.filter(|_| ctx.settings.deferred_merges && !how.eager && !how.all);
+        let mut done = Vec::with_capacity(self.states.len());
+        let mut failure = None;
+        for (k, state) in self.states.iter_mut().enumerate() {
+            let n = ctx.objects[k].mesh.vertex_count();
             let start = Instant::now();
             let fresh: Vec<Option<Vec<FieldKey>>> =
-                (0..n).into_par_iter().map(|v| self.changed_keys(k, v, changed)).collect();
-            let state = &self.objects[k];
-            let merge: Vec<bool> = (0..n).map(|v| fresh[v].is_some() && eye.is_none_or(|e| state.seen(v, e))).collect();
+                (0..n).into_par_iter().map(|v| ctx.changed_keys(k, v, state, how.changed)).collect();
+            let me = &ctx.objects[k];
+            let merge: Vec<bool> =
+                (0..n).map(|v| how.all || (fresh[v].is_some() && eye.is_none_or(|e| me.seen(v, e)))).collect();
             timing.keys_s += start.elapsed().as_secs_f64();
             // A waiting vertex keeps the keys of its merged cut (the next move compares with
             // them) and no list; one whose inputs are back to its cut's waits no more.
-            let state = &mut self.objects[k];
-            let mut keys = std::mem::take(&mut state.keys);
             for (v, new) in fresh.into_iter().enumerate() {
                 state.pending[v] = new.is_some() && !merge[v];
                 if state.pending[v] {
                     state.lists[v].mark_stale();
                     timing.deferred += 1;
                 } else if let Some(new) = new {
-                    keys[v] = new;
+                    state.keys[v] = new;
                 }
             }
             if !merge.contains(&true) {
                 // Nothing to merge: the object keeps its cells for a later move.
-                state.keys = keys;
+                done.push(merge);
                 continue;
             }
-            let mut merged = std::mem::take(&mut state.merged);
-            let mut lists = std::mem::take(&mut state.lists);
-            let mut cache = std::mem::take(&mut state.decoded);
-            let kept = self.merged_cache.then_some(&mut merged[..]);
-            let result = self.merge_all(k, &keys, &merge, kept, &mut lists, &mut cache, &mut timing);
-            let state = &mut self.objects[k];
-            state.merged = merged;
-            state.lists = lists;
-            state.decoded = cache;
-            if result.is_err() {
-                // Some changed vertices may hold new cuts: key them as failed so that any
-                // later move merges them again.
-                let failed = vec![FieldKey::inside(FAILED)];
-                for (v, m) in merge.iter().enumerate() {
-                    if *m {
-                        keys[v] = failed.clone();
+            if ctx.caches.merged && state.merged.len() != n {
+                state.merged = vec![KeptCut::default(); n];
+            }
+            let MergeState { keys, lists, decoded, merged, .. } = state;
+            let kept = ctx.caches.merged.then_some(&mut merged[..]);
+            match ctx.merge_all(k, keys, &merge, kept, lists, decoded, &mut timing) {
+                Ok(count) => total += count,
+                Err(e) => {
+                    // Some changed vertices may hold new cuts: key them as failed so that any
+                    // later move merges them again.
+                    for (v, m) in merge.iter().enumerate() {
+                        if *m {
+                            keys[v] = vec![FieldKey::failed()];
+                        }
                     }
+                    failure = Some(e);
+                    break;
                 }
             }
-            state.keys = keys;
-            total += result?;
+            done.push(merge);
         }
-        if let Some(sun) = self.sun.as_mut() {
+        if let Some(sun) = self.ctx.sun.as_mut() {
             let start = Instant::now();
-            timing.sun_rays = sun.update(&placed(&self.objects), &self.occluders);
+            timing.sun_rays = sun.update(&placed(&self.ctx.objects), &self.ctx.occluders);
             timing.sun_s = start.elapsed().as_secs_f64();
         }
-        self.merges += total as u64;
+        self.tally.merges += total as u64;
         timing.vertices = total;
-        if record {
-            self.last_move = timing;
+        if how.record {
+            self.tally.last_move = timing;
         }
-        Ok(total)
+        match failure {
+            Some(e) => Err(e),
+            None => Ok(done),
+        }
     }
 }

@@ -1,6 +1,7 @@
-//! An object at run time: its mesh and material, its translation, its stored cuts, and what
-//! its vertices' last merge left (merged cuts, shading lists, field inputs, the decoded field
-//! cuts and refined cells kept for the next move, which merges wait).
+//! An object at run time: what every merge reads (`ObjectData`: its mesh and material, its
+//! translation, its stored cuts) and what its vertices' last merge left (`MergeState`: merged
+//! cuts, shading lists, field inputs, the decoded field cuts and refined cells kept for the
+//! next move, which merges wait); and [`FrameObject`], how a frame shows an object.
 
 use super::kept::KeptCut;
 use super::keys::FieldKey;
@@ -15,14 +16,15 @@ use vcut_data::sections::CutArray;
 use vcut_merge::Prepared;
 use vcut_scene::{Material, Mesh, Motion};
 
-/// An object at run time.
-pub(super) struct ObjectState {
+/// An object at run time, as every merge reads it: its mesh and material, its translation,
+/// its stored cuts and its decoded SVCs.
+pub(super) struct ObjectData {
     pub(super) name: String,
     pub(super) mesh: Mesh,
     pub(super) material: Material,
     /// Its glTF material's textures (the base colour multiplies `material.kd`).
     pub(super) textures: vcut_scene::loaders::MaterialTextures,
-    /// Per vertex, the material its textures give it there ([`ObjectState::vertex_materials`];
+    /// Per vertex, the material its textures give it there ([`ObjectData::vertex_materials`];
     /// empty where they do not vary it: then `material` everywhere).
     pub(super) vertex_materials: Vec<Material>,
     /// The material it was loaded with: a metallic-roughness texture applies while `material`
@@ -43,22 +45,113 @@ pub(super) struct ObjectState {
     /// How far along the normal its vertices' rays start ([`vcut_rays::origin_offset`] of the
     /// file's SVC offset).
     pub(super) ray_offset: f32,
+    /// Every vertex's SVC decoded once, ready to merge (empty with the cache off: then each
+    /// merge decodes it from the file's bytes).
+    pub(super) svc_refined: Vec<Prepared>,
+    /// Per vertex, a cone holding the normals of its triangles ([`ViewCone`]).
+    pub(super) cones: Vec<ViewCone>,
+}
+
+/// What an object's vertices' last merge left: merged cuts, shading lists, field inputs, the
+/// decoded field cuts and refined cells kept for the next move, and which merges wait.
+#[derive(Default)]
+pub(super) struct MergeState {
     pub(super) merged: Vec<KeptCut>,
     pub(super) lists: Vec<ShadeList>,
     pub(super) keys: Vec<Vec<FieldKey>>,
     /// Decoded field cuts its vertices' last merge used.
     pub(super) decoded: FieldCache,
-    /// Every vertex's SVC decoded once, ready to merge (empty with the cache off: then each
-    /// merge decodes it from the file's bytes).
-    pub(super) svc_refined: Vec<Prepared>,
-    /// Vertices whose merge waits ([`Frame::set_deferred_merges`]): their field inputs changed
-    /// while they faced away from the eye; `merged` and `keys` are still the last merge's.
+    /// Vertices whose merge waits ([`super::FrameSettings::deferred_merges`]): their field
+    /// inputs changed while they faced away from the eye; `merged` and `keys` are still the
+    /// last merge's.
     pub(super) pending: Vec<bool>,
-    /// Per vertex, a cone holding the normals of its triangles ([`ViewCone`]).
-    pub(super) cones: Vec<ViewCone>,
 }
 
-impl ObjectState {
+/// One object of a [`super::Frame`], as [`super::Frame::object`] shows it.
+#[derive(Clone, Copy)]
+pub struct FrameObject<'a> {
+    /// Its name (unique in the scene).
+    pub name: &'a str,
+    /// Its mesh at rest.
+    pub mesh: &'a Mesh,
+    /// Its BRDF parameters now.
+    pub material: &'a Material,
+    /// Its glTF material's textures.
+    pub textures: &'a vcut_scene::loaders::MaterialTextures,
+    /// Whether it may move.
+    pub motion: Motion,
+    /// Its translation from rest now.
+    pub translation: Vec3,
+    data: &'a ObjectData,
+}
+
+impl std::fmt::Debug for FrameObject<'_> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("FrameObject")
+            .field("name", &self.name)
+            .field("motion", &self.motion)
+            .field("translation", &self.translation)
+            .finish_non_exhaustive()
+    }
+}
+
+impl<'a> FrameObject<'a> {
+    pub(super) fn of(data: &'a ObjectData) -> FrameObject<'a> {
+        FrameObject {
+            name: &data.name,
+            mesh: &data.mesh,
+            material: &data.material,
+            textures: &data.textures,
+            motion: data.motion,
+            translation: data.translation,
+            data,
+        }
+    }
+
+    /// The diffuse albedo at texture coordinates `uv`: the `kd` of its material there
+    /// ([`vcut_scene::texture::MaterialTextures::material_at`]), else its own `kd`.
+    pub fn albedo_at(&self, uv: Option<glam::Vec2>) -> Vec3 {
+        match uv {
+            Some(uv) if self.textures.vary() => Vec3::from(self.data.material_at(uv).kd),
+            _ => Vec3::from(self.material.kd),
+        }
+    }
+
+    /// The diffuse albedo averaged over its vertices (its `kd` when textures do not vary it):
+    /// for renderers that take one per object.
+    pub fn mean_albedo(&self) -> Vec3 {
+        match self.data.vertex_materials.len() {
+            0 => Vec3::from(self.material.kd),
+            n => self.data.vertex_materials.iter().map(|m| Vec3::from(m.kd)).sum::<Vec3>() / n as f32,
+        }
+    }
+
+    /// Vertex `v`'s material: the object's, varied by its textures at the vertex's coordinates
+    /// (the BRDF every shading of the vertex evaluates).
+    pub fn vertex_material(&self, v: usize) -> &'a Material {
+        self.data.material(v)
+    }
+
+    /// Vertex `v`'s diffuse albedo (its material's `kd`).
+    pub fn albedo(&self, v: usize) -> Vec3 {
+        Vec3::from(self.data.material(v).kd)
+    }
+
+    /// World positions of its vertices at its current translation.
+    pub fn positions(&self) -> Vec<Vec3> {
+        self.mesh.positions().iter().map(|&p| p + self.translation).collect()
+    }
+
+    /// Whether vertex `v` may be seen from `eye`, and so is shaded toward it: its normal faces
+    /// the eye, or one of its triangles may (a silhouette vertex of a visible triangle, shaded
+    /// toward [`brdf::view_direction`]). What is not seen shades black in
+    /// [`super::Frame::shade`] and its merges may wait.
+    pub fn seen(&self, v: usize, eye: Vec3) -> bool {
+        self.data.seen(v, eye)
+    }
+}
+
+impl ObjectData {
     /// The material at every vertex ([`vcut_scene::texture::MaterialTextures::material_at`] its
     /// coordinates); empty when textures do not vary it.
     pub(super) fn vertex_materials(&self) -> Vec<Material> {
@@ -140,7 +233,7 @@ impl ViewCone {
     }
 }
 
-impl ObjectState {
+impl ObjectData {
     /// Whether vertex `v` at the current translation may be seen from `eye`: its normal faces
     /// the eye, or one of its triangles may ([`ViewCone`]); else it reflects nothing toward it.
     /// The one test of what is shaded, merged at once and listed for an eye.
@@ -149,9 +242,16 @@ impl ObjectState {
         self.mesh.normals()[v].dot(d) > 0.0 || self.cones[v].may_face(d)
     }
 
-    /// Builds vertex `v`'s shading list from its kept merged cut into `list`.
-    pub(super) fn relist(&self, v: usize, nodes: &[ShadeNode], list: &mut ShadeList, below: &mut Vec<[f32; 2]>) {
-        list.rebuild(self.merged[v].nodes(), self.mesh.normals()[v], nodes, self.svc_ends(v).as_deref(), below);
+    /// Builds vertex `v`'s shading list from its kept merged cut `merged` into `list`.
+    pub(super) fn relist(
+        &self,
+        v: usize,
+        merged: &KeptCut,
+        nodes: &[ShadeNode],
+        list: &mut ShadeList,
+        below: &mut Vec<[f32; 2]>,
+    ) {
+        list.rebuild(merged.nodes(), self.mesh.normals()[v], nodes, self.svc_ends(v).as_deref(), below);
     }
 
     pub(super) fn svc_cut(&self, v: usize) -> Result<Cut, vcut_data::sections::CutDecodeError> {
@@ -170,7 +270,7 @@ impl ObjectState {
 }
 
 /// The objects at their translations, as the sun's rays see them.
-pub(super) fn placed(objects: &[ObjectState]) -> Vec<Placed<'_>> {
+pub(super) fn placed(objects: &[ObjectData]) -> Vec<Placed<'_>> {
     objects.iter().map(|s| Placed { mesh: &s.mesh, translation: s.translation }).collect()
 }
 

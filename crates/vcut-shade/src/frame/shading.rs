@@ -5,8 +5,8 @@
 //! Every vertex is shaded in two [`Parts`], `B = k_d · diffuse + specular`: the diffuse part
 //! free of the albedo, so a per-pixel albedo (a texture) or an image pass can take it apart.
 
-use super::Frame;
 use super::lists::{ShadeList, blinn_phong_argument, phong_argument};
+use super::{Context, Frame};
 use crate::brdf;
 use glam::Vec3;
 use rayon::prelude::*;
@@ -35,27 +35,34 @@ impl Frame {
     /// a product with the vertex's SVC as a factor (shaded exactly as [`Frame::shade`] does):
     /// for measuring what other cuts would give.
     pub fn shade_cut(&self, o: usize, v: usize, cut: &MergedCut, eye: Vec3) -> Vec3 {
-        let s = &self.objects[o];
+        let (ctx, s) = (&self.ctx, &self.ctx.objects[o]);
         if !s.seen(v, eye) {
             return Vec3::ZERO;
         }
-        let list = ShadeList::new(cut.into(), s.mesh.normals()[v], &self.nodes, s.svc_ends(v).as_deref());
-        self.shade_vertex(o, v, &list, eye).radiance(self.albedo(o, v))
+        let list = ShadeList::new(cut.into(), s.mesh.normals()[v], &ctx.nodes, s.svc_ends(v).as_deref());
+        ctx.shade_vertex(o, v, &list, eye).radiance(ctx.albedo(o, v))
     }
 
     /// As [`Frame::shade_cut`] for a cut whose every value is its own node's mean of
     /// V·max(0, n·ω) (not a product with the SVC).
     pub fn shade_cut_means(&self, o: usize, v: usize, cut: &MergedCut, eye: Vec3) -> Vec3 {
-        let s = &self.objects[o];
+        let (ctx, s) = (&self.ctx, &self.ctx.objects[o]);
         if !s.seen(v, eye) {
             return Vec3::ZERO;
         }
-        let list = ShadeList::new(cut.into(), s.mesh.normals()[v], &self.nodes, None);
-        self.shade_vertex(o, v, &list, eye).radiance(self.albedo(o, v))
+        let list = ShadeList::new(cut.into(), s.mesh.normals()[v], &ctx.nodes, None);
+        ctx.shade_vertex(o, v, &list, eye).radiance(ctx.albedo(o, v))
+    }
+}
+
+impl Context {
+    /// Vertex `v`'s diffuse albedo (its material's `kd`).
+    fn albedo(&self, o: usize, v: usize) -> Vec3 {
+        Vec3::from(self.objects[o].material(v).kd)
     }
 
     /// Vertex `v`'s radiance toward `eye` through `list`, in its parts; its callers have
-    /// checked that `eye` sees it ([`Frame::seen`]).
+    /// checked that `eye` sees it ([`super::FrameObject::seen`]).
     fn shade_vertex(&self, o: usize, v: usize, list: &ShadeList, eye: Vec3) -> Parts {
         let s = &self.objects[o];
         let x = s.mesh.positions()[v] + s.translation;
@@ -83,11 +90,13 @@ impl Frame {
         };
         Parts { diffuse: sun.diffuse + list.diffuse / std::f32::consts::PI, specular: sun.specular + specular }
     }
+}
 
+impl Frame {
     /// Outgoing radiance toward `eye` of every vertex of every object: B = Σ_k v_k f_r l_k over
     /// its merged cut, with the light-weighted node directions and cosines of the module
-    /// documentation (plus the sun's leaves by rays, with [`Frame::set_sun_rays`]). Vertices the
-    /// eye cannot see ([`Frame::seen`]) are black; silhouette vertices are shaded toward
+    /// documentation (plus the sun's leaves by rays, with [`super::FrameSettings::sun_rays`]).
+    /// Vertices the eye cannot see ([`super::FrameObject::seen`]) are black; silhouette vertices are shaded toward
     /// [`brdf::view_direction`].
     ///
     /// Vertices whose list is stale build it on the spot without keeping it ([`Frame::set_eye`]
@@ -108,26 +117,27 @@ impl Frame {
     }
 
     /// Each object's radiance from its [`Parts`] under its own albedo at each vertex
-    /// ([`Frame::albedo`]: its `kd`, times its texture at the vertex's coordinates).
+    /// ([`super::FrameObject::albedo`]: its `kd`, times its texture at the vertex's coordinates).
     pub fn radiance(&self, parts: &[Vec<Parts>]) -> Vec<Vec<Vec3>> {
         parts
             .iter()
             .enumerate()
-            .map(|(o, p)| p.iter().enumerate().map(|(v, x)| x.radiance(self.albedo(o, v))).collect())
+            .map(|(o, p)| p.iter().enumerate().map(|(v, x)| x.radiance(self.ctx.albedo(o, v))).collect())
             .collect()
     }
 
     /// [`Frame::shade`] (or, with `all`, [`Frame::shade_all`]) in [`Parts`]: for a per-pixel
     /// albedo and for image passes.
     pub fn shade_parts(&mut self, eye: Vec3, all: bool) -> Vec<Vec<Parts>> {
-        self.eye = Some(eye);
-        let this = &*self;
-        let (parts, spot): (Vec<Vec<Parts>>, Vec<u64>) = this
-            .objects
+        self.ctx.eye = Some(eye);
+        let ctx = &self.ctx;
+        let (parts, spot): (Vec<Vec<Parts>>, Vec<u64>) = self
+            .states
             .iter()
             .enumerate()
-            .map(|(o, s)| {
-                let shaded: Vec<(Parts, bool)> = s
+            .map(|(o, state)| {
+                let s = &ctx.objects[o];
+                let shaded: Vec<(Parts, bool)> = state
                     .lists
                     .par_iter()
                     .enumerate()
@@ -141,22 +151,22 @@ impl Frame {
                             // Unseen (in `all`): viewed along its normal.
                             let eye =
                                 if seen { eye } else { s.mesh.positions()[v] + s.translation + s.mesh.normals()[v] };
-                            let pending = s.pending[v];
-                            if pending || (list.stale && !this.merged_cache) {
+                            let pending = state.pending[v];
+                            if pending || (list.stale && !ctx.caches.merged) {
                                 // At its current inputs if waiting, else at its kept ones.
                                 let keys =
-                                    if pending { Cow::Owned(this.keys(o, v)) } else { Cow::Borrowed(&s.keys[v]) };
-                                if this.merge_one(o, v, &keys, cut).is_err() {
+                                    if pending { Cow::Owned(ctx.keys(o, v)) } else { Cow::Borrowed(&state.keys[v]) };
+                                if ctx.merge_one(o, v, &keys, cut).is_err() {
                                     return (Parts::default(), true);
                                 }
                                 let ends = s.svc_ends(v);
-                                built.rebuild((&*cut).into(), s.mesh.normals()[v], &this.nodes, ends.as_deref(), below);
-                                (this.shade_vertex(o, v, built, eye), true)
+                                built.rebuild((&*cut).into(), s.mesh.normals()[v], &ctx.nodes, ends.as_deref(), below);
+                                (ctx.shade_vertex(o, v, built, eye), true)
                             } else if list.stale {
-                                s.relist(v, &this.nodes, built, below);
-                                (this.shade_vertex(o, v, built, eye), false)
+                                s.relist(v, &state.merged[v], &ctx.nodes, built, below);
+                                (ctx.shade_vertex(o, v, built, eye), false)
                             } else {
-                                (this.shade_vertex(o, v, list, eye), false)
+                                (ctx.shade_vertex(o, v, list, eye), false)
                             }
                         },
                     )
@@ -165,7 +175,7 @@ impl Frame {
                 (shaded.into_iter().map(|x| x.0).collect(), spot)
             })
             .unzip();
-        self.spot_merges += spot.iter().sum::<u64>();
+        self.tally.spot_merges += spot.iter().sum::<u64>();
         parts
     }
 }

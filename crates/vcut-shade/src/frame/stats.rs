@@ -1,5 +1,5 @@
-//! What the frame reports about itself: merge counts, the last move's timing, and the bytes
-//! of its shading lists, merged cuts and kept SVCs.
+//! What the frame reports about itself: merge counts, the last move's timing, the caches it
+//! keeps, and its memory by part.
 
 use super::kept::KeptCut;
 use super::keys::FieldKey;
@@ -19,14 +19,14 @@ pub struct FrameMemory {
     pub merged: usize,
     /// Every vertex's shading list.
     pub lists: usize,
-    /// The decoded SVCs kept for merging ([`Frame::set_svc_cache`]).
+    /// The decoded SVCs kept for merging ([`super::FrameCaches::svc`]).
     pub svc_cache: usize,
     /// Every vertex's field inputs (the keys a move compares).
     pub keys: usize,
     /// The field cuts and cells the last merges decoded, kept for the next move.
     pub field_cache: usize,
     /// The sun by rays: every object's hierarchy and the masks of the sun's leaves each
-    /// occluder blocks at each vertex ([`Frame::set_sun_rays`]).
+    /// occluder blocks at each vertex ([`super::FrameSettings::sun_rays`]).
     pub rays: usize,
 }
 
@@ -52,70 +52,90 @@ impl FrameMemory {
     }
 }
 
-impl Frame {
+/// What a frame has done and keeps ([`Frame::stats`]).
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct FrameStats {
     /// Vertices re-merged by moves so far, and by camera turns or [`Frame::merge_pending`]
-    /// merging what moves left waiting ([`Frame::set_deferred_merges`]; the merges at setup are
-    /// not counted, nor [`Frame::shade`]'s on-the-spot ones: [`Frame::spot_merges`]). BRDF
-    /// edits never merge; lighting edits and camera turns merge what they relist only without
-    /// the merged cache ([`Frame::set_merged_cache`]), and are counted then.
-    pub fn merges(&self) -> u64 {
-        self.merges
-    }
-
+    /// merging what moves left waiting, by settings changes, and (without the merged cache) by
+    /// lighting changes and camera turns rebuilding lists; not the setup's merges nor
+    /// [`Frame::shade`]'s on-the-spot ones. BRDF edits never merge.
+    pub merges: u64,
+    /// Vertices the setup merged ([`Frame::open`]): each vertex once.
+    pub setup_merges: u64,
     /// Vertices [`Frame::shade`] merged on the spot without keeping them: waiting vertices
-    /// (deferred merges) facing an eye that no [`Frame::set_eye`] announced, and without the
-    /// merged cache those whose list is stale.
-    pub fn spot_merges(&self) -> u64 {
-        self.spot_merges
-    }
-
+    /// facing an eye that no [`Frame::set_eye`] announced, and without the merged cache those
+    /// whose list is stale.
+    pub spot_merges: u64,
+    /// Vertices whose merge waits for an eye that sees them.
+    pub pending_merges: usize,
     /// Where the last [`Frame::translate`]'s time went.
-    pub fn last_move(&self) -> MoveTiming {
-        self.last_move
-    }
-
+    pub last_move: MoveTiming,
+    /// The caches kept now: the settings' own, less those a memory budget dropped.
+    pub caches: super::FrameCaches,
+    /// Leaves of the light cast by rays (0 with sun rays off, or none chosen):
+    /// [`Frame::light_choice`] has which and why.
+    pub sun_leaves: usize,
     /// Bytes a shading pass reads from the shading lists (node index and weight packed in 4
     /// bytes per entry, and the diffuse sum per vertex): with the machine's memory bandwidth, a
     /// floor under its time.
-    pub fn shade_bytes(&self) -> usize {
-        self.objects.iter().flat_map(|s| &s.lists).map(|l| l.entries.len() * size_of::<u32>() + size_of::<Vec3>()).sum()
-    }
+    pub shade_bytes: usize,
+    /// Bytes of every vertex's kept merged cut (height u8 and value f32 per node; 0 without
+    /// the merged cache): streaming them is a floor under a shading pass that reads them.
+    pub merged_bytes: usize,
+}
 
-    /// Bytes of every vertex's kept merged cut (height u8 and value f32 per node; 0 with the
-    /// merged cache off): streaming them is the floor under a shading pass.
-    pub fn merged_bytes(&self) -> usize {
-        self.objects.iter().flat_map(|s| &s.merged).map(|m| m.len() * (size_of::<u8>() + size_of::<f32>())).sum()
+impl Frame {
+    /// What the frame has done and keeps: merge counts, the last move's timing, the caches
+    /// kept, the sun's leaves, the bytes a shading reads.
+    pub fn stats(&self) -> FrameStats {
+        FrameStats {
+            merges: self.tally.merges,
+            setup_merges: self.tally.setup_merges,
+            spot_merges: self.tally.spot_merges,
+            pending_merges: self.pending_merges(),
+            last_move: self.tally.last_move,
+            caches: self.ctx.caches,
+            sun_leaves: self.ctx.sun.as_ref().map_or(0, crate::sun::Sun::len),
+            shade_bytes: self
+                .states
+                .iter()
+                .flat_map(|s| &s.lists)
+                .map(|l| l.entries.len() * size_of::<u32>() + size_of::<Vec3>())
+                .sum(),
+            merged_bytes: self
+                .states
+                .iter()
+                .flat_map(|s| &s.merged)
+                .map(|m| m.len() * (size_of::<u8>() + size_of::<f32>()))
+                .sum(),
+        }
     }
 
     /// What the frame holds in memory, by part.
     pub fn memory(&self) -> FrameMemory {
+        let ctx = &self.ctx;
         let mut m = FrameMemory {
-            rays: self.occluders.iter().map(vcut_rays::Occluder::bytes).sum::<usize>()
-                + self.sun.as_ref().map_or(0, crate::sun::Sun::bytes),
+            rays: ctx.occluders.iter().map(vcut_rays::Occluder::bytes).sum::<usize>()
+                + ctx.sun.as_ref().map_or(0, crate::sun::Sun::bytes),
             ..FrameMemory::default()
         };
         let vec = size_of::<Vec<u8>>();
-        for s in &self.objects {
+        for (s, state) in ctx.objects.iter().zip(&self.states) {
             m.stored += s.svc.iter().chain(&s.field).map(|a| a.bytes()).sum::<usize>();
             m.meshes += s.mesh.vertex_count() * 2 * size_of::<Vec3>()
                 + s.mesh.triangle_count() * 3 * size_of::<u32>()
                 + s.cones.len() * size_of::<super::object::ViewCone>();
-            m.merged += s.merged.iter().map(KeptCut::bytes).sum::<usize>();
-            m.lists += s.lists.iter().map(|l| size_of::<ShadeList>() + 4 * l.entries.capacity()).sum::<usize>();
+            m.merged += state.merged.iter().map(KeptCut::bytes).sum::<usize>();
+            m.lists += state.lists.iter().map(|l| size_of::<ShadeList>() + 4 * l.entries.capacity()).sum::<usize>();
             m.svc_cache += s.svc_refined.iter().map(Prepared::bytes).sum::<usize>()
                 + s.svc_refined.capacity() * size_of::<Prepared>();
-            m.keys += s.keys.iter().map(|k| vec + k.capacity() * size_of::<FieldKey>()).sum::<usize>();
-            let c = &s.decoded;
-            m.field_cache += c.keys.capacity() * 12
+            m.keys += state.keys.iter().map(|k| vec + k.capacity() * size_of::<FieldKey>()).sum::<usize>();
+            let c = &state.decoded;
+            m.field_cache += c.keys.capacity() * size_of::<super::keys::SampleId>()
                 + c.cuts.iter().map(|x| x.len() * 5).sum::<usize>()
                 + c.cells.capacity() * size_of::<super::keys::CellKey>()
                 + c.refined.iter().map(Prepared::bytes).sum::<usize>();
         }
         m
-    }
-
-    /// Bytes of the decoded SVCs kept for merging (0 with the cache off).
-    pub fn svc_cache_bytes(&self) -> usize {
-        self.objects.iter().flat_map(|s| &s.svc_refined).map(Prepared::bytes).sum()
     }
 }

@@ -49,7 +49,7 @@ pub fn session_of(name: &str, text: &str, files: impl FnOnce(&Path)) -> Session 
     precompute(&job, &NoProgress, &AtomicBool::new(false)).unwrap();
     let mut data = Precomputed::open(&out).unwrap();
     let env = sky();
-    let frame = Frame::new(&mut data, &env).unwrap();
+    let frame = Frame::open(&mut data, &env, &vcut_shade::FrameSettings::default(), None).unwrap();
     let camera = Camera {
         name: "test".into(),
         position: Vec3::new(2.5, 2.0, 3.5),
