@@ -7,7 +7,7 @@ use glam::Vec3;
 use std::path::Path;
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use vcut_cut::Cut;
-use vcut_data::file::{Reader, SectionId, SectionKind, partial_path};
+use vcut_data::file::{Reader, SectionId, SectionKind, Sections, partial_path};
 use vcut_data::shard::{GatherError, gather, shard_path};
 use vcut_data::{FieldLayout, Precomputed};
 use vcut_dirtree::DirectionTree;
@@ -250,8 +250,8 @@ fn damaged_files_are_refused_naming_the_section() {
     run(&scene(BALL_ABOVE_GROUND), small(), &out);
     let whole = std::fs::read(&out).unwrap();
     let r = Reader::open(&out).unwrap();
-    let field = *r.entries().iter().find(|e| e.id == SectionId::new(SectionKind::Field, 1, 3)).unwrap();
-    let mesh = *r.entries().iter().find(|e| e.id == SectionId::new(SectionKind::Mesh, 0, 0)).unwrap();
+    let field = *r.entries().iter().find(|e| e.id == SectionId::field(1, 3)).unwrap();
+    let mesh = *r.entries().iter().find(|e| e.id == SectionId::mesh(0)).unwrap();
     drop(r);
     for (entry, name) in [(field, "section field (object 1, sphere 3)"), (mesh, "section mesh (object 0)")] {
         let mut bad = whole.clone();

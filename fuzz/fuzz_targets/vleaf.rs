@@ -14,6 +14,7 @@ use vcut_leaf::material::LeafMaterial;
 use vcut_leaf::plant::{PlantParams, plant};
 use vcut_leaf::prt::PrtParams;
 use vcut_leaf::scene::LeafScene;
+use vcut_leaf::store::LeafSections;
 use vcut_leaf::store::{Inputs, LeafSection, open};
 
 fn scene() -> &'static LeafScene {
@@ -48,7 +49,7 @@ fuzz_target!(|data: &[u8]| {
     } else {
         // Sections: params (the right one), then (kind byte, a byte, u16 length, payload)*.
         let Ok(mut w) = Writer::<LeafSection>::open(&path) else { return };
-        let _ = w.put(SectionId::new(LeafSection::Params, 0, 0), inputs.identity().as_bytes());
+        let _ = w.put(SectionId::params(), inputs.identity().as_bytes());
         let mut at = 0;
         while at + 4 <= rest.len() {
             let kind = [LeafSection::Lvc, LeafSection::Transfer, LeafSection::Summary][rest[at] as usize % 3];

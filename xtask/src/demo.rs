@@ -10,18 +10,18 @@ use vcuts::{directions, inspect, outcome, precompute};
 /// Runs the demo.
 pub fn demo() -> Result<()> {
     println!("== scene builtin:teapot");
-    inspect::run(&inspect::InspectArgs::target("builtin:teapot"))?;
+    outcome::print(&inspect::run(&inspect::InspectArgs::target("builtin:teapot"))?);
     println!("\n== environment builtin:sky");
-    inspect::run(&inspect::InspectArgs::target("builtin:sky"))?;
+    outcome::print(&inspect::run(&inspect::InspectArgs::target("builtin:sky"))?);
     println!("\n== directions, direction tree and light tree (32,768 directions, builtin:sky)");
-    directions::run(&directions::DirectionsArgs {
+    outcome::print(&directions::run(&directions::DirectionsArgs {
         n: 32_768,
         seed: 0,
-        start: "fibonacci".into(),
+        start: vcut_sphere::Start::Fibonacci,
         cache_dir: "target/vcut-cache".into(),
         no_cache: false,
         env: Some("builtin:sky".into()),
-    })?;
+    })?);
     println!("\n== precompute builtin:teapot, preset fast (cached after the first run)");
     let file = precompute::cached_or_run("builtin:teapot", "fast")?;
     println!("\n== render at rest (Blinn-Phong exponent 15)");

@@ -3,18 +3,9 @@
 //! options as the `vcuts` binary; `demo` and `bench` are developer tasks built on the same
 //! library functions. Run with no arguments for help.
 
-mod bench;
-mod bench_accuracy;
-mod bench_distributed;
-mod bench_leaves;
-mod bench_scaling;
-mod bench_ssdo;
-mod demo;
-mod publish;
-mod tradeoff;
-
 use anyhow::Result;
 use clap::{Parser, Subcommand};
+use xtask::{bench, demo, publish};
 
 /// Precomputed visibility-cut rendering: pipeline tasks.
 #[derive(Parser)]

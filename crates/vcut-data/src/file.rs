@@ -100,6 +100,64 @@ impl Kind for SectionKind {
 
 /// A `.vcuts` section's identity.
 pub type SectionId = vcut_container::SectionId<SectionKind>;
+
+/// The `.vcuts` sections by kind, each with what its numbers are (the container's
+/// `SectionId::new(kind, a, b)` is for reading ids back from a file).
+pub trait Sections: Sized {
+    /// The parameters.
+    fn params() -> Self;
+    /// The directions.
+    fn directions() -> Self;
+    /// A shard file's plan.
+    fn shard() -> Self;
+    /// The cameras and light-error target.
+    fn view() -> Self;
+    /// The environment map, embedded.
+    fn environment() -> Self;
+    /// Object `object`'s mesh.
+    fn mesh(object: u32) -> Self;
+    /// Object `object`'s field layout.
+    fn field_layout(object: u32) -> Self;
+    /// Object `object`'s texture coordinates and textures.
+    fn surface(object: u32) -> Self;
+    /// The SVCs of chunk `chunk` of object `object`'s vertices.
+    fn svc(object: u32, chunk: u32) -> Self;
+    /// The field cuts of sphere `sphere` of object `object`'s field.
+    fn field(object: u32, sphere: u32) -> Self;
+}
+
+impl Sections for SectionId {
+    fn params() -> Self {
+        SectionId::new(SectionKind::Params, 0, 0)
+    }
+    fn directions() -> Self {
+        SectionId::new(SectionKind::Directions, 0, 0)
+    }
+    fn shard() -> Self {
+        SectionId::new(SectionKind::Shard, 0, 0)
+    }
+    fn view() -> Self {
+        SectionId::new(SectionKind::View, 0, 0)
+    }
+    fn environment() -> Self {
+        SectionId::new(SectionKind::Environment, 0, 0)
+    }
+    fn mesh(object: u32) -> Self {
+        SectionId::new(SectionKind::Mesh, object, 0)
+    }
+    fn field_layout(object: u32) -> Self {
+        SectionId::new(SectionKind::FieldLayout, object, 0)
+    }
+    fn surface(object: u32) -> Self {
+        SectionId::new(SectionKind::Surface, object, 0)
+    }
+    fn svc(object: u32, chunk: u32) -> Self {
+        SectionId::new(SectionKind::Svc, object, chunk)
+    }
+    fn field(object: u32, sphere: u32) -> Self {
+        SectionId::new(SectionKind::Field, object, sphere)
+    }
+}
 /// One entry of a `.vcuts` file's offset table.
 pub type SectionEntry = vcut_container::SectionEntry<SectionKind>;
 /// Writes a `.vcuts` file section by section, resuming a previous run's partial file.
@@ -117,10 +175,10 @@ mod tests {
             assert_eq!(SectionKind::from_code(k.code()), Some(k));
         }
         assert_eq!(SectionKind::from_code(11), None);
-        assert_eq!(SectionId::new(SectionKind::Svc, 0, 3).to_string(), "svc (object 0, chunk 3)");
-        assert_eq!(SectionId::new(SectionKind::Field, 1, 2).to_string(), "field (object 1, sphere 2)");
-        assert_eq!(SectionId::new(SectionKind::Mesh, 4, 0).to_string(), "mesh (object 4)");
-        assert_eq!(SectionId::new(SectionKind::Surface, 2, 0).to_string(), "surface (object 2)");
-        assert_eq!(SectionId::new(SectionKind::Params, 0, 0).to_string(), "params");
+        assert_eq!(SectionId::svc(0, 3).to_string(), "svc (object 0, chunk 3)");
+        assert_eq!(SectionId::field(1, 2).to_string(), "field (object 1, sphere 2)");
+        assert_eq!(SectionId::mesh(4).to_string(), "mesh (object 4)");
+        assert_eq!(SectionId::surface(2).to_string(), "surface (object 2)");
+        assert_eq!(SectionId::params().to_string(), "params");
     }
 }

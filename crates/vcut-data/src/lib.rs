@@ -19,13 +19,13 @@
 //!
 //! # Example
 //! ```
-//! use vcut_data::file::{Reader, SectionId, SectionKind, Writer};
+//! use vcut_data::file::{Reader, SectionId, Sections, Writer};
 //! let path = std::env::temp_dir().join(format!("doc-{}.vcuts", std::process::id()));
 //! let mut w = Writer::open(&path).unwrap();
-//! w.put(SectionId::new(SectionKind::Params, 0, 0), b"preset = \"fast\"").unwrap();
+//! w.put(SectionId::params(), b"preset = \"fast\"").unwrap();
 //! w.finish().unwrap();
 //! let mut r = Reader::open(&path).unwrap();
-//! assert_eq!(r.section(SectionId::new(SectionKind::Params, 0, 0)).unwrap(), b"preset = \"fast\"");
+//! assert_eq!(r.section(SectionId::params()).unwrap(), b"preset = \"fast\"");
 //! # std::fs::remove_file(&path).unwrap();
 //! ```
 

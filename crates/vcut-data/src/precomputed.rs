@@ -2,7 +2,7 @@
 //! meshes, field layouts) read and checked at open, the cut sections on demand.
 
 use crate::field::FieldLayout;
-use crate::file::{FileError, Reader, SectionId, SectionKind};
+use crate::file::{FileError, Reader, SectionId, Sections};
 use crate::params::PrecomputeParams;
 use crate::sections::{self, CutArray, CutSource, StoredObject};
 use crate::view::View;
@@ -143,10 +143,10 @@ impl Precomputed {
                 ),
             });
         }
-        let id = SectionId::new(SectionKind::Params, 0, 0);
+        let id = SectionId::params();
         let text = String::from_utf8(reader.section(id)?).map_err(|_| reader.section_error(id, "not UTF-8"))?;
         let record = Record::parse(&text).map_err(|e| reader.section_error(id, e))?;
-        let id = SectionId::new(SectionKind::Directions, 0, 0);
+        let id = SectionId::directions();
         let (directions, cell_areas, leaf_order) =
             sections::decode_directions(&reader.section(id)?).map_err(|e| reader.section_error(id, e))?;
         if !directions.len().is_power_of_two() || directions.len() < 2 {
@@ -155,12 +155,12 @@ impl Precomputed {
         let mut objects = Vec::new();
         let mut layouts = Vec::new();
         for i in 0.. {
-            let id = SectionId::new(SectionKind::Mesh, i, 0);
+            let id = SectionId::mesh(i);
             if !reader.has(id) {
                 break;
             }
             let mut object = sections::decode_mesh(&reader.section(id)?).map_err(|e| reader.section_error(id, e))?;
-            let sid = SectionId::new(SectionKind::Surface, i, 0);
+            let sid = SectionId::surface(i);
             if reader.has(sid) {
                 let payload = reader.section(sid)?;
                 let (uvs, textures) = crate::surface::decode(&payload, object.mesh.vertex_count())
@@ -171,14 +171,14 @@ impl Precomputed {
                 object.textures = textures;
             }
             objects.push(object);
-            let lid = SectionId::new(SectionKind::FieldLayout, i, 0);
+            let lid = SectionId::field_layout(i);
             layouts.push(if reader.has(lid) {
                 Some(sections::decode_field_layout(&reader.section(lid)?).map_err(|e| reader.section_error(lid, e))?)
             } else {
                 None
             });
         }
-        let id = SectionId::new(SectionKind::View, 0, 0);
+        let id = SectionId::view();
         let view = if reader.has(id) {
             let text = String::from_utf8(reader.section(id)?).map_err(|_| reader.section_error(id, "not UTF-8"))?;
             Some(View::parse(&text).map_err(|e| reader.section_error(id, e))?)
@@ -193,7 +193,7 @@ impl Precomputed {
     /// section) when it came from a file, baked again from its description (the `view`
     /// section's `[environment]`) when built in; `None` in a file written before either existed.
     pub fn environment(&mut self) -> Result<Option<EnvMap>, FileError> {
-        let id = SectionId::new(SectionKind::Environment, 0, 0);
+        let id = SectionId::environment();
         if self.reader.has(id) {
             let bytes = self.reader.section(id)?;
             let map =
@@ -203,7 +203,7 @@ impl Precomputed {
         let Some(recipe) = self.view.as_ref().and_then(|v| v.environment.as_ref()) else {
             return Ok(None);
         };
-        let view = SectionId::new(SectionKind::View, 0, 0);
+        let view = SectionId::view();
         let here = std::path::Path::new("view");
         recipe.load(here, here).map(Some).map_err(|e| self.reader.section_error(view, e))
     }
@@ -218,7 +218,7 @@ impl Precomputed {
     /// The direction tree, rebuilt from the stored directions and checked against the stored
     /// leaf order (a different tree would give the cuts' nodes other meanings).
     pub fn tree(&self) -> Result<DirectionTree, FileError> {
-        let id = SectionId::new(SectionKind::Directions, 0, 0);
+        let id = SectionId::directions();
         let tree = DirectionTree::build(&self.directions, &self.cell_areas)
             .map_err(|e| self.reader.section_error(id, e.to_string()))?;
         if tree.leaf_to_input() != self.leaf_order.as_slice() {
@@ -268,7 +268,7 @@ impl Precomputed {
     pub fn svc_arrays(&mut self, object: usize) -> Result<Vec<CutArray>, FileError> {
         let mut out = Vec::new();
         for chunk in 0.. {
-            let id = SectionId::new(SectionKind::Svc, object as u32, chunk);
+            let id = SectionId::svc(object as u32, chunk);
             if !self.reader.has(id) {
                 break;
             }
@@ -277,7 +277,7 @@ impl Precomputed {
         let got: usize = out.iter().map(CutArray::len).sum();
         let want = self.objects.get(object).map_or(0, |o| o.mesh.vertex_count());
         if got != want {
-            let id = SectionId::new(SectionKind::Svc, object as u32, 0);
+            let id = SectionId::svc(object as u32, 0);
             return Err(self.reader.section_error(id, format!("{got} SVCs for {want} vertices")));
         }
         Ok(out)
@@ -287,7 +287,7 @@ impl Precomputed {
     pub fn field_arrays(&mut self, object: usize) -> Result<Vec<CutArray>, FileError> {
         let Some(l) = self.layouts.get(object).copied().flatten() else { return Ok(Vec::new()) };
         (0..l.spheres)
-            .map(|s| self.cut_array(SectionId::new(SectionKind::Field, object as u32, s), Some(l.points_per_sphere())))
+            .map(|s| self.cut_array(SectionId::field(object as u32, s), Some(l.points_per_sphere())))
             .collect()
     }
 
@@ -295,7 +295,7 @@ impl Precomputed {
     pub fn svc_cuts(&mut self, object: usize) -> Result<Vec<Cut>, FileError> {
         let mut out = Vec::new();
         for (chunk, a) in self.svc_arrays(object)?.iter().enumerate() {
-            let id = SectionId::new(SectionKind::Svc, object as u32, chunk as u32);
+            let id = SectionId::svc(object as u32, chunk as u32);
             for i in 0..a.len() {
                 out.push(a.cut(i).map_err(|e| self.reader.section_error(id, e))?);
             }
@@ -306,7 +306,7 @@ impl Precomputed {
     /// The field cuts of sphere `sphere` of object `object` and the points' inside marks.
     pub fn field_sphere(&mut self, object: usize, sphere: u32) -> Result<(Vec<Cut>, Vec<bool>), FileError> {
         let n = self.layouts.get(object).copied().flatten().map(|l| l.points_per_sphere());
-        let id = SectionId::new(SectionKind::Field, object as u32, sphere);
+        let id = SectionId::field(object as u32, sphere);
         if n.is_none() {
             return Err(FileError::Missing { path: self.reader.path().into(), section: id.to_string() });
         }

@@ -19,7 +19,7 @@
 //! **The `shard` payload**: `index u32, shards u32, sections u32`, then per section `kind u32,
 //! a u32, b u32, owner u32, units u64, cost u64`; little-endian.
 
-use crate::file::{FileError, Kind, Reader, SectionId, SectionKind, Writer};
+use crate::file::{FileError, Kind, Reader, SectionId, SectionKind, Sections, Writer};
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 
@@ -185,7 +185,7 @@ pub fn shard_path(path: &Path, index: u32, shards: u32) -> PathBuf {
 
 /// The shard a finished file is, if it is one: its index and plan (errors name the file).
 pub fn read_shard(reader: &mut Reader) -> Result<Option<(u32, ShardPlan)>, FileError> {
-    let id = SectionId::new(SectionKind::Shard, 0, 0);
+    let id = SectionId::shard();
     if !reader.has(id) {
         return Ok(None);
     }
@@ -386,7 +386,7 @@ mod tests {
     use super::*;
 
     fn svc(a: u32, b: u32) -> SectionId {
-        SectionId::new(SectionKind::Svc, a, b)
+        SectionId::svc(a, b)
     }
 
     #[test]
@@ -404,7 +404,7 @@ mod tests {
 
     #[test]
     fn the_shard_section_round_trips_and_rejects_damage() {
-        let sections = [(svc(0, 0), 10, 5), (SectionId::new(SectionKind::Field, 1, 3), 600, 70)];
+        let sections = [(svc(0, 0), 10, 5), (SectionId::field(1, 3), 600, 70)];
         let plan = ShardPlan::balance(&sections, 3).unwrap();
         let bytes = plan.encode(2).unwrap();
         assert_eq!(ShardPlan::decode(&bytes).unwrap(), (2, plan.clone()));

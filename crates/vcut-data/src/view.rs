@@ -9,7 +9,7 @@
 //! scene file's keys (`name`, `position`, `target`, `up`, `fov_y_deg`). Every value is checked
 //! on reading as a scene file's is.
 
-use crate::file::{SectionId, SectionKind};
+use crate::file::{SectionId, Sections};
 use glam::Vec3;
 use serde::{Deserialize, Serialize};
 use std::path::Path;
@@ -56,9 +56,9 @@ struct Text {
 /// for a map from a file, the map itself (`environment`).
 pub fn scene_sections(scene: &Scene) -> Vec<(SectionId, Vec<u8>)> {
     let view = View::of(scene);
-    let mut out = vec![(SectionId::new(SectionKind::View, 0, 0), view.text().into_bytes())];
+    let mut out = vec![(SectionId::view(), view.text().into_bytes())];
     if view.environment.is_none() {
-        out.push((SectionId::new(SectionKind::Environment, 0, 0), vcut_envmap::embed::encode(&scene.environment)));
+        out.push((SectionId::environment(), vcut_envmap::embed::encode(&scene.environment)));
     }
     out
 }

@@ -45,6 +45,33 @@ pub enum LeafSection {
     Summary = 4,
 }
 
+/// The `.vleaf` sections by kind, each with what its number is.
+pub trait LeafSections: Sized {
+    /// What the data was computed from.
+    fn params() -> Self;
+    /// The LVC checkpoint of vertex chunk `chunk`.
+    fn lvc(chunk: u32) -> Self;
+    /// The transfer of vertex chunk `chunk`.
+    fn transfer(chunk: u32) -> Self;
+    /// The rays the PRT traced.
+    fn summary() -> Self;
+}
+
+impl LeafSections for SectionId<LeafSection> {
+    fn params() -> Self {
+        SectionId::new(LeafSection::Params, 0, 0)
+    }
+    fn lvc(chunk: u32) -> Self {
+        SectionId::new(LeafSection::Lvc, chunk, 0)
+    }
+    fn transfer(chunk: u32) -> Self {
+        SectionId::new(LeafSection::Transfer, chunk, 0)
+    }
+    fn summary() -> Self {
+        SectionId::new(LeafSection::Summary, 0, 0)
+    }
+}
+
 impl Kind for LeafSection {
     const FORMAT: Format = VLEAF;
 
@@ -215,7 +242,7 @@ pub fn precompute(
     let scene = inputs.scene;
     let n = scene.vertex_count();
     let mut w = Writer::<LeafSection>::open(path)?;
-    w.put(SectionId::new(LeafSection::Params, 0, 0), inputs.identity().as_bytes())?;
+    w.put(SectionId::params(), inputs.identity().as_bytes())?;
     let t = Instant::now();
     let all: Vec<usize>;
     let suns = match inputs.suns {
@@ -231,7 +258,7 @@ pub fn precompute(
         &inputs.lvc,
         suns,
         |k, compute| -> Result<Vec<u8>, StoreError> {
-            let id = SectionId::new(LeafSection::Lvc, k as u32, 0);
+            let id = SectionId::lvc(k as u32);
             if w.can_keep(id) {
                 resumed += 1;
                 return Ok(w.keep_payload(id)?);
@@ -246,16 +273,16 @@ pub fn precompute(
     outcome.lvc_s = t.elapsed().as_secs_f64();
     let t = Instant::now();
     let chunks = n.div_ceil(TRANSFER_CHUNK);
-    let transfer = if chunks > 0 && w.can_keep(SectionId::new(LeafSection::Transfer, 0, 0)) {
+    let transfer = if chunks > 0 && w.can_keep(SectionId::transfer(0)) {
         let partial = vcut_container::partial_path(path);
         let mut read = |id| w.keep_payload(id);
         read_transfer(&mut read, &partial, n, inputs.prt)?
     } else {
         let transfer = Transfer::compute(scene, &inputs.prt, |done, total| progress("PRT", done, total));
         for k in 0..chunks {
-            w.put(SectionId::new(LeafSection::Transfer, k as u32, 0), &transfer_bytes(&transfer, k))?;
+            w.put(SectionId::transfer(k as u32), &transfer_bytes(&transfer, k))?;
         }
-        w.put(SectionId::new(LeafSection::Summary, 0, 0), &transfer.rays_traced.to_le_bytes())?;
+        w.put(SectionId::summary(), &transfer.rays_traced.to_le_bytes())?;
         transfer
     };
     outcome.prt_s = t.elapsed().as_secs_f64();
@@ -271,7 +298,7 @@ pub fn holds(path: &Path, inputs: &Inputs<'_>) -> Result<(), StoreError> {
 }
 
 fn check_params(r: &mut Reader<LeafSection>, path: &Path, inputs: &Inputs<'_>) -> Result<(), StoreError> {
-    let params = r.section(SectionId::new(LeafSection::Params, 0, 0))?;
+    let params = r.section(SectionId::params())?;
     let recorded = String::from_utf8_lossy(&params);
     let wanted = inputs.identity();
     if let Some((a, b)) = recorded.lines().zip(wanted.lines()).find(|(a, b)| a != b && !a.starts_with('#')) {
@@ -296,7 +323,7 @@ pub fn open(path: &Path, inputs: &Inputs<'_>) -> Result<LeafData, StoreError> {
         inputs.scene,
         &inputs.lvc,
         &suns,
-        |k, _| -> Result<Vec<u8>, StoreError> { Ok(r.section(SectionId::new(LeafSection::Lvc, k as u32, 0))?) },
+        |k, _| -> Result<Vec<u8>, StoreError> { Ok(r.section(SectionId::lvc(k as u32))?) },
         |_, _| {},
     )?;
     let mut read = |id| r.section(id);
@@ -333,7 +360,7 @@ fn read_transfer(
     let mut direct = Vec::with_capacity(n);
     let mut indirect = Vec::with_capacity(n);
     for k in 0..n.div_ceil(TRANSFER_CHUNK) {
-        let id = SectionId::new(LeafSection::Transfer, k as u32, 0);
+        let id = SectionId::transfer(k as u32);
         let bytes = read(id)?;
         let count = ((k + 1) * TRANSFER_CHUNK).min(n) - k * TRANSFER_CHUNK;
         if bytes.len() != count * TRANSFER_VERTEX_BYTES {
@@ -352,7 +379,7 @@ fn read_transfer(
             indirect.push(std::array::from_fn(|_| std::array::from_fn(|_| Vec3::new(next(), next(), next()))));
         }
     }
-    let summary = read(SectionId::new(LeafSection::Summary, 0, 0))?;
+    let summary = read(SectionId::summary())?;
     let rays_traced = match <[u8; 8]>::try_from(summary.as_slice()) {
         Ok(b) => u64::from_le_bytes(b),
         Err(_) => {

@@ -17,7 +17,7 @@ use crate::Occluder;
 use crate::params::PrecomputeParams;
 use rayon::prelude::*;
 use vcut_data::FieldLayout;
-use vcut_data::file::{SectionId, SectionKind};
+use vcut_data::file::{SectionId, SectionKind, Sections};
 use vcut_data::shard::{PlanError, ShardPlan};
 use vcut_scene::Scene;
 
@@ -48,13 +48,13 @@ pub fn cut_sections(scene: &Scene, params: &PrecomputeParams, layouts: &[Option<
         let n = o.mesh.vertex_count();
         for (c, start) in (0..n).step_by(chunk).enumerate() {
             let units = ((start + chunk).min(n) - start) as u64;
-            out.push(CutSection { id: SectionId::new(SectionKind::Svc, i as u32, c as u32), units });
+            out.push(CutSection { id: SectionId::svc(i as u32, c as u32), units });
         }
     }
     for (i, l) in layouts.iter().enumerate() {
         let Some(l) = l else { continue };
         let units = l.points_per_sphere() as u64;
-        out.extend((0..l.spheres).map(|s| CutSection { id: SectionId::new(SectionKind::Field, i as u32, s), units }));
+        out.extend((0..l.spheres).map(|s| CutSection { id: SectionId::field(i as u32, s), units }));
     }
     out
 }

@@ -29,7 +29,7 @@ use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;
 use vcut_cut::codec::{self, ShapeCoding, ValueFormat};
-use vcut_data::file::{FileError, Reader, SectionId, SectionKind, Writer};
+use vcut_data::file::{FileError, Reader, SectionId, SectionKind, Sections, Writer};
 use vcut_data::shard::ShardPlan;
 use vcut_data::{FieldLayout, sections};
 use vcut_dirtree::DirectionTree;
@@ -389,28 +389,25 @@ fn run_sections<'a>(
     let record =
         vcut_data::Record { scene: job.scene_source.clone(), environment: job.environment.clone(), params: p.clone() };
     let params_text = record.text(concat!("vcut-precompute ", env!("CARGO_PKG_VERSION")));
-    writer.put(SectionId::new(SectionKind::Params, 0, 0), params_text.as_bytes())?;
+    writer.put(SectionId::params(), params_text.as_bytes())?;
     let setup = match setup {
         Some(s) => s,
         None => Setup::new(job)?,
     };
     let tree = &setup.tree;
     writer.put(
-        SectionId::new(SectionKind::Directions, 0, 0),
+        SectionId::directions(),
         &sections::encode_directions(setup.set.directions(), &setup.areas, tree.leaf_to_input()),
     )?;
     for (i, o) in scene.objects.iter().enumerate() {
-        writer.put(
-            SectionId::new(SectionKind::Mesh, i as u32, 0),
-            &sections::encode_mesh(&o.name, o.motion, &o.material, &o.mesh),
-        )?;
+        writer.put(SectionId::mesh(i as u32), &sections::encode_mesh(&o.name, o.motion, &o.material, &o.mesh))?;
         if let Some(surface) = vcut_data::surface::encode(&o.mesh, &o.textures) {
-            writer.put(SectionId::new(SectionKind::Surface, i as u32, 0), &surface)?;
+            writer.put(SectionId::surface(i as u32), &surface)?;
         }
     }
     for (i, l) in setup.layouts.iter().enumerate() {
         if let Some(l) = l {
-            writer.put(SectionId::new(SectionKind::FieldLayout, i as u32, 0), &sections::encode_field_layout(l))?;
+            writer.put(SectionId::field_layout(i as u32), &sections::encode_field_layout(l))?;
         }
     }
     // What a renderer needs besides the objects, so the file renders without its scene file.
@@ -429,7 +426,7 @@ fn run_sections<'a>(
             )));
         }
         let bytes = plan.encode(index).map_err(|e| PrecomputeError::Plan(e.to_string()))?;
-        writer.put(SectionId::new(SectionKind::Shard, 0, 0), &bytes)?;
+        writer.put(SectionId::shard(), &bytes)?;
         owned = Some(plan.sections().iter().filter(|s| s.owner == index).map(|s| s.id).collect());
     }
     let mine = |kind: SectionKind| -> Vec<CutSection> {

@@ -9,7 +9,7 @@ use pyo3::types::PyDict;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::sync::{Condvar, Mutex};
 use std::time::{Duration, Instant};
-use vcut_precompute::run::{PrecomputeError, Progress, Summary};
+use vcut_precompute::run::{PrecomputeError, Progress};
 
 /// The options of `vcuts precompute`, parsed by its own clap arguments.
 #[derive(Parser)]
@@ -166,7 +166,7 @@ fn _precompute<'py>(
     });
     let result = result.map_err(|_| VcutsError::new_err("precompute: a worker panicked"))?;
     match (result, stopped_by) {
-        (Ok((output, summary)), None) => summary_dict(py, &output, summary.as_ref(), t.elapsed().as_secs_f64()),
+        (Ok(outcome), None) => summary_dict(py, &outcome, t.elapsed().as_secs_f64()),
         (Err(e), Some(stop))
             if matches!(e.downcast_ref::<PrecomputeError>(), Some(PrecomputeError::Interrupted { .. })) =>
         {
@@ -177,11 +177,11 @@ fn _precompute<'py>(
             }
         }
         // Stopped after the last section: the file is whole; the interruption still stands.
-        (Ok((output, _)), Some(stop)) => {
+        (Ok(outcome), Some(stop)) => {
             if stop.is_instance_of::<pyo3::exceptions::PyKeyboardInterrupt>(py) {
                 Err(pyo3::exceptions::PyKeyboardInterrupt::new_err(format!(
                     "interrupted after the precompute finished: {} is complete",
-                    output.display()
+                    outcome.file.display()
                 )))
             } else {
                 Err(stop)
@@ -191,16 +191,19 @@ fn _precompute<'py>(
     }
 }
 
+/// The run's outcome under the keys `vcuts precompute` prints (`output`, `total_s`, `svc_s`,
+/// `file_mb`, …), with the keys of earlier versions for this release (`seconds`, `file_bytes`,
+/// `fields` as a list — the command's `fields` is its comma-separated text —, `inside_points`,
+/// `stages`).
 fn summary_dict<'py>(
     py: Python<'py>,
-    output: &std::path::Path,
-    summary: Option<&Summary>,
+    outcome: &vcuts::precompute::PrecomputeOutcome,
     seconds: f64,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let d = PyDict::new(py);
-    d.set_item("output", output)?;
+    let d = crate::to_py(py, outcome)?.cast_into::<PyDict>()?;
+    d.set_item("output", &outcome.file)?;
     d.set_item("seconds", seconds)?;
-    let Some(s) = summary else { return Ok(d) };
+    let Some(s) = &outcome.run else { return Ok(d) };
     d.set_item("file_bytes", s.file_bytes)?;
     d.set_item("fields", s.fields.clone())?;
     d.set_item("inside_points", s.inside_points)?;

@@ -75,6 +75,7 @@ impl Leaves {
             let file = vcuts::leaves::data_path(&p, &inputs);
             let reuse = if p.fresh { Reuse::Never } else { Reuse::IfMatching };
             let pre = vcuts::leaves::precompute(&scene, (&lvc, &prt), None, &file, reuse, p.estimate)?
+                .ready()
                 .ok_or_else(|| anyhow::anyhow!("dry_run: only the estimate was asked for"))?;
             let camera = vcuts::leaves::camera(&scene);
             Ok(Leaves {

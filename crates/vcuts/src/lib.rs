@@ -1,41 +1,32 @@
 //! The vcuts command line as library functions: every user command (`inspect`, `directions`,
-//! `precompute`, `render`, `reference`, `leaves`, `view`) is a module with its clap arguments
-//! and a `run`, so the `vcuts` binary and the developer tasks of `cargo xtask` (`demo`, `bench`)
-//! call the same code. Output: key=value lines and tables on stdout; progress, warnings and
-//! diagnostics through [`log`] on stderr (`-q` keeps only warnings and errors, `-v` adds
-//! debug lines); progress bars on a terminal, periodic log lines otherwise.
+//! `precompute`, `farm`, `render`, `reference`, `leaves`, `view`) is a module of [`cmd`] with its
+//! clap arguments and a `run` that returns a typed outcome, so the `vcuts` binary and the
+//! developer tasks of `cargo xtask` (`demo`, `bench`) call the same code; beside them what the
+//! commands share: opening a `.vcuts` file for a frame ([`open`]), the values they parse
+//! ([`values`]), the one printer of outcomes ([`outcome`]: `key=value` lines or `--json`), a
+//! frame's report keys ([`frame_report`]), progress ([`progress`]), estimates ([`resources`]) and
+//! atomic writes ([`files`]). Progress, warnings and diagnostics go through [`log`] on stderr
+//! (`-q` keeps only warnings and errors, `-v` adds debug lines); progress bars on a terminal,
+//! periodic log lines otherwise.
 //!
 //! The viewer (`view`) is the default feature `viewer`; `--no-default-features` builds the
 //! headless rest without the GPU and window stack.
 
-pub mod accuracy;
-pub mod csv;
-pub mod directions;
-pub mod distributed;
-pub mod farm;
+pub mod cmd;
+pub mod files;
 pub mod frame_report;
-pub mod inspect;
-pub mod leaves;
-pub mod machine;
 pub mod open;
 pub mod outcome;
-#[cfg(feature = "plots")]
-pub mod plots;
-pub mod precompute;
 pub mod progress;
-pub mod render;
-pub mod report;
 pub mod resources;
-pub mod scaling;
-pub mod shard;
-pub mod ssdo;
-pub mod table1;
 pub mod values;
+
+pub use cmd::precompute::shard;
 #[cfg(feature = "viewer")]
-pub mod view;
+pub use cmd::view;
+pub use cmd::{Command, directions, farm, inspect, leaves, precompute, render, run, ssdo};
 
 use anyhow::{Context, Result};
-use clap::Subcommand;
 
 /// Options every command takes (before or after the command's name).
 #[derive(clap::Args, Clone, Debug, Default)]
@@ -83,63 +74,6 @@ impl GlobalArgs {
             rayon::ThreadPoolBuilder::new().num_threads(n).build_global().context("--threads")?;
         }
         Ok(())
-    }
-}
-
-/// The user commands.
-#[derive(Subcommand)]
-pub enum Command {
-    /// Print what a scene, mesh or environment map holds: objects, vertex and triangle counts,
-    /// bounds and bounding spheres; for maps the total power, the brightest texel and the share
-    /// of energy in the brightest 0.1 % of texels.
-    Inspect(inspect::InspectArgs),
-    /// Generate (or load from the cache) N directions by point repulsion and print their
-    /// uniformity as key=value lines; with --env, also build the direction tree and light tree.
-    Directions(directions::DirectionsArgs),
-    /// Precompute a scene's self-visibility cuts and visibility cut fields into a .vcuts file
-    /// (resumes an interrupted run; prints time per stage, rays/s against the raw figure, and
-    /// data size in the height codec and the index baseline).
-    Precompute(precompute::PrecomputeArgs),
-    /// A sharded precompute as a batch engine's jobs: `farm slurm` writes (and with --submit
-    /// submits) an sbatch array of `precompute --shard` tasks and a gather job after it;
-    /// `--resubmit` reruns only the shards that did not finish. `farm kubernetes` writes an
-    /// Indexed Job manifest.
-    Farm(farm::FarmArgs),
-    /// Render a frame from a .vcuts file: move objects (--move NAME=dx,dy,dz), edit BRDFs
-    /// (--brdf NAME=blinn-phong:alpha=70), write PNG/EXR/PLY, print merge and shade times, and
-    /// with --compare exact the error against the exact-direction reference.
-    Render(render::RenderArgs),
-    /// The references for a frame (same options as render): the exact-direction reference and
-    /// the Monte Carlo one, each with its image and the frame's error against it (per vertex and
-    /// per pixel: relative L2 and largest error), and the two references against each other.
-    Reference(render::RenderArgs),
-    /// Open the interactive viewer on a .vcuts file (or `--scene S` precomputed first, cached):
-    /// drag objects, edit BRDFs, rotate the environment, compare with the exact reference; with
-    /// --screenshot out.png render the same frame with no window on any wgpu adapter.
-    #[cfg(feature = "viewer")]
-    View(Box<view::ViewArgs>),
-    /// Plant leaves (Wang et al. 2005): build the procedural plant (or load one), precompute the
-    /// sun's light-visibility convolution (RLE) and the SH transfer, shade a frame in two passes,
-    /// and compare it and the SH-only rendering with the path-traced reference: images and
-    /// key=value figures. Leaf parameters, the sun direction or the time of day are settable.
-    Leaves(leaves::LeavesArgs),
-}
-
-/// Runs one user command.
-pub fn run(command: Command) -> Result<()> {
-    match command {
-        Command::Inspect(args) => inspect::run(&args),
-        Command::Directions(args) => directions::run(&args),
-        Command::Precompute(args) => precompute::run(&args).map(|_| ()),
-        Command::Farm(args) => farm::run(&args),
-        Command::Render(args) => render::run(&args).map(|o| outcome::print(&o)),
-        Command::Reference(mut args) => {
-            args.compare.get_or_insert(render::Compare::Both);
-            render::run(&args).map(|o| outcome::print(&o))
-        }
-        #[cfg(feature = "viewer")]
-        Command::View(args) => view::run(&args),
-        Command::Leaves(args) => leaves::run(&args),
     }
 }
 

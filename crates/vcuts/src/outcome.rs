@@ -36,7 +36,8 @@ pub fn render<T: Serialize>(outcome: &T, json: bool) -> Result<String, serde_jso
 }
 
 /// `outcome` as `(key, value)` pairs in field order, values as `key=value` lines write them
-/// (`None` fields left out).
+/// (`None` fields left out). A list of records (an object table) is one line per record under
+/// the same key, each `field:value` separated by spaces.
 pub fn lines<T: Serialize>(outcome: &T) -> Result<Vec<(String, String)>, serde_json::Error> {
     // serde_json writes fields in declaration order; reading the text back into `Ordered`
     // keeps that order (a `serde_json::Value` map would sort the keys).
@@ -44,7 +45,16 @@ pub fn lines<T: Serialize>(outcome: &T) -> Result<Vec<(String, String)>, serde_j
     let Ordered::Map(fields) = serde_json::from_str::<Ordered>(&text)? else {
         return Ok(Vec::new());
     };
-    Ok(fields.into_iter().filter_map(|(k, v)| v.text().map(|t| (k, t))).collect())
+    let mut out = Vec::new();
+    for (k, v) in fields {
+        match v {
+            Ordered::List(items) if items.iter().any(|i| matches!(i, Ordered::Map(_))) => {
+                out.extend(items.iter().filter_map(|i| i.text().map(|t| (k.clone(), t))));
+            }
+            v => out.extend(v.text().map(|t| (k, t))),
+        }
+    }
+    Ok(out)
 }
 
 /// A JSON value with its object's keys in the order they were written.
@@ -71,7 +81,7 @@ impl Ordered {
             Ordered::String(s) => s.clone(),
             Ordered::List(items) => items.iter().filter_map(Ordered::text).collect::<Vec<_>>().join(","),
             Ordered::Map(fields) => {
-                fields.iter().filter_map(|(k, v)| v.text().map(|t| format!("{k}:{t}"))).collect::<Vec<_>>().join(",")
+                fields.iter().filter_map(|(k, v)| v.text().map(|t| format!("{k}:{t}"))).collect::<Vec<_>>().join(" ")
             }
         })
     }
@@ -171,6 +181,12 @@ mod tests {
     }
 
     #[derive(Serialize)]
+    struct Row {
+        name: &'static str,
+        at: [f32; 3],
+    }
+
+    #[derive(Serialize)]
     struct Outer {
         z: String,
         #[serde(flatten)]
@@ -179,6 +195,7 @@ mod tests {
         skipped: Option<f64>,
         n: u64,
         yes: bool,
+        row: Vec<Row>,
     }
 
     #[test]
@@ -190,8 +207,12 @@ mod tests {
             skipped: None,
             n: 12_345_678_901,
             yes: true,
+            row: vec![Row { name: "a", at: [1.0, 0.5, 0.0] }, Row { name: "b", at: [0.0; 3] }],
         };
-        assert_eq!(render(&o, false).unwrap(), "z=x y\nb_ms=12.3457\nc=3\na=p,q\nn=12345678901\nyes=true\n");
+        assert_eq!(
+            render(&o, false).unwrap(),
+            "z=x y\nb_ms=12.3457\nc=3\na=p,q\nn=12345678901\nyes=true\nrow=name:a at:1,0.5,0\nrow=name:b at:0,0,0\n"
+        );
         let json: serde_json::Value = serde_json::from_str(&render(&o, true).unwrap()).unwrap();
         assert_eq!(json["b_ms"], 12.3456789);
         assert_eq!(json["skipped"], serde_json::Value::Null);

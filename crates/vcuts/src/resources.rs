@@ -56,7 +56,7 @@ pub fn check(job: &str, peak: u64, (path, bytes): (&Path, u64), force: bool) -> 
     }
     let what = short.join("; and ");
     if force {
-        println!("warning: {job} needs {what}; going on (--force)");
+        log::warn!("{job} needs {what}; going on (--force)");
         return Ok(());
     }
     bail!("{job} needs {what}: refused (--force runs it anyway; --dry-run shows the whole estimate)")

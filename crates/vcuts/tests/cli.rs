@@ -63,8 +63,9 @@ fn precompute_logs_progress_without_a_terminal_and_render_works_from_another_fol
         ],
     );
     let (out, err) = (String::from_utf8_lossy(&o.stdout), String::from_utf8_lossy(&o.stderr));
+    assert!(out.contains("estimate_s=") && out.contains("total_s="), "no outcome on stdout:\n{out}");
     assert!(o.status.success(), "{}", text(&o));
-    assert!(out.contains(" 1 threads"), "--threads 1 not applied:\n{out}");
+    assert!(err.contains(" 1 threads"), "--threads 1 not applied:\n{err}");
     assert!(err.contains(": started,") && err.contains(": done,"), "no progress lines on stderr:\n{err}");
     assert!(!err.contains('\r') && !err.contains("\u{1b}["), "terminal output in a log:\n{err}");
     // The file renders from another working directory, into a path relative to that one.
@@ -263,7 +264,7 @@ fn a_built_in_map_travels_as_its_description() {
     assert!(baked.texels() == scene.environment.texels(), "the re-baked sky differs from the scene's");
     assert_eq!(baked.rotation(), scene.environment.rotation());
     assert_eq!(baked.integrated_texels(), scene.environment.integrated_texels(), "reconstructed as the scene's");
-    let embedded = vcut_data::file::SectionId::new(vcut_data::file::SectionKind::Environment, 0, 0);
+    let embedded = <vcut_data::file::SectionId as vcut_data::file::Sections>::environment();
     assert!(!data.reader().has(embedded), "the texels were embedded");
     let file = s.0.join("sky.vcuts");
     let render = |exr: &str, extra: &[&str]| {

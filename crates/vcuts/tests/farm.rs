@@ -40,7 +40,7 @@ fn shard_tasks_from_each_engine_gather_to_the_one_machine_file() {
     }
     ok(vcuts(&dir, &[], &with(&base, &["-o", "one.vcuts"])));
     let plan = ok(vcuts(&dir, &[], &with(&base, &["--plan", "3"])));
-    assert!(plan.contains("plan_shards=3") && plan.contains("| svc (object 0, chunk 0) |"), "{plan}");
+    assert!(plan.contains("plan_shards=3") && plan.contains("section=id:svc (object 0, chunk 0) "), "{plan}");
     // One task per engine's index variable: Slurm, Kubernetes, AWS Batch.
     for (i, var) in ["SLURM_ARRAY_TASK_ID", "JOB_COMPLETION_INDEX", "AWS_BATCH_JOB_ARRAY_INDEX"].iter().enumerate() {
         let index = i.to_string();

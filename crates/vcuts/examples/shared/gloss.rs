@@ -50,6 +50,7 @@ pub fn load(m: &Measured) -> Result<Plant> {
     let inputs = vcut_leaf::store::Inputs { scene: &scene, lvc, prt, suns: None };
     let reuse = vcut_leaf::store::Reuse::IfMatching;
     let pre = precompute(&scene, (&lvc, &prt), None, &data_path(p, &inputs), reuse, p.estimate)?
+        .ready()
         .context("the leaf data was not computed")?;
     let eye = camera(&scene).position;
     let verts = subset(scene.vertex_count(), m.reference_vertices);

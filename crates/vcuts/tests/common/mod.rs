@@ -62,6 +62,6 @@ pub fn precomputed(s: &Scratch, scene: &str, set: &[&str]) -> vcut_data::Precomp
     args.cache_dir = s.0.join("cache");
     args.estimate.seconds = 0.1;
     args.preset = None;
-    let (file, _) = vcuts::precompute::run(&args).unwrap();
+    let file = vcuts::precompute::run(&args).unwrap().file;
     vcut_data::Precomputed::open(&file).unwrap()
 }

@@ -9,7 +9,6 @@
 
 #![allow(missing_docs)]
 
-use crate::precompute::PrecomputeArgs;
 use anyhow::{Context, Result};
 use glam::Vec3;
 use rayon::prelude::*;
@@ -23,6 +22,7 @@ use vcut_scene::{Motion, Scene};
 use vcut_shade::measure::{edit_ms, move_path};
 use vcut_shade::reference::{ExactReference, relative_errors};
 use vcut_shade::{Frame, FrameCaches, FrameSettings, MergeAlgorithm};
+use vcuts::precompute::PrecomputeArgs;
 
 /// One scene measured.
 #[derive(Serialize, Deserialize, Clone, Debug, Default, PartialEq)]
@@ -251,13 +251,14 @@ fn peak_since(before: Option<u64>) -> Option<u64> {
 /// Measures scene `scene` (a `precompute --scene` value) at `preset` in sweep `sweep`,
 /// precomputing into `data_dir`.
 pub fn measure(sweep: &str, scene: &str, preset: &str, data_dir: &Path) -> Result<ScalingPoint> {
-    let file = data_dir.join(format!("scaling-{}-{preset}.vcuts", crate::precompute::scene_stem(scene)));
+    let file = data_dir.join(format!("scaling-{}-{preset}.vcuts", vcuts::precompute::scene_stem(scene)));
     let mut args = PrecomputeArgs::new(scene, preset);
     args.output = Some(file.clone());
     args.fresh = true;
     let before = start_peak();
     let t = Instant::now();
-    let (file, summary) = crate::precompute::run(&args)?;
+    let outcome = vcuts::precompute::run(&args)?;
+    let (file, summary) = (outcome.file, outcome.run);
     let precompute_s = t.elapsed().as_secs_f64();
     let precompute_peak = peak_since(before);
     let summary = summary.context("precompute ran as a dry run")?;

@@ -2,17 +2,17 @@
 //! its own process (this program's `precompute`, as a farm task runs it), timed by wall clock and
 //! by the CPU seconds the process used — then gathered by a process of its own (its time and peak
 //! memory) and compared byte for byte; and the `paper` preset projected for many-object scenes
-//! over M nodes from rates an estimate measured (`vcuts::distributed`).
+//! over M nodes from rates an estimate measured (`crate::measure::distributed`).
 
+use crate::measure::distributed::{DistributedSection, ShardedRun, measure_rates, projections, table};
+use crate::measure::machine::children_cpu_seconds;
+use crate::report::write_atomic;
 use anyhow::{Context, Result, bail};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 use std::time::Instant;
 use vcut_data::shard::shard_path;
-use vcuts::distributed::{DistributedSection, ShardedRun, measure_rates, projections, table};
-use vcuts::machine::children_cpu_seconds;
-use vcuts::report::write_atomic;
 
 /// One process of this program: its key=value lines, wall and CPU seconds.
 fn process(args: &[String]) -> Result<(BTreeMap<String, String>, f64, f64)> {

@@ -1,13 +1,17 @@
 //! The bench's `accuracy` section: the bench scenes (teapot and bunny; `--quick` the teapot) at
 //! each preset (`--quick`: `fast`), under the built-in maps and (in a full run) every map of the
-//! shared assets, at rest and moved — measured by `vcuts::accuracy::measure_map`; written to
+//! shared assets, at rest and moved — measured by `crate::measure::accuracy::measure_map`; written to
 //! `accuracy.json` after every map (a stopped run keeps what it measured), `accuracy.md` and
 //! `accuracy.png` (the error per map at rest, with the goals); then the target-error sweep under
 //! the map whose bright leaves err most where the cost cap does not bind, per scene and preset
-//! (`vcuts::accuracy::measure_knob`).
+//! (`crate::measure::accuracy::measure_knob`).
 //! With `--reuse`, the rows and sweeps an earlier run wrote to `accuracy.json` are kept and only
 //! what is missing is measured (a run of hours resumes from its last map).
 
+use crate::measure::accuracy::{
+    AccuracyRow, AccuracySection, McCache, Subject, asset_maps, builtin_maps, measure_knob, measure_map,
+};
+use crate::report::{write_atomic, write_json};
 use anyhow::{Context, Result};
 use std::path::Path;
 use vcut_data::Precomputed;
@@ -16,10 +20,6 @@ use vcut_shade::Frame;
 use vcut_shade::measure::first_movable;
 use vcut_shade::reference::MonteCarloParams;
 use vcut_shade::sun::DEFAULT_MAX_LEAVES;
-use vcuts::accuracy::{
-    AccuracyRow, AccuracySection, McCache, Subject, asset_maps, builtin_maps, measure_knob, measure_map,
-};
-use vcuts::report::{write_atomic, write_json};
 
 /// The rows and sweeps of an earlier run's `accuracy.json` (none where there is no such file);
 /// its skipped list is measured again.
@@ -119,7 +119,7 @@ pub fn run(quick: bool, no_mc: bool, reuse: bool, data_dir: &Path, out: &Path) -
     let md = section.table();
     println!("\n{md}");
     write_atomic(&out.join("accuracy.md"), md.as_bytes())?;
-    vcuts::plots::accuracy(&section, &out.join("accuracy.png"))?;
+    crate::report::plots::accuracy(&section, &out.join("accuracy.png"))?;
     Ok(section)
 }
 

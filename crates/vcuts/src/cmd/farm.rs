@@ -10,9 +10,10 @@
 //! **Kubernetes**: an Indexed Job manifest (`JOB_COMPLETION_INDEX` is the shard) and a gather
 //! Job, for a cluster with a shared volume; written, not run here.
 
+use crate::files::write_atomic;
 use crate::precompute::{PrecomputeArgs, resolve};
-use crate::report::write_atomic;
 use anyhow::{Context, Result, bail};
+use serde::Serialize;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 use std::time::{Duration, Instant};
@@ -72,11 +73,34 @@ pub struct EngineArgs {
 }
 
 /// Runs `farm`.
-pub fn run(args: &FarmArgs) -> Result<()> {
+pub fn run(args: &FarmArgs) -> Result<FarmOutcome> {
     match &args.engine {
         Engine::Slurm(a) => slurm(a),
         Engine::Kubernetes(a) => kubernetes(a),
     }
+}
+
+/// What `farm` wrote and submitted.
+#[derive(Debug, Clone, Default, Serialize)]
+pub struct FarmOutcome {
+    /// The Slurm array job's script.
+    pub slurm_shards_script: Option<PathBuf>,
+    /// The Slurm gather job's script.
+    pub slurm_gather_script: Option<PathBuf>,
+    /// The Slurm jobs' log folder.
+    pub slurm_logs: Option<PathBuf>,
+    /// The shards submitted (`none`), with `--submit` or `--resubmit`.
+    pub slurm_submitted_shards: Option<String>,
+    /// The array job's id (`none` when no shard was left to run).
+    pub slurm_array_job: Option<String>,
+    /// The gather job's id.
+    pub slurm_gather_job: Option<String>,
+    /// Seconds `--wait` waited.
+    pub slurm_wait_s: Option<f64>,
+    /// The Kubernetes Indexed Job's manifest.
+    pub kubernetes_job: Option<PathBuf>,
+    /// The Kubernetes gather Job's manifest.
+    pub kubernetes_gather: Option<PathBuf>,
 }
 
 /// A word for a POSIX shell, single-quoted when it needs to be.
@@ -110,7 +134,7 @@ impl Farm {
         }
         let r = resolve(p)?;
         let plan = vcut_precompute::plan::plan(&r.scene, &r.params, a.shards)?;
-        println!(
+        log::info!(
             "plan: {} sections over {} shards, largest shard {:.3}× the mean (precompute --plan {} prints it)",
             plan.sections().len(),
             a.shards,
@@ -164,10 +188,54 @@ impl Farm {
     }
 }
 
-fn slurm(a: &EngineArgs) -> Result<()> {
+fn slurm(a: &EngineArgs) -> Result<FarmOutcome> {
     let farm = Farm::new(a, std::env::current_exe().context("this program's path")?)?;
     let logs = farm.dir.join("logs");
     std::fs::create_dir_all(&logs).with_context(|| format!("creating {}", logs.display()))?;
+    let (shards_path, gather_path) = slurm_scripts(a, &farm, &logs)?;
+    let mut out = FarmOutcome {
+        slurm_shards_script: Some(shards_path.clone()),
+        slurm_gather_script: Some(gather_path.clone()),
+        slurm_logs: Some(logs.clone()),
+        ..FarmOutcome::default()
+    };
+    if !a.submit && !a.resubmit {
+        log::info!(
+            "submit with: sbatch {} (then the gather with --dependency=afterany:<its job id>)",
+            shards_path.display()
+        );
+        return Ok(out);
+    }
+    let todo = if a.resubmit { farm.missing()? } else { (0..farm.shards).collect() };
+    let list: Vec<String> = todo.iter().map(u32::to_string).collect();
+    out.slurm_submitted_shards = Some(if list.is_empty() { "none".into() } else { list.join(",") });
+    let mut array_id = None;
+    if !todo.is_empty() {
+        let mut cmd = Command::new("sbatch");
+        cmd.arg("--parsable");
+        if a.resubmit {
+            let limit = a.max_running.map(|m| format!("%{m}")).unwrap_or_default();
+            cmd.arg(format!("--array={}{limit}", list.join(",")));
+        }
+        array_id = Some(sbatch(cmd.arg(&shards_path))?);
+    }
+    let mut cmd = Command::new("sbatch");
+    cmd.arg("--parsable");
+    if let Some(id) = &array_id {
+        cmd.arg(format!("--dependency=afterany:{id}"));
+    }
+    let gather_id = sbatch(cmd.arg(&gather_path))?;
+    out.slurm_array_job = Some(array_id.clone().unwrap_or_else(|| "none".into()));
+    out.slurm_gather_job = Some(gather_id.clone());
+    if a.wait {
+        out.slurm_wait_s = Some(wait_for(&gather_id, array_id.as_deref())?);
+        gathered(&farm, &logs.join(format!("gather-{gather_id}.log")))?;
+    }
+    Ok(out)
+}
+
+/// The array job's and the gather job's scripts, written into the farm's folder.
+fn slurm_scripts(a: &EngineArgs, farm: &Farm, logs: &Path) -> Result<(PathBuf, PathBuf)> {
     let head = |name: &str, log: &str| {
         let mut h = format!(
             "#!/bin/bash\n#SBATCH --job-name={name}\n#SBATCH --output={}\n#SBATCH --chdir={}\n",
@@ -206,53 +274,25 @@ fn slurm(a: &EngineArgs) -> Result<()> {
     let (shards_path, gather_path) = (farm.dir.join("shards.sbatch"), farm.dir.join("gather.sbatch"));
     write_atomic(&shards_path, shards.as_bytes())?;
     write_atomic(&gather_path, gather.as_bytes())?;
-    println!("slurm_shards_script={}", shards_path.display());
-    println!("slurm_gather_script={}", gather_path.display());
-    println!("slurm_logs={}", logs.display());
-    if !a.submit && !a.resubmit {
-        println!(
-            "submit with: sbatch {} (then the gather with --dependency=afterany:<its job id>)",
-            shards_path.display()
-        );
+    Ok((shards_path, gather_path))
+}
+
+/// Whether the gather job whose log is `log` gathered; an error naming the shards to run
+/// again when not.
+fn gathered(farm: &Farm, log: &Path) -> Result<()> {
+    let text = std::fs::read_to_string(log).unwrap_or_default();
+    log::info!("{}: {}", log.display(), text.trim_end());
+    if text.contains("gathered ") {
         return Ok(());
     }
-    let todo = if a.resubmit { farm.missing()? } else { (0..farm.shards).collect() };
-    let list: Vec<String> = todo.iter().map(u32::to_string).collect();
-    println!("slurm_submitted_shards={}", if list.is_empty() { "none".into() } else { list.join(",") });
-    let mut array_id = None;
-    if !todo.is_empty() {
-        let mut cmd = Command::new("sbatch");
-        cmd.arg("--parsable");
-        if a.resubmit {
-            cmd.arg(format!("--array={}{limit}", list.join(",")));
-        }
-        array_id = Some(sbatch(cmd.arg(&shards_path))?);
-    }
-    let mut cmd = Command::new("sbatch");
-    cmd.arg("--parsable");
-    if let Some(id) = &array_id {
-        cmd.arg(format!("--dependency=afterany:{id}"));
-    }
-    let gather_id = sbatch(cmd.arg(&gather_path))?;
-    println!("slurm_array_job={}", array_id.as_deref().unwrap_or("none"));
-    println!("slurm_gather_job={gather_id}");
-    if a.wait {
-        wait_for(&gather_id, array_id.as_deref())?;
-        let log = logs.join(format!("gather-{gather_id}.log"));
-        let text = std::fs::read_to_string(&log).unwrap_or_default();
-        print!("{text}");
-        if !text.contains("gathered ") {
-            let missing = farm.missing().unwrap_or_default();
-            let list: Vec<String> = missing.iter().map(u32::to_string).collect();
-            bail!(
-                "the gather did not complete (log {}); shards to run again: {} — rerun this command with \
-                 --resubmit instead of --submit",
-                log.display(),
-                if list.is_empty() { "none found".into() } else { list.join(",") }
-            );
-        }
-    }
-    Ok(())
+    let missing = farm.missing().unwrap_or_default();
+    let list: Vec<String> = missing.iter().map(u32::to_string).collect();
+    bail!(
+        "the gather did not complete (log {}); shards to run again: {} — rerun this command with \
+         --resubmit instead of --submit",
+        log.display(),
+        if list.is_empty() { "none found".into() } else { list.join(",") }
+    )
 }
 
 /// Submits an sbatch command line; returns the job id.
@@ -268,8 +308,8 @@ fn sbatch(cmd: &mut Command) -> Result<String> {
     Ok(id)
 }
 
-/// Polls `squeue` until none of the jobs is queued or running.
-fn wait_for(gather: &str, array: Option<&str>) -> Result<()> {
+/// Polls `squeue` until none of the jobs is queued or running; returns the seconds waited.
+fn wait_for(gather: &str, array: Option<&str>) -> Result<f64> {
     let jobs: Vec<&str> = std::iter::once(gather).chain(array).collect();
     let start = Instant::now();
     loop {
@@ -281,14 +321,13 @@ fn wait_for(gather: &str, array: Option<&str>) -> Result<()> {
             Err(e) => bail!("running squeue: {e}"),
         };
         if listed.is_empty() {
-            println!("slurm_wait_s={:.1}", start.elapsed().as_secs_f64());
-            return Ok(());
+            return Ok(start.elapsed().as_secs_f64());
         }
         std::thread::sleep(Duration::from_millis(500));
     }
 }
 
-fn kubernetes(a: &EngineArgs) -> Result<()> {
+fn kubernetes(a: &EngineArgs) -> Result<FarmOutcome> {
     if a.submit || a.resubmit || a.wait {
         bail!("farm kubernetes only writes the manifests (kubectl apply -f them)");
     }
@@ -331,9 +370,7 @@ fn kubernetes(a: &EngineArgs) -> Result<()> {
     let (job_path, gather_path) = (farm.dir.join("indexed-job.yaml"), farm.dir.join("gather.yaml"));
     write_atomic(&job_path, job.as_bytes())?;
     write_atomic(&gather_path, gather.as_bytes())?;
-    println!("kubernetes_job={}", job_path.display());
-    println!("kubernetes_gather={}", gather_path.display());
-    Ok(())
+    Ok(FarmOutcome { kubernetes_job: Some(job_path), kubernetes_gather: Some(gather_path), ..FarmOutcome::default() })
 }
 
 #[cfg(test)]

@@ -11,6 +11,20 @@
 //! rest. Timings are wall clock on all cores; every figure a goal names is also given as a ratio
 //! against its baseline measured in the same run.
 
+pub mod accuracy;
+mod args;
+pub mod distributed;
+pub mod leaves;
+pub mod scaling;
+pub mod ssdo;
+pub mod tradeoff;
+
+use crate::report::{
+    Directions, Machine, PrecomputeFigures, RandomStart, Report, SceneFigures, Tradeoff, replace_section, write_atomic,
+    write_json,
+};
+pub use args::{BenchArgs, Plan, Section};
+
 use anyhow::{Context, Result, bail};
 use glam::Vec3;
 use std::collections::BTreeMap;
@@ -25,87 +39,6 @@ use vcut_shade::measure::{edit_ms, first_movable, median, move_path, turn_after_
 use vcut_shade::reference::{MonteCarloParams, errors, exact_direction, monte_carlo};
 use vcut_shade::{FlatEdges, Frame, FrameCaches, FrameSettings, MergeAlgorithm};
 use vcut_sphere::{DirectionSet, RepulsionParams};
-use vcuts::report::{
-    Directions, Machine, PrecomputeFigures, RandomStart, Report, SceneFigures, Tradeoff, replace_section, write_atomic,
-    write_json,
-};
-
-/// Arguments of `bench`.
-#[derive(clap::Args)]
-pub struct BenchArgs {
-    /// A first look in a few minutes: smaller presets (named in each scene's `preset`).
-    #[arg(long)]
-    pub quick: bool,
-    /// Output folder.
-    #[arg(long, default_value = "target/report")]
-    pub out: PathBuf,
-    /// Scenes (built-in names), comma-separated.
-    #[arg(long, value_delimiter = ',', default_value = "teapot,bunny")]
-    pub scenes: Vec<String>,
-    /// Skip the Monte Carlo reference (its key is then null).
-    #[arg(long)]
-    pub no_mc: bool,
-    /// Skip the trade-off sweeps.
-    #[arg(long)]
-    pub no_tradeoff: bool,
-    /// Skip the screen-space section (SSAO / SSDO against the ray-traced reference).
-    #[arg(long)]
-    pub no_ssdo: bool,
-    /// Measure only the screen-space section, replacing it in OUT/report.json (the rest of an
-    /// earlier report is kept).
-    #[arg(long, conflicts_with_all = ["no_ssdo", "plot_only"])]
-    pub only_ssdo: bool,
-    /// Skip the plant-leaf section (LVC + PRT against the path-traced reference).
-    #[arg(long)]
-    pub no_leaves: bool,
-    /// Measure only the plant-leaf section, replacing it in OUT/report.json.
-    #[arg(long, conflicts_with_all = ["no_leaves", "plot_only", "only_ssdo"])]
-    pub only_leaves: bool,
-    /// Skip the scaling section (many objects, one object's vertices: how every cost grows).
-    #[arg(long)]
-    pub no_scaling: bool,
-    /// Measure only the scaling section, replacing it in OUT/report.json.
-    #[arg(long, conflicts_with_all = ["no_scaling", "plot_only", "only_ssdo", "only_leaves"])]
-    pub only_scaling: bool,
-    /// Skip the accuracy section (every map, both scenes, each preset, at rest and moved).
-    #[arg(long)]
-    pub no_accuracy: bool,
-    /// Measure only the accuracy section, replacing it in OUT/report.json.
-    #[arg(long, conflicts_with_all = ["no_accuracy", "plot_only", "only_ssdo", "only_leaves", "only_scaling", "only_distributed"])]
-    pub only_accuracy: bool,
-    /// Skip the distributed section (a precompute whole and sharded, gathered; the projection
-    /// over M nodes).
-    #[arg(long)]
-    pub no_distributed: bool,
-    /// Measure only the distributed section, replacing it in OUT/report.json.
-    #[arg(long, conflicts_with_all = ["no_distributed", "plot_only", "only_ssdo", "only_leaves", "only_scaling"])]
-    pub only_distributed: bool,
-    /// The scaling section's object counts (default 1,2,4,…,64; with --quick 1,2,4,8).
-    #[arg(long, value_delimiter = ',')]
-    pub scaling_objects: Option<Vec<usize>>,
-    /// The presets of the scaling section's object sweep (default fast,balanced; with --quick
-    /// fast).
-    #[arg(long, value_delimiter = ',')]
-    pub scaling_presets: Option<Vec<String>>,
-    /// The vertex sweep's teapot tessellations, quads per patch edge (default 18,36,74,186:
-    /// ~12k, 43k, 177k and 1.1M vertices with the ground; with --quick 9,18).
-    #[arg(long, value_delimiter = ',')]
-    pub scaling_tessellations: Option<Vec<u32>>,
-    /// Reuse a scene's data file from an earlier run (and the precompute figures kept beside
-    /// it) instead of precomputing again: to re-time frames after a change to shading. The
-    /// accuracy section keeps the rows of `OUT/accuracy.json` and measures only what is missing.
-    #[arg(long)]
-    pub reuse: bool,
-    /// Only redraw the trade-off plots from `OUT/tradeoff.csv`.
-    #[arg(long)]
-    pub plot_only: bool,
-    /// Print the estimate of the bench's precomputes (time, data bytes, peak memory) and stop.
-    #[arg(long)]
-    pub dry_run: bool,
-    /// Run even when the estimate exceeds the free memory or disk.
-    #[arg(long)]
-    pub force: bool,
-}
 
 /// Seconds of each precompute's own work timed for the bench's estimate.
 const ESTIMATE_SAMPLE_S: f64 = 1.0;
@@ -127,15 +60,15 @@ fn estimate(args: &BenchArgs, data_dir: &Path) -> Result<()> {
         let e = vcuts::precompute::estimate_only(&a, ESTIMATE_SAMPLE_S)?;
         rows.push((format!("{name} at {preset}"), e.seconds, e.output_bytes, e.peak_bytes));
     }
-    if !args.no_tradeoff {
+    if args.measures(Section::Tradeoff) {
         let base = if args.quick { "fast" } else { "balanced" };
-        for (key, value, a) in crate::tradeoff::variants("teapot", base, args.quick, data_dir) {
+        for (key, value, a) in crate::bench::tradeoff::variants("teapot", base, args.quick, data_dir) {
             let e = vcuts::precompute::estimate_only(&a, ESTIMATE_SAMPLE_S)?;
             rows.push((format!("trade-off teapot {key} = {value}"), e.seconds, e.output_bytes, e.peak_bytes));
         }
     }
-    if !args.no_leaves {
-        for (label, e) in crate::bench_leaves::estimates(args.quick, ESTIMATE_SAMPLE_S)? {
+    if args.measures(Section::Leaves) {
+        for (label, e) in crate::bench::leaves::estimates(args.quick, ESTIMATE_SAMPLE_S)? {
             rows.push((label, e.lvc_seconds + e.prt_seconds, e.output_bytes, e.peak_bytes));
         }
     }
@@ -197,7 +130,9 @@ fn precompute_figures(name: &str, preset: &str, data_dir: &Path, reuse: bool) ->
     args.output = Some(file.clone());
     args.fresh = true;
     let t = Instant::now();
-    let (file, summary) = vcuts::precompute::run(&args)?;
+    let outcome = vcuts::precompute::run(&args)?;
+    vcuts::outcome::print(&outcome);
+    let (file, summary) = (outcome.file, outcome.run);
     let summary = summary.context("precompute ran as a dry run")?;
     let precompute_s = t.elapsed().as_secs_f64();
     let (rays_per_s, raw_rays_per_s) = rays(&summary);
@@ -358,9 +293,9 @@ fn bench_scene(name: &str, preset: &str, data_dir: &Path, no_mc: bool, reuse: bo
 }
 
 /// The two trade-off plots.
-fn plots(points: &[vcuts::report::Point], out: &Path) -> Result<()> {
-    vcuts::plots::tradeoff(points, "data_bytes", "data size (MB)", &out.join("tradeoff_size.png"))?;
-    vcuts::plots::tradeoff(points, "move_ms", "object move (ms)", &out.join("tradeoff_move.png"))?;
+fn plots(points: &[crate::report::Point], out: &Path) -> Result<()> {
+    crate::report::plots::tradeoff(points, "data_bytes", "data size (MB)", &out.join("tradeoff_size.png"))?;
+    crate::report::plots::tradeoff(points, "move_ms", "object move (ms)", &out.join("tradeoff_move.png"))?;
     println!("plots={}", out.join("tradeoff_size.png").display());
     Ok(())
 }
@@ -372,46 +307,25 @@ pub fn run(args: &BenchArgs) -> Result<()> {
             bail!("--scenes {s}: expected teapot, bunny or spheres");
         }
     }
-    let sweeps = crate::bench_scaling::Sweeps::of(args)?;
+    let sweeps = crate::bench::scaling::Sweeps::of(args)?;
     if args.plot_only {
         let path = args.out.join("tradeoff.csv");
         let text = std::fs::read_to_string(&path).with_context(|| format!("reading {}", path.display()))?;
-        let points = vcuts::csv::parse_tradeoff(&text).with_context(|| format!("{}", path.display()))?;
+        let points = crate::report::csv::parse_tradeoff(&text).with_context(|| format!("{}", path.display()))?;
         return plots(&points, &args.out);
     }
-    if args.only_scaling {
-        let path = args.out.join("report.json");
-        let section = crate::bench_scaling::run(&sweeps, &args.out.join("data"), &args.out)?;
-        replace_section(&path, "scaling", &section)?;
-        println!("report={}", path.display());
-        return Ok(());
-    }
-    if args.only_accuracy {
-        let path = args.out.join("report.json");
-        let section =
-            crate::bench_accuracy::run(args.quick, args.no_mc, args.reuse, &args.out.join("data"), &args.out)?;
-        replace_section(&path, "accuracy", &section)?;
-        println!("report={}", path.display());
-        return Ok(());
-    }
-    if args.only_distributed {
-        let path = args.out.join("report.json");
-        let section = crate::bench_distributed::run(args.quick, &args.out.join("data"), &args.out)?;
-        replace_section(&path, "distributed", &section)?;
-        println!("report={}", path.display());
-        return Ok(());
-    }
-    if args.only_ssdo || args.only_leaves {
-        let path = args.out.join("report.json");
-        std::fs::create_dir_all(&args.out).with_context(|| format!("creating {}", args.out.display()))?;
-        if args.only_ssdo {
-            replace_section(&path, "ssdo", &ssdo_section(args)?)?;
-        } else {
-            replace_section(&path, "leaves", &crate::bench_leaves::run(args.quick, &args.out.join("leaves"))?)?;
+    let sections = match args.plan()? {
+        Plan::Only(section) => {
+            let path = args.out.join("report.json");
+            std::fs::create_dir_all(&args.out).with_context(|| format!("creating {}", args.out.display()))?;
+            let data_dir = args.out.join("data");
+            std::fs::create_dir_all(&data_dir).with_context(|| format!("creating {}", data_dir.display()))?;
+            measure_section(args, section, &sweeps, &data_dir, &path)?;
+            println!("report={}", path.display());
+            return Ok(());
         }
-        println!("report={}", path.display());
-        return Ok(());
-    }
+        Plan::Full(sections) => sections,
+    };
     let data_dir = args.out.join("data");
     estimate(args, &data_dir)?;
     if args.dry_run {
@@ -421,7 +335,7 @@ pub fn run(args: &BenchArgs) -> Result<()> {
     let started = Instant::now();
 
     println!("== machine");
-    let bandwidth = vcuts::machine::memory_bandwidth();
+    let bandwidth = crate::measure::machine::memory_bandwidth();
     println!("memory_bandwidth_gb_s={bandwidth:.2}");
 
     println!("== directions (32,768) and the light tree");
@@ -467,7 +381,7 @@ pub fn run(args: &BenchArgs) -> Result<()> {
     let mut report = Report {
         quick: args.quick,
         machine: Machine {
-            cpu: vcuts::machine::cpu_name(),
+            cpu: crate::measure::machine::cpu_name(),
             cores: rayon::current_num_threads(),
             memory_bandwidth_gb_s: bandwidth,
             raw_rays_per_s: raw,
@@ -499,30 +413,23 @@ pub fn run(args: &BenchArgs) -> Result<()> {
         accuracy: None,
         bench_s: 0.0,
     };
-    if !args.no_tradeoff {
-        let base = if args.quick { "fast" } else { "balanced" };
-        let points = crate::tradeoff::run("teapot", base, args.quick, &data_dir, args.no_mc)?;
-        write_atomic(&args.out.join("tradeoff.csv"), vcuts::csv::tradeoff(&points).as_bytes())?;
-        plots(&points, &args.out)?;
-        report.tradeoff = Some(Tradeoff { scene: "teapot".into(), base_preset: base.into(), points });
-    }
-    if !args.no_ssdo {
-        report.ssdo = Some(ssdo_section(args)?);
-    }
-    if !args.no_leaves {
-        report.leaves = Some(crate::bench_leaves::run(args.quick, &args.out.join("leaves"))?);
-    }
-    if !args.no_scaling {
-        report.scaling = Some(crate::bench_scaling::run(&sweeps, &data_dir, &args.out)?);
-    }
-    if !args.no_accuracy {
-        report.accuracy = Some(crate::bench_accuracy::run(args.quick, args.no_mc, args.reuse, &data_dir, &args.out)?);
-    }
-    if !args.no_distributed {
-        report.distributed = Some(crate::bench_distributed::run(args.quick, &data_dir, &args.out)?);
+    for section in sections {
+        match section {
+            Section::Tradeoff => report.tradeoff = Some(tradeoff_section(args, &data_dir)?),
+            Section::Ssdo => report.ssdo = Some(ssdo_section(args)?),
+            Section::Leaves => report.leaves = Some(crate::bench::leaves::run(args.quick, &args.out.join("leaves"))?),
+            Section::Scaling => report.scaling = Some(crate::bench::scaling::run(&sweeps, &data_dir, &args.out)?),
+            Section::Accuracy => {
+                report.accuracy =
+                    Some(crate::bench::accuracy::run(args.quick, args.no_mc, args.reuse, &data_dir, &args.out)?)
+            }
+            Section::Distributed => {
+                report.distributed = Some(crate::bench::distributed::run(args.quick, &data_dir, &args.out)?)
+            }
+        }
     }
     report.bench_s = started.elapsed().as_secs_f64();
-    let (md, csv) = vcuts::table1::table1(&report.scenes);
+    let (md, csv) = crate::report::table1::table1(&report.scenes);
     write_json(&args.out.join("report.json"), &report)?;
     write_atomic(&args.out.join("table1.md"), md.as_bytes())?;
     write_atomic(&args.out.join("table1.csv"), csv.as_bytes())?;
@@ -531,15 +438,53 @@ pub fn run(args: &BenchArgs) -> Result<()> {
     Ok(())
 }
 
+/// One section measured on its own, replacing its part of the report at `path` (the rest of an
+/// earlier report is kept).
+fn measure_section(
+    args: &BenchArgs,
+    section: Section,
+    sweeps: &crate::bench::scaling::Sweeps,
+    data_dir: &Path,
+    path: &Path,
+) -> Result<()> {
+    let key = section.key();
+    match section {
+        Section::Tradeoff => replace_section(path, key, &tradeoff_section(args, data_dir)?),
+        Section::Ssdo => replace_section(path, key, &ssdo_section(args)?),
+        Section::Leaves => {
+            replace_section(path, key, &crate::bench::leaves::run(args.quick, &args.out.join("leaves"))?)
+        }
+        Section::Scaling => replace_section(path, key, &crate::bench::scaling::run(sweeps, data_dir, &args.out)?),
+        Section::Accuracy => replace_section(
+            path,
+            key,
+            &crate::bench::accuracy::run(args.quick, args.no_mc, args.reuse, data_dir, &args.out)?,
+        ),
+        Section::Distributed => {
+            replace_section(path, key, &crate::bench::distributed::run(args.quick, data_dir, &args.out)?)
+        }
+    }
+}
+
+/// The `tradeoff` section: one knob at a time from a base preset on the teapot scene, its
+/// table and plots beside the report.
+fn tradeoff_section(args: &BenchArgs, data_dir: &Path) -> Result<Tradeoff> {
+    let base = if args.quick { "fast" } else { "balanced" };
+    let points = crate::bench::tradeoff::run("teapot", base, args.quick, data_dir, args.no_mc)?;
+    write_atomic(&args.out.join("tradeoff.csv"), crate::report::csv::tradeoff(&points).as_bytes())?;
+    plots(&points, &args.out)?;
+    Ok(Tradeoff { scene: "teapot".into(), base_preset: base.into(), points })
+}
+
 /// The `ssdo` section: the scenes asked for (and, in a full run, the plant).
-fn ssdo_section(args: &BenchArgs) -> Result<vcuts::report::SsdoSection> {
+fn ssdo_section(args: &BenchArgs) -> Result<crate::report::SsdoSection> {
     println!("== screen space: SSAO, SSDO, SSDO peeled against the ray-traced reference");
     let mut names = args.scenes.clone();
     if !args.quick && !names.iter().any(|n| n == "plant") {
         names.push("plant".into());
     }
     let (eval, rays, runs) = if args.quick { ((320, 180), 64, 5) } else { ((640, 360), 256, 9) };
-    crate::bench_ssdo::run(&names, (1280, 720), eval, rays, runs)
+    crate::bench::ssdo::run(&names, (1280, 720), eval, rays, runs)
 }
 
 #[cfg(test)]

@@ -2,13 +2,13 @@
 //! (`vcut-ssdo`) and as WGSL passes (`vcut-view`), timed and measured against the ray-traced
 //! reference.
 
+use crate::report::{SsdoGpu, SsdoScene, SsdoSection};
 use glam::Vec3;
 use std::collections::BTreeMap;
 use std::time::Instant;
 use vcut_scene::Camera;
 use vcut_shade::measure::median;
 use vcut_ssdo::{Lighting, Method, Object, Params};
-use vcuts::report::{SsdoGpu, SsdoScene, SsdoSection};
 use vcuts::ssdo::{ScreenMode, frame, lighting, params};
 
 /// The `ssdo` section of `bench`: per scene, SSAO / SSDO / peeled SSDO timed at

@@ -133,9 +133,9 @@ pub fn project(scene: &Scene, params: &PrecomputeParams, nodes: u32, r: Rates, s
 
 /// Rates measured by the estimate of `scene` at `preset` (a sample of `seconds` of its own work).
 pub fn measure_rates(scene: &str, preset: &str, seconds: f64) -> Result<Rates> {
-    let args = crate::precompute::PrecomputeArgs::new(scene, preset);
-    let e = crate::precompute::estimate_only(&args, seconds)?;
-    let r = crate::precompute::resolve(&args)?;
+    let args = vcuts::precompute::PrecomputeArgs::new(scene, preset);
+    let e = vcuts::precompute::estimate_only(&args, seconds)?;
+    let r = vcuts::precompute::resolve(&args)?;
     rates(&r.scene, &r.params, e.svc_seconds, e.field_seconds)
 }
 

@@ -1,5 +1,14 @@
-//! `cargo xtask precompute`: a scene's SVCs and fields into a `.vcuts` file, with a progress bar
-//! and ETA per stage and a closing summary (key=value lines, then a size table).
+//! `vcuts precompute`: a scene's SVCs and fields into a `.vcuts` file, with its estimate first, a
+//! progress bar and ETA per stage, and a closing summary ([`PrecomputeOutcome`]; the size table
+//! in the log). `shard.rs`: `--plan`, `--shard` and `--gather`.
+
+mod outcome;
+pub mod shard;
+
+pub use outcome::{
+    AgainstOutcome, EstimateOutcome, GatherOutcome, PlanOutcome, PlanSection, PrecomputeOutcome, ShardLoads, Sizes,
+    Stages, SummaryOutcome,
+};
 
 use crate::progress::Bar;
 use anyhow::{Context, Result, bail};
@@ -10,8 +19,7 @@ use std::time::Instant;
 use vcut_data::file::SectionId;
 use vcut_precompute::PrecomputeParams;
 use vcut_precompute::estimate::{Estimate, estimate};
-use vcut_precompute::run::{Job, Progress, Summary, precompute_shard, precompute_with};
-use vcut_scene::budget::human;
+use vcut_precompute::run::{Job, Progress, precompute_shard, precompute_with};
 use vcut_scene::{Scene, SceneDesc};
 
 /// Arguments of `precompute`.
@@ -186,7 +194,7 @@ impl Progress for Bars {
 
 /// The file-name stem of a scene spec: `builtin:teapot` → `teapot`, `builtin:showroom:32` →
 /// `showroom-32`, `dir/x.toml` → `x`.
-pub(crate) fn scene_stem(scene: &str) -> String {
+pub fn scene_stem(scene: &str) -> String {
     let name = match scene.strip_prefix("builtin:") {
         Some(builtin) => builtin.replace(':', "-"),
         None => scene.rsplit(['/', '\\']).next().unwrap_or_default().trim_end_matches(".toml").to_string(),
@@ -215,26 +223,32 @@ pub fn cached_or_run_at(scene: &str, preset: &str, file: &Path) -> Result<PathBu
         .map(|d| d.record.scene == scene && d.record.params == params)
         .unwrap_or(false);
     if cached {
-        println!("precompute: cached in {} (delete it to precompute again)", file.display());
+        log::info!("precompute: cached in {} (delete it to precompute again)", file.display());
         Ok(file)
     } else {
-        println!("precompute {scene}, preset {preset} (SVCs and fields into a .vcuts file)");
+        log::info!("precompute {scene}, preset {preset} (SVCs and fields into a .vcuts file)");
         let mut args = PrecomputeArgs::new(scene, preset);
         args.output = Some(file);
-        Ok(run(&args)?.0)
+        let outcome = run(&args)?;
+        crate::outcome::print(&outcome);
+        Ok(outcome.file)
     }
 }
 
 /// What a `precompute` command line resolves to: the scene, the parameters, the output.
-pub(crate) struct Resolved {
-    pub(crate) scene: Scene,
-    pub(crate) params: PrecomputeParams,
+pub struct Resolved {
+    /// The scene, loaded.
+    pub scene: Scene,
+    /// Its parameters: the preset, the scene file's `[precompute]`, `--set`.
+    pub params: PrecomputeParams,
     environment: String,
-    pub(crate) output: PathBuf,
+    /// The file it writes.
+    pub output: PathBuf,
     load_s: f64,
 }
 
-pub(crate) fn resolve(args: &PrecomputeArgs) -> Result<Resolved> {
+/// What `args` resolve to: the scene loaded, its parameters and output, checked.
+pub fn resolve(args: &PrecomputeArgs) -> Result<Resolved> {
     let desc = if args.scene.ends_with(".toml") { Some(SceneDesc::read(Path::new(&args.scene))?) } else { None };
     let params = resolve_params(args, desc.as_ref())?;
     let t = Instant::now();
@@ -270,9 +284,8 @@ pub fn estimate_only(args: &PrecomputeArgs, seconds: f64) -> Result<Estimate> {
     Ok(estimate(&job, std::time::Duration::from_secs_f64(seconds))?.0)
 }
 
-/// Runs `precompute` (with `--dry-run`, only its estimate); returns the output path and the
-/// summary.
-pub fn run(args: &PrecomputeArgs) -> Result<(PathBuf, Option<Summary>)> {
+/// Runs `precompute` (with `--dry-run`, only its estimate); returns what it did.
+pub fn run(args: &PrecomputeArgs) -> Result<PrecomputeOutcome> {
     run_with(args, &Bars::default(), &AtomicBool::new(false))
 }
 
@@ -280,26 +293,26 @@ pub fn run(args: &PrecomputeArgs) -> Result<(PathBuf, Option<Summary>)> {
 /// set (the error is then [`vcut_precompute::run::PrecomputeError::Interrupted`]: the finished
 /// sections stay in the `.partial` file, which the next run resumes). The Python package's
 /// `precompute` is this.
-pub fn run_with(
-    args: &PrecomputeArgs,
-    progress: &dyn Progress,
-    interrupt: &AtomicBool,
-) -> Result<(PathBuf, Option<Summary>)> {
+pub fn run_with(args: &PrecomputeArgs, progress: &dyn Progress, interrupt: &AtomicBool) -> Result<PrecomputeOutcome> {
     if !args.gather.is_empty() {
-        return Ok((crate::shard::run_gather(&args.gather, args.output.as_deref())?, None));
+        let gather = shard::run_gather(&args.gather, args.output.as_deref())?;
+        return Ok(PrecomputeOutcome { file: gather.output.clone(), gather: Some(gather), ..Default::default() });
     }
     let Resolved { scene, params, environment, output, load_s } = resolve(args)?;
     if let Some(n) = args.plan {
         let plan = vcut_precompute::plan::plan(&scene, &params, n).with_context(|| format!("--plan {n}"))?;
-        crate::shard::print_plan(&plan, &params);
-        return Ok((output, None));
+        return Ok(PrecomputeOutcome {
+            file: output,
+            plan: Some(PlanOutcome::of(&plan, &params)),
+            ..Default::default()
+        });
     }
     let shard = match &args.shard {
         Some(spec) => {
-            let (index, n) = crate::shard::parse_spec(spec, |v| std::env::var(v).ok())?;
+            let (index, n) = shard::parse_spec(spec, |v| std::env::var(v).ok())?;
             let plan = vcut_precompute::plan::plan(&scene, &params, n)?;
             let load = plan.loads()[index as usize] as f64 / plan.loads().iter().sum::<u64>().max(1) as f64;
-            println!("shard {index} of {n}: {:.1} % of the plan's cost", 100.0 * load);
+            log::info!("shard {index} of {n}: {:.1} % of the plan's cost", 100.0 * load);
             Some((index, plan))
         }
         None => None,
@@ -312,9 +325,9 @@ pub fn run_with(
     if args.fresh && partial.exists() {
         std::fs::remove_file(&partial).with_context(|| format!("removing {}", partial.display()))?;
     } else if partial.exists() {
-        println!("resuming from {}", partial.display());
+        log::info!("resuming from {}", partial.display());
     }
-    println!(
+    log::info!(
         "scene {} ({} objects, {} vertices, {} triangles, loaded in {load_s:.2} s), preset {}, {} directions, {} threads",
         args.scene,
         scene.objects.len(),
@@ -335,130 +348,26 @@ pub fn run_with(
     // The shards of a farm sample together as long as one run would.
     let budget = args.estimate.budget() / shard.as_ref().map_or(1, |(_, plan)| plan.shards());
     let (estimate, setup) = estimate(&job, budget)?;
-    print_estimate(&estimate);
+    log::info!("{}", EstimateOutcome::sentence(&estimate));
+    let mut out = PrecomputeOutcome {
+        estimate: Some(EstimateOutcome::of(&estimate)),
+        file: output.clone(),
+        ..Default::default()
+    };
     crate::resources::check("precompute", estimate.peak_bytes, (&output, estimate.output_bytes), args.estimate.force)?;
     if args.estimate.dry_run {
-        return Ok((output, None));
+        return Ok(out);
     }
     let t = Instant::now();
     let summary = match &shard {
         Some((index, plan)) => precompute_shard(&job, Some(setup), *index, plan, progress, interrupt)?,
         None => precompute_with(&job, Some(setup), progress, interrupt)?,
     };
-    print_summary(&output, &summary, t.elapsed().as_secs_f64(), &params);
-    // A shard's figures are a part of the whole the estimate is about: only its memory compares.
-    print_against(&estimate, &summary, shard.is_none());
-    Ok((output, Some(summary)))
-}
-
-/// The estimate as a sentence and key=value lines.
-fn print_estimate(e: &Estimate) {
-    let (sv, sp, ss) = e.sampled;
-    println!(
-        "estimate: {} vertices, {} field points, {:.1} M rays; about {:.1} s on {} threads; output {}; peak memory {} \
-         (from a {ss:.1} s sample of {sv} vertices and {sp} points)",
-        e.vertices,
-        e.field_points,
-        (e.svc_rays + e.field_rays) as f64 / 1e6,
-        e.seconds,
-        rayon::current_num_threads(),
-        human(e.output_bytes),
-        human(e.peak_bytes),
-    );
-    println!("estimate_vertices={}", e.vertices);
-    println!("estimate_field_points={}", e.field_points);
-    println!("estimate_rays={}", e.svc_rays + e.field_rays);
-    println!("estimate_s={:.2}", e.seconds);
-    println!("estimate_svc_s={:.2}", e.svc_seconds);
-    println!("estimate_fields_s={:.2}", e.field_seconds);
-    println!("estimate_output_mb={:.3}", mb(e.output_bytes));
-    println!("estimate_peak_mb={:.1}", mb(e.peak_bytes));
-    println!("estimate_sample_s={ss:.2}");
-}
-
-/// The run's peak memory, and for a whole run its figures against the estimate's.
-fn print_against(e: &Estimate, s: &Summary, whole: bool) {
-    let ray_s: f64 = s.stages.iter().filter(|st| st.name != "directions").map(|st| st.seconds).sum();
-    let rays: u64 = s.stages.iter().map(|st| st.rays.rays_cast).sum();
-    let peak = vcut_scene::budget::peak_memory().unwrap_or(0);
-    println!("peak_rss_mb={:.1}", mb(peak));
-    if !whole {
-        return;
-    }
-    println!("estimate_vs_actual_s={:.3}", e.seconds / ray_s.max(1e-9));
-    println!("estimate_vs_actual_rays={:.3}", (e.svc_rays + e.field_rays) as f64 / rays.max(1) as f64);
-    println!("estimate_vs_actual_output={:.3}", e.output_bytes as f64 / s.file_bytes.max(1) as f64);
-    if peak > 0 {
-        println!("estimate_vs_actual_peak={:.3}", e.peak_bytes as f64 / peak as f64);
-    }
-}
-
-fn mb(b: u64) -> f64 {
-    b as f64 / 1e6
-}
-
-/// Prints the summary as key=value lines and a size table.
-pub fn print_summary(output: &Path, s: &Summary, total_s: f64, p: &PrecomputeParams) {
-    println!("output={}", output.display());
-    println!("preset={}", p.preset);
-    println!("total_s={total_s:.2}");
-    for st in &s.stages {
-        println!("{}_s={:.2}", st.name, st.seconds);
-        if st.name == "directions" {
-            continue;
-        }
-        println!("{}_rays_cast={}", st.name, st.rays.rays_cast);
-        println!("{}_rays_occluded={}", st.name, st.rays.rays_occluded);
-        println!("{}_resolved_without_ray={}", st.name, st.rays.resolved_without_ray);
-        println!("{}_rays_per_s={:.0}", st.name, st.rays_per_second());
-        println!("{}_raw_rays_per_s={:.0}", st.name, st.raw_rays_per_second);
-        if st.raw_rays_per_second > 0.0 && st.rays.rays_cast > 0 {
-            println!("{}_rays_per_s_vs_raw={:.3}", st.name, st.rays_per_second() / st.raw_rays_per_second);
-        }
-        println!("{}_sections_computed={}", st.name, st.computed);
-        println!("{}_sections_resumed={}", st.name, st.resumed);
-    }
-    println!("fields={}", if s.fields.is_empty() { "none".into() } else { s.fields.join(",") });
-    println!("field_inside_points={}", s.inside_points);
-    for z in &s.sizes {
-        let mean = if z.cuts > 0 { z.nodes as f64 / z.cuts as f64 } else { 0.0 };
-        println!("{}_cuts={}", z.kind, z.cuts);
-        println!("{}_nodes_mean={mean:.1}", z.kind);
-        println!("{}_nodes_max={}", z.kind, z.max_nodes);
-        println!("{}_mb={:.3}", z.kind, mb(z.bytes));
-        println!("{}_heights_codec_mb={:.3}", z.kind, mb(z.heights_codec_bytes));
-        println!("{}_index_baseline_mb={:.3}", z.kind, mb(z.index_baseline_bytes));
-    }
-    let cut_bytes: u64 = s.sizes.iter().map(|z| z.bytes).sum();
-    let heights_bytes: u64 = s.sizes.iter().map(|z| z.heights_codec_bytes).sum();
-    let base_bytes: u64 = s.sizes.iter().map(|z| z.index_baseline_bytes).sum();
-    println!("file_mb={:.3}", mb(s.file_bytes));
-    println!("cuts_mb={:.3}", mb(cut_bytes));
-    println!("cuts_heights_codec_mb={:.3}", mb(heights_bytes));
-    println!("cuts_index_baseline_mb={:.3}", mb(base_bytes));
-    if base_bytes > 0 {
-        println!("cuts_size_vs_baseline={:.3}", cut_bytes as f64 / base_bytes as f64);
-    }
-    println!();
-    println!(
-        "| section | cuts | mean nodes | stored MB ({}, values {} / {}) | height codec MB | index + f32 baseline MB |",
-        p.shape_coding.name(),
-        p.svc_values.name(),
-        p.field_values.name()
-    );
-    println!("|---|---:|---:|---:|---:|---:|");
-    for z in &s.sizes {
-        let mean = if z.cuts > 0 { z.nodes as f64 / z.cuts as f64 } else { 0.0 };
-        println!(
-            "| {} | {} | {mean:.1} | {:.2} | {:.2} | {:.2} |",
-            z.kind,
-            z.cuts,
-            mb(z.bytes),
-            mb(z.heights_codec_bytes),
-            mb(z.index_baseline_bytes)
-        );
-    }
-    println!("| whole file | | | {:.2} | | |", mb(s.file_bytes));
+    log::info!("{}", SummaryOutcome::table(&summary, &params));
+    out.summary = Some(SummaryOutcome::of(output, &summary, t.elapsed().as_secs_f64(), &params));
+    out.against = Some(AgainstOutcome::of(&estimate, &summary, shard.is_none()));
+    out.run = Some(summary);
+    Ok(out)
 }
 
 #[cfg(test)]

@@ -5,6 +5,7 @@
 //! exact-direction reference (cast once per direction count and reused) and the Monte Carlo one
 //! (once per scene). Written as `tradeoff.csv` with the Pareto fronts marked, and two plots.
 
+use crate::report::Point;
 use anyhow::{Context, Result};
 use glam::Vec3;
 use std::collections::BTreeMap;
@@ -15,7 +16,6 @@ use vcut_scene::Scene;
 use vcut_shade::measure::{edit_ms, first_movable, median, move_path};
 use vcut_shade::reference::{MonteCarloParams, errors, exact_direction, monte_carlo};
 use vcut_shade::{Frame, MergeAlgorithm};
-use vcuts::report::Point;
 
 /// The sweeps: (knob, values). `quick` keeps them short.
 fn sweeps(quick: bool) -> Vec<(&'static str, Vec<&'static str>)> {
@@ -91,7 +91,7 @@ pub fn run(scene_name: &str, base: &str, quick: bool, data_dir: &Path, no_mc: bo
         println!("\n== trade-off {}/{}: {scene_name}, {base} with {key} = {value}", i + 1, all.len());
         let file = args.output.clone().context("a variant names its file")?;
         let t = Instant::now();
-        let (_, summary) = vcuts::precompute::run(args)?;
+        let summary = vcuts::precompute::run(args)?.run;
         let summary = summary.context("precompute ran as a dry run")?;
         let precompute_s = t.elapsed().as_secs_f64();
         let mut data = Precomputed::open(&file)?;

@@ -2,6 +2,7 @@
 //! vertices — RLE ratio, decode and shade times, errors against the path-traced reference —
 //! and its precomputes' estimates.
 
+use crate::report::{LeafGoals, LeavesSection};
 use anyhow::{Context, Result};
 use std::path::Path;
 use std::time::Instant;
@@ -15,7 +16,6 @@ use vcut_leaf::shade::{Lighting, Shader, SunMethod, TwoSided};
 use vcut_leaf::store::{Inputs, LeafEstimate, Reuse};
 use vcut_shade::image::{auto_exposure, write_png};
 use vcuts::leaves::{EstimateArgs, bar, camera, frame_figures, precompute, subset, to_image};
-use vcuts::report::{LeafGoals, LeavesSection};
 
 /// The `leaves` section's precomputes, estimated from samples of `seconds` each: the large
 /// plant's maps (twice: as stored and cosine-baked) and transfer, the larger plant's one sun
@@ -66,6 +66,7 @@ pub fn run(quick: bool, out: &Path) -> Result<LeavesSection> {
     // Timed: computed every run (Reuse::Never), and saved beside the report.
     let prt_params = PrtParams { rays: prt_rays, ..PrtParams::default() };
     let pre = precompute(&scene, (&lvc_params, &prt_params), None, &out.join("plant-100k.vleaf"), Reuse::Never, est)?
+        .ready()
         .context("the bench never runs dry")?;
     let cam = camera(&scene);
     let f = frame_figures(&scene, &pre, &light, (cam.position, Shader::new().edge_rays()), 7)?;
@@ -116,6 +117,7 @@ pub fn run(quick: bool, out: &Path) -> Result<LeavesSection> {
         Reuse::Never,
         est,
     )?
+    .ready()
     .context("the bench never runs dry")?;
     let fh =
         frame_figures(&huge_scene, &huge_pre, &light, (camera(&huge_scene).position, Shader::new().edge_rays()), 5)?;

@@ -1,8 +1,8 @@
 //! The bench's CSV tables: the trade-off sweeps' points (written, and read back to re-plot
 //! them) and the scaling section's points. One row a point, one column a figure.
 
+use crate::measure::scaling::ScalingPoint;
 use crate::report::Point;
-use crate::scaling::ScalingPoint;
 use anyhow::{Context, Result};
 
 /// The figures of a point, in CSV column order.
@@ -61,14 +61,14 @@ pub fn parse_tradeoff(text: &str) -> Result<Vec<Point>> {
 /// Every point as a CSV row.
 pub fn scaling(points: &[ScalingPoint]) -> String {
     let mut text = String::from("sweep,preset,objects,movable,vertices");
-    for key in crate::scaling::FITTED {
+    for key in crate::measure::scaling::FITTED {
         text.push(',');
         text.push_str(key);
     }
     text.push_str(",merged_vertices_eager,nodes_per_merged_vertex,ns_per_merged_node,rel_l2_exact\n");
     for p in points {
         text.push_str(&format!("{},{},{},{},{}", p.sweep, p.preset, p.objects, p.movable, p.vertices));
-        for key in crate::scaling::FITTED {
+        for key in crate::measure::scaling::FITTED {
             text.push_str(&format!(",{}", p.figure(key)));
         }
         text.push_str(&format!(
@@ -131,6 +131,6 @@ mod tests {
         let col = |name: &str| lines[0].iter().position(|h| *h == name).unwrap();
         assert_eq!((lines[1][col("move_ms_eager")], lines[1][col("movable")]), ("12.5", "4"));
         assert_eq!(lines[2][col("merged_vertices_eager")], "900");
-        assert_eq!(crate::scaling::FITTED.len() + 9, lines[0].len());
+        assert_eq!(crate::measure::scaling::FITTED.len() + 9, lines[0].len());
     }
 }

@@ -7,14 +7,35 @@ use glam::Vec3;
 use vcut_data::Precomputed;
 use vcut_shade::Frame;
 use vcut_shade::measure::first_movable;
-use vcuts::accuracy::{AccuracySection, Subject, builtin_maps, measure_map};
+use xtask::measure::accuracy::{AccuracySection, Subject, builtin_maps, measure_map};
 
-mod common;
-use common::{Scratch, scratch};
+use vcut_tests::{Scratch, scratch};
 
-/// The test scene at 1,024 directions, precomputed in `s`.
+/// A ground and a movable ball above it.
+const SCENE: &str = r#"
+[[object]]
+name = "ground"
+source = "builtin:plane"
+size = 4.0
+resolution = 16
+material = { model = "lambert", kd = [0.5, 0.5, 0.5] }
+
+[[object]]
+name = "ball"
+source = "builtin:sphere"
+size = 0.5
+resolution = 12
+translation = [0.0, 0.7, 0.0]
+moves = true
+"#;
+
+/// The test scene at 1,024 directions (4 field spheres of 4 × 4 texels a face), precomputed in
+/// `s`.
 fn precomputed(s: &Scratch) -> Precomputed {
-    common::precomputed(s, "scene.toml", &["directions=1024"])
+    let out = s.join("scene.vcuts");
+    let params = [("directions", "1024"), ("field_spheres", "4"), ("field_resolution", "4"), ("svc_chunk", "64")];
+    vcut_tests::precompute_text(SCENE, &params, &out);
+    Precomputed::open(&out).unwrap()
 }
 
 #[test]
@@ -126,8 +147,8 @@ fn two_suns_and_a_window_get_their_bright_leaves_cast_and_the_target_moves_the_e
     let before = frame.settings().clone();
     let movable = first_movable(&frame).unwrap();
     let subject = Subject { scene: "test", preset: "fast", movable, eye, offset };
-    let knob = vcuts::accuracy::measure_knob(&mut frame, &subject, "window", &window_map).unwrap();
-    assert_eq!(knob.len(), vcuts::accuracy::KNOB_TARGETS.len());
+    let knob = xtask::measure::accuracy::measure_knob(&mut frame, &subject, "window", &window_map).unwrap();
+    assert_eq!(knob.len(), xtask::measure::accuracy::KNOB_TARGETS.len());
     for pair in knob.windows(2) {
         assert!(pair[1].leaves >= pair[0].leaves, "{pair:?}");
         assert!(pair[1].rel_l2_exact <= pair[0].rel_l2_exact + 1e-6, "{pair:?}");

@@ -6,6 +6,10 @@
 //! how each figure is measured.
 #![allow(missing_docs)]
 
+pub mod csv;
+pub mod plots;
+pub mod table1;
+
 use anyhow::{Context, Result};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
@@ -32,11 +36,11 @@ pub struct Report {
     #[serde(skip_serializing_if = "Option::is_none")]
     pub leaves: Option<LeavesSection>,
     #[serde(skip_serializing_if = "Option::is_none")]
-    pub scaling: Option<crate::scaling::ScalingSection>,
+    pub scaling: Option<crate::measure::scaling::ScalingSection>,
     #[serde(skip_serializing_if = "Option::is_none")]
-    pub distributed: Option<crate::distributed::DistributedSection>,
+    pub distributed: Option<crate::measure::distributed::DistributedSection>,
     #[serde(skip_serializing_if = "Option::is_none")]
-    pub accuracy: Option<crate::accuracy::AccuracySection>,
+    pub accuracy: Option<crate::measure::accuracy::AccuracySection>,
     pub bench_s: f64,
 }
 
@@ -312,9 +316,4 @@ pub fn replace_section(path: &Path, key: &str, section: &impl Serialize) -> Resu
     write_json(path, &report)
 }
 
-/// Writes `bytes` to `path` whole (a temporary file renamed into place).
-pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
-    let tmp = path.with_extension("partial");
-    std::fs::write(&tmp, bytes).with_context(|| format!("writing {}", tmp.display()))?;
-    std::fs::rename(&tmp, path).with_context(|| format!("renaming {} to {}", tmp.display(), path.display()))
-}
+pub use vcuts::files::write_atomic;

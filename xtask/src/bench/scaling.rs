@@ -1,16 +1,16 @@
 //! The bench's `scaling` section: `builtin:showroom:K` for K = 1 … 64 objects at `fast` and
 //! `balanced`, and one teapot tessellated from 10k to ~1M vertices, each point measured by
-//! `vcuts::scaling::measure`; the growth exponents fitted, `scaling.csv`, and log–log plots
+//! `crate::measure::scaling::measure`; the growth exponents fitted, `scaling.csv`, and log–log plots
 //! (`scaling_objects.png`, `scaling_vertices.png`). A point whose frame would not fit in the
 //! memory available (extrapolated from the sweep's last point) is skipped and named. The
 //! section so far is written to `scaling.json` and `scaling.csv` after every point, so that a
 //! sweep stopped part way keeps what it measured.
 
+use crate::measure::scaling::{ScalingPoint, ScalingSection, exponents, goals, measure};
+use crate::report::write_atomic;
 use anyhow::{Context, Result};
 use std::path::Path;
 use vcut_scene::budget::{available_memory, human};
-use vcuts::report::write_atomic;
-use vcuts::scaling::{ScalingPoint, ScalingSection, exponents, goals, measure};
 
 /// Teapot tessellations of the vertex sweep (quads per patch edge) and the vertices each
 /// gives with the ground: ~10k, 40k, 160k, 1M.
@@ -94,7 +94,7 @@ fn keep(section: &mut ScalingSection, out: &Path) -> Result<()> {
     section.exponents = exponents(&section.points);
     section.goals = goals(&section.points);
     write_atomic(&out.join("scaling.json"), serde_json::to_string_pretty(section)?.as_bytes())?;
-    write_atomic(&out.join("scaling.csv"), vcuts::csv::scaling(&section.points).as_bytes())?;
+    write_atomic(&out.join("scaling.csv"), crate::report::csv::scaling(&section.points).as_bytes())?;
     Ok(())
 }
 
@@ -143,8 +143,8 @@ pub fn run(sweeps: &Sweeps, data_dir: &Path, out: &Path) -> Result<ScalingSectio
         section.points.push(p);
         keep(&mut section, out)?;
     }
-    vcuts::plots::scaling(&section, "objects", "objects", &out.join("scaling_objects.png"))?;
-    vcuts::plots::scaling(&section, "tessellation", "vertices", &out.join("scaling_vertices.png"))?;
+    crate::report::plots::scaling(&section, "objects", "objects", &out.join("scaling_objects.png"))?;
+    crate::report::plots::scaling(&section, "tessellation", "vertices", &out.join("scaling_vertices.png"))?;
     println!("scaling exponents: {}", serde_json::to_string(&section.exponents)?);
     Ok(section)
 }

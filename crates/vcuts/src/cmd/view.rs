@@ -1,7 +1,9 @@
-//! `cargo xtask view`: the interactive viewer (`vcut-view`) on a `.vcuts` file, or on a scene
+//! `vcuts view`: the interactive viewer (`vcut-view`) on a `.vcuts` file, or on a scene
 //! precomputed first; `--screenshot` renders the same frame with no window.
 
+use crate::outcome::ms_since;
 use anyhow::{Context, Result, bail};
+use serde::Serialize;
 use std::path::PathBuf;
 use std::time::{Duration, Instant};
 use vcut_view::{Gpu, LeafSession, LeafViewOptions, Mode, OrbitCamera, Session, ViewOptions};
@@ -91,8 +93,36 @@ fn non_negative(s: &str) -> Result<f64, String> {
         .ok_or_else(|| format!("{s:?}: must be a finite number, at least 0"))
 }
 
+/// What `view --screenshot` measured and wrote (nothing for a window).
+#[derive(Debug, Clone, Default, Serialize)]
+pub struct ViewOutcome {
+    /// `--leaves`: where the leaf data is and what was done to get it.
+    #[serde(flatten)]
+    pub store: Option<crate::leaves::StoreOutcome>,
+    /// The wgpu adapter.
+    pub adapter: Option<String>,
+    /// Setting the GPU up (ms).
+    pub gpu_setup_ms: Option<f64>,
+    /// The screenshot's frame (ms).
+    pub screenshot_ms: Option<f64>,
+    /// What it shows.
+    pub mode: Option<&'static str>,
+    /// Its exposure.
+    pub exposure: Option<f32>,
+    /// Shading (ms).
+    pub shade_ms: Option<f64>,
+    /// The exact reference's time (exact and difference modes).
+    pub reference_s: Option<f64>,
+    /// The frame against the exact reference (exact and difference modes).
+    pub vertex_rel_l2_vs_exact: Option<f64>,
+    /// The screenshot written.
+    pub screenshot: Option<PathBuf>,
+    /// `--leaves`: the screenshot written.
+    pub png: Option<PathBuf>,
+}
+
 /// `view --leaves`: the plant precomputed, then the leaf window (or a screenshot).
-fn run_leaves(args: &ViewArgs) -> Result<()> {
+fn run_leaves(args: &ViewArgs) -> Result<ViewOutcome> {
     let p = &args.plant;
     let material = crate::leaves::material(p)?;
     let t = Instant::now();
@@ -101,26 +131,20 @@ fn run_leaves(args: &ViewArgs) -> Result<()> {
     let inputs = vcut_leaf::store::Inputs { scene: &scene, lvc, prt, suns: None };
     let reuse = if p.fresh { vcut_leaf::store::Reuse::Never } else { vcut_leaf::store::Reuse::IfMatching };
     let file = crate::leaves::data_path(p, &inputs);
-    let Some(pre) = crate::leaves::precompute(&scene, (&lvc, &prt), None, &file, reuse, p.estimate)? else {
-        return Ok(());
+    let Some(pre) = crate::leaves::precompute(&scene, (&lvc, &prt), None, &file, reuse, p.estimate)?.ready() else {
+        return Ok(ViewOutcome::default());
     };
-    crate::leaves::print_store(&pre);
+    let mut out = ViewOutcome { store: Some(crate::leaves::StoreOutcome::of(&pre)), ..ViewOutcome::default() };
     let setup_s = t.elapsed().as_secs_f64();
     let env_spec = args.env.as_deref().unwrap_or("builtin:sky");
     let env = crate::inspect::load_envmap(env_spec)?;
     let camera = OrbitCamera::from_camera(&crate::leaves::camera(&scene));
+    let lvc_mb = (pre.data.lvc.raw_bytes() as f64 / 1e6, pre.data.lvc.compressed_bytes() as f64 / 1e6);
     let summary = vec![
-        ("plant".to_string(), p.plant.clone()),
+        ("plant".to_string(), p.plant.to_string()),
         ("vertices".into(), scene.vertex_count().to_string()),
         ("environment".into(), env_spec.to_string()),
-        (
-            "sun maps".into(),
-            format!(
-                "{:.1} MB raw, {:.1} MB RLE",
-                pre.data.lvc.raw_bytes() as f64 / 1e6,
-                pre.data.lvc.compressed_bytes() as f64 / 1e6
-            ),
-        ),
+        ("sun maps".into(), format!("{:.1} MB raw, {:.1} MB RLE", lvc_mb.0, lvc_mb.1)),
         ("SH transfer".into(), format!("{:.1} MB", pre.data.transfer.bytes() as f64 / 1e6)),
         ("precompute".into(), format!("{setup_s:.1} s")),
     ];
@@ -128,27 +152,32 @@ fn run_leaves(args: &ViewArgs) -> Result<()> {
     if session.data().lvc.vertex_count() == 0 {
         bail!("the plant has no vertices");
     }
-    if let Some((e, a)) = crate::leaves::sun_angles(p)? {
+    if let Some((e, a)) = crate::leaves::sun_angles(p) {
         session.set_sun(e, a);
     }
     session.set_edge_rays(p.sun_edge_rays);
     session.exposure = args.exposure;
     if let Some(path) = &args.screenshot {
         let gpu = Gpu::headless()?;
-        println!("adapter={}", gpu.describe());
+        out.adapter = Some(gpu.describe());
         let t = Instant::now();
         let image = vcut_view::leaf_screenshot(&gpu, &mut session, args.width, args.height)?;
-        println!("screenshot_ms={:.1}", t.elapsed().as_secs_f64() * 1e3);
-        println!("shade_ms={:.2}", session.timings.shade_ms);
-        if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
-            std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
-        }
+        (out.screenshot_ms, out.shade_ms) = (Some(ms_since(t)), Some(session.timings.shade_ms));
+        create_parent(path)?;
         vcut_view::headless::write_png(&image, path)?;
-        println!("png={}", path.display());
-        return Ok(());
+        out.png = Some(path.clone());
+        return Ok(out);
     }
     let options = LeafViewOptions { title: format!("vcuts leaves — {}", p.plant), summary, max_frames: args.frames };
     vcut_view::run_leaf_window(session, options)?;
+    Ok(out)
+}
+
+/// Creates `path`'s folder if it has one.
+fn create_parent(path: &std::path::Path) -> Result<()> {
+    if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
+        std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
+    }
     Ok(())
 }
 
@@ -211,12 +240,11 @@ impl ViewMode {
     }
 }
 
-/// Runs `view`.
-pub fn run(args: &ViewArgs) -> Result<()> {
+/// Runs `view`: the window, or with `--screenshot` one frame into a PNG.
+pub fn run(args: &ViewArgs) -> Result<ViewOutcome> {
     if args.leaves {
         return run_leaves(args);
     }
-    let mode = args.mode.mode();
     let input = match (&args.input, &args.scene) {
         (Some(p), _) => p.clone(),
         (None, scene) => crate::precompute::cached_or_run(scene.as_deref().unwrap_or("builtin:teapot"), &args.preset)?,
@@ -227,6 +255,7 @@ pub fn run(args: &ViewArgs) -> Result<()> {
     let crate::render::Opened { data, mut frame, env, env_name, view, setup_s } = opened;
     crate::render::apply_edits(&mut frame, &args.brdfs, &args.moves)?;
     let camera = crate::render::camera(view.as_ref(), args.camera.as_deref(), &frame)?;
+    let vertices: usize = (0..frame.object_count()).map(|o| frame.object(o).mesh.vertex_count()).sum();
     let summary = vec![
         ("file".to_string(), input.display().to_string()),
         ("preset".into(), data.record.params.preset.clone()),
@@ -235,10 +264,7 @@ pub fn run(args: &ViewArgs) -> Result<()> {
             "data size".into(),
             std::fs::metadata(&input).map_or("?".into(), |m| format!("{:.1} MB", m.len() as f64 / 1e6)),
         ),
-        (
-            "vertices".into(),
-            format!("{}", (0..frame.object_count()).map(|o| frame.object(o).mesh.vertex_count()).sum::<usize>()),
-        ),
+        ("vertices".into(), vertices.to_string()),
         ("objects".into(), format!("{}", frame.object_count())),
         ("setup".into(), format!("{setup_s:.2} s")),
     ];
@@ -248,36 +274,45 @@ pub fn run(args: &ViewArgs) -> Result<()> {
     if args.env_rotation != 0.0 {
         session.set_env_rotation(args.env_rotation);
     }
-    session.set_mode(mode)?;
-
+    session.set_mode(args.mode.mode())?;
     if let Some(path) = &args.screenshot {
-        let t = Instant::now();
-        while session.step_reference(Duration::from_secs(3600)) {}
-        let reference_s = t.elapsed().as_secs_f64();
-        let t = Instant::now();
-        let gpu = Gpu::headless()?;
-        println!("adapter={}", gpu.describe());
-        println!("gpu_setup_ms={:.1}", t.elapsed().as_secs_f64() * 1e3);
-        let t = Instant::now();
-        let image = vcut_view::screenshot(&gpu, &mut session, args.width, args.height)?;
-        println!("screenshot_ms={:.1}", t.elapsed().as_secs_f64() * 1e3);
-        if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
-            std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
-        }
-        vcut_view::headless::write_png(&image, path)?;
-        println!("mode={}", args.mode.name());
-        println!("exposure={:.4}", session.exposure_in_use());
-        println!("shade_ms={:.2}", session.timings.shade_ms);
-        if matches!(mode, Mode::Exact | Mode::Difference) {
-            println!("reference_s={reference_s:.3}");
-            if let Some(e) = session.reference_error() {
-                println!("vertex_rel_l2_vs_exact={e:.5}");
-            }
-        }
-        println!("screenshot={}", path.display());
-        return Ok(());
+        return screenshot(args, &mut session, path);
     }
+    window(args, session, (&input, summary), (env, env_name))?;
+    Ok(ViewOutcome::default())
+}
 
+/// One frame of `session` with no window into the PNG `path`.
+fn screenshot(args: &ViewArgs, session: &mut Session, path: &std::path::Path) -> Result<ViewOutcome> {
+    let t = Instant::now();
+    while session.step_reference(Duration::from_secs(3600)) {}
+    let reference_s = t.elapsed().as_secs_f64();
+    let t = Instant::now();
+    let gpu = Gpu::headless()?;
+    let mut out = ViewOutcome { adapter: Some(gpu.describe()), gpu_setup_ms: Some(ms_since(t)), ..Default::default() };
+    let t = Instant::now();
+    let image = vcut_view::screenshot(&gpu, session, args.width, args.height)?;
+    out.screenshot_ms = Some(ms_since(t));
+    create_parent(path)?;
+    vcut_view::headless::write_png(&image, path)?;
+    out.mode = Some(args.mode.name());
+    out.exposure = Some(session.exposure_in_use());
+    out.shade_ms = Some(session.timings.shade_ms);
+    if matches!(args.mode.mode(), Mode::Exact | Mode::Difference) {
+        out.reference_s = Some(reference_s);
+        out.vertex_rel_l2_vs_exact = session.reference_error();
+    }
+    out.screenshot = Some(path.to_path_buf());
+    Ok(out)
+}
+
+/// The viewer's window on `session` until it closes.
+fn window(
+    args: &ViewArgs,
+    session: Session,
+    (input, summary): (&std::path::Path, Vec<(String, String)>),
+    (env, env_name): (vcut_envmap::EnvMap, String),
+) -> Result<()> {
     let base_env = env;
     let base_name = env_name.clone();
     let reconstruction = base_env.reconstruction();

@@ -3,9 +3,9 @@
 //! section's error per map. PNG, written atomically; drawn without text where the machine has no
 //! sans-serif font.
 
-use crate::accuracy::AccuracySection;
+use crate::measure::accuracy::AccuracySection;
+use crate::measure::scaling::{ScalingPoint, ScalingSection};
 use crate::report::Point;
-use crate::scaling::{ScalingPoint, ScalingSection};
 use anyhow::{Context, Result};
 use plotters::prelude::*;
 use plotters::style::FontStyle;
@@ -350,7 +350,7 @@ mod tests {
         let one = ScalingSection { points: vec![at(1, "fast"), at(1, "balanced")], ..ScalingSection::default() };
         scaling(&one, "objects", "objects", &dir.join("one.png")).unwrap();
         assert!(!dir.join("one.png").exists());
-        let row = |map: &str, preset: &str, e: f64| crate::accuracy::test_row("teapot", preset, map, e);
+        let row = |map: &str, preset: &str, e: f64| crate::measure::accuracy::test_row("teapot", preset, map, e);
         let acc = AccuracySection {
             rows: vec![row("sky-30", "fast", 0.02), row("studio", "fast", 0.03), row("sky-30", "paper", 0.004)],
             skipped: Vec::new(),

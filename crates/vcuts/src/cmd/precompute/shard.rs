@@ -5,8 +5,7 @@
 use anyhow::{Context, Result, bail};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
-use vcut_data::shard::{ShardPlan, gather};
-use vcut_precompute::PrecomputeParams;
+use vcut_data::shard::gather;
 
 /// The array-index variables of the batch engines `--shard env/N` reads, in the order tried:
 /// Slurm job arrays, Kubernetes Indexed Jobs, AWS Batch array jobs (all 0-based).
@@ -36,30 +35,6 @@ pub fn parse_spec(spec: &str, var: impl Fn(&str) -> Option<String>) -> Result<(u
     Ok((index, n))
 }
 
-/// Prints a plan: one line per section, then per shard its cost and sections, as a table and
-/// key=value lines.
-pub fn print_plan(plan: &ShardPlan, params: &PrecomputeParams) {
-    let dirs = f64::from(params.directions);
-    println!("| section | vertices / points | share of rays cast | cost (M rays) | shard |");
-    println!("|---|---:|---:|---:|---:|");
-    for s in plan.sections() {
-        let share = s.cost as f64 / (s.units.max(1) as f64 * dirs);
-        println!("| {} | {} | {share:.3} | {:.2} | {} |", s.id, s.units, s.cost as f64 / 1e6, s.owner);
-    }
-    println!();
-    let loads = plan.loads();
-    let total: u64 = loads.iter().sum();
-    println!("plan_shards={}", plan.shards());
-    println!("plan_sections={}", plan.sections().len());
-    println!("plan_cost_mrays={:.2}", total as f64 / 1e6);
-    println!("plan_balance={:.4}", plan.balance_ratio());
-    for (i, load) in loads.iter().enumerate() {
-        let n = plan.sections().iter().filter(|s| s.owner == i as u32).count();
-        println!("shard_{i}_sections={n}");
-        println!("shard_{i}_cost_mrays={:.2}", *load as f64 / 1e6);
-    }
-}
-
 /// The output of a gather with no `-o`: the first shard file's name without its
 /// `.shard-I-of-N` part.
 pub fn gathered_name(first: &Path) -> Option<PathBuf> {
@@ -69,7 +44,7 @@ pub fn gathered_name(first: &Path) -> Option<PathBuf> {
 }
 
 /// `precompute --gather FILES... [-o out]`.
-pub fn run_gather(files: &[PathBuf], output: Option<&Path>) -> Result<PathBuf> {
+pub fn run_gather(files: &[PathBuf], output: Option<&Path>) -> Result<super::GatherOutcome> {
     let output = match output {
         Some(o) => o.to_path_buf(),
         None => files.first().and_then(|f| gathered_name(f)).context(
@@ -79,16 +54,15 @@ pub fn run_gather(files: &[PathBuf], output: Option<&Path>) -> Result<PathBuf> {
     let t = Instant::now();
     let g = gather(files, &output)?;
     let seconds = t.elapsed().as_secs_f64();
-    println!("gathered {} shards into {}", g.shards, output.display());
-    println!("output={}", output.display());
-    println!("gather_shards={}", g.shards);
-    println!("gather_sections={}", g.sections);
-    println!("gather_mb={:.3}", g.bytes as f64 / 1e6);
-    println!("gather_s={seconds:.3}");
-    if let Some(peak) = vcut_scene::budget::peak_memory() {
-        println!("gather_peak_rss_mb={:.1}", peak as f64 / 1e6);
-    }
-    Ok(output)
+    log::info!("gathered {} shards into {}", g.shards, output.display());
+    Ok(super::GatherOutcome {
+        output,
+        gather_shards: g.shards,
+        gather_sections: g.sections,
+        gather_mb: g.bytes as f64 / 1e6,
+        gather_s: seconds,
+        gather_peak_rss_mb: vcut_scene::budget::peak_memory().map(|p| p as f64 / 1e6),
+    })
 }
 
 #[cfg(test)]
