@@ -21,6 +21,7 @@ use vcut_scene::{Scene, SceneDesc};
 use vcut_shade::Frame;
 use vcut_shade::reference::{errors, exact_direction};
 use vcut_sphere::{DirectionSet, RepulsionParams};
+use vcut_tests::BALL_ON_GROUND;
 
 fn scratch(name: &str) -> PathBuf {
     let d = std::env::temp_dir().join(format!("vcut-extremes-{}-{name}", std::process::id()));
@@ -51,24 +52,6 @@ fn data(text: &str, dir: &Path, params: &[(&str, &str)]) -> Precomputed {
 }
 
 const EYE: Vec3 = Vec3::new(3.0, 4.0, 5.0);
-
-const BALL_ON_GROUND: &str = r#"
-[[object]]
-name = "ground"
-source = "builtin:plane"
-size = 4.0
-resolution = 16
-material = { model = "lambert", kd = [0.5, 0.5, 0.5] }
-
-[[object]]
-name = "ball"
-source = "builtin:sphere"
-size = 0.5
-resolution = 12
-translation = [0.0, 0.5, 0.0]
-moves = true
-material = { model = "lambert", kd = [0.5, 0.5, 0.5] }
-"#;
 
 #[test]
 fn quantised_values_near_zero_and_one_stay_within_their_bounds() {
@@ -132,10 +115,9 @@ fn visible_occluded_touching_and_far_vertices() {
     assert!((b[ground][corner].x - 0.5).abs() < 0.02, "corner {}", b[ground][corner]);
     // On the ball's surface (it rests on the ground there) the ball covers the whole upper
     // hemisphere: exactly 0. The field can only interpolate toward that from the samples beside
-    // and below the contact (those inside the ball are dropped): measured 31 % of the
-    // unoccluded value. Counting inside samples as occluded halves that but doubles the error
-    // of points just off a surface (tests/precompute.rs); contacts are the field
-    // representation's weak spot.
+    // and below the contact (those inside the ball are dropped), so it stays well above 0.
+    // Counting inside samples as occluded lowers that but raises the error of points just off
+    // a surface (tests/precompute.rs); contacts are the field representation's weak spot.
     assert!(b[ground][touching].x < 0.35 * 0.5, "touching {}", b[ground][touching]);
     // Inside the ball's bounding sphere region (0.75 from its centre's foot, r = 0.5): shadowed
     // in part, within 5 % of the exact reference's radiance there.

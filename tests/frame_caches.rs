@@ -3,7 +3,7 @@
 
 mod frame_scene;
 
-use frame_scene::{BALL_ABOVE_GROUND, EYE, data, scratch};
+use frame_scene::{BALL_ABOVE_GROUND, EYE, data, scratch, set, try_set};
 use glam::Vec3;
 use std::io::Write;
 use vcut_data::Precomputed;
@@ -59,24 +59,18 @@ fn without_the_merged_cache_a_frame_holds_less_and_shades_the_same() {
     let (turn_full, turn_lean) = (full.set_eye(behind).unwrap(), lean.set_eye(behind).unwrap());
     assert!(turn_full == 0 && turn_lean > 0, "{turn_lean}, {turn_full}");
     assert!(lean.shade(behind) == full.shade(behind));
-    lean.reconfigure(&vcut_shade::FrameSettings { sun_rays: false, ..lean.settings().clone() }).unwrap();
-    full.reconfigure(&vcut_shade::FrameSettings { sun_rays: false, ..full.settings().clone() }).unwrap();
+    set(&mut lean, |s| s.sun_rays = false);
+    set(&mut full, |s| s.sun_rays = false);
     assert!(lean.shade(EYE) == full.shade(EYE));
     // Turned on again, the cache is filled with the same cuts.
-    lean.reconfigure(&vcut_shade::FrameSettings {
-        caches: vcut_shade::FrameCaches { merged: true, ..lean.settings().caches },
-        ..lean.settings().clone()
-    })
-    .unwrap();
+    set(&mut lean, |s| s.caches.merged = true);
     assert!(lean.memory().merged > 0);
     assert!(every(&lean).into_iter().all(|(o, v)| *lean.merged(o, v).unwrap() == *full.merged(o, v).unwrap()));
     assert!(lean.shade(EYE) == full.shade(EYE));
     // A budget keeps the decoded SVCs if they fit, and no other cache: none under the frame's
     // floor.
     let floor = FrameCaches::NONE;
-    let budget =
-        |f: &Frame, bytes: u64| vcut_shade::FrameSettings { memory_budget: Some(bytes), ..f.settings().clone() };
-    lean.reconfigure(&budget(&lean, 1)).unwrap();
+    set(&mut lean, |s| s.memory_budget = Some(1));
     assert_eq!(lean.stats().caches, floor);
     let m = lean.memory();
     assert_eq!((m.svc_cache, m.field_cache, m.merged), (0, 0, 0));
@@ -87,17 +81,18 @@ fn without_the_merged_cache_a_frame_holds_less_and_shades_the_same() {
     assert!(lean.shade(behind) == full.shade(behind));
     // A budget with room keeps the SVCs only; one below what they take, none.
     let (m, svc) = (full.memory(), full.memory().svc_cache);
-    full.reconfigure(&budget(&full, u64::MAX)).unwrap();
+    set(&mut full, |s| s.memory_budget = Some(u64::MAX));
     assert_eq!(full.stats().caches, FrameCaches { svc: true, ..floor });
     assert!(full.memory().stored * 4 < m.stored, "{:?} of {m:?}", full.memory());
     assert!(full.memory().total() <= m.total() - m.merged - m.field_cache - m.stored / 2);
-    full.reconfigure(&budget(&full, (full.memory().total() - svc + 1) as u64)).unwrap();
+    let tight = (full.memory().total() - svc + 1) as u64;
+    set(&mut full, |s| s.memory_budget = Some(tight));
     assert_eq!(full.stats().caches, floor);
     assert!(lean.shade(EYE) == full.shade(EYE));
     // Without the budget the caches asked for come back (the merged cuts filled: one merge
     // each), and shade the same.
     let before = full.stats().merges;
-    full.reconfigure(&vcut_shade::FrameSettings { memory_budget: None, ..full.settings().clone() }).unwrap();
+    set(&mut full, |s| s.memory_budget = None);
     assert_eq!(full.stats().caches, FrameCaches::default());
     let vertices: u64 = (0..full.object_count()).map(|o| full.object(o).mesh.vertex_count() as u64).sum();
     assert_eq!(full.stats().merges - before, vertices);
@@ -137,17 +132,9 @@ fn with_the_stored_cuts_left_in_the_file_a_frame_shades_the_same() {
     assert!(lean.merge_pending().is_ok() && full.merge_pending().is_ok());
     assert!(lean.merged(ground, 7).unwrap() == full.merged(ground, 7).unwrap());
     // Read back into memory (checked against the file's checksums), and out again.
-    lean.reconfigure(&vcut_shade::FrameSettings {
-        caches: vcut_shade::FrameCaches { stored: true, ..lean.settings().caches },
-        ..lean.settings().clone()
-    })
-    .unwrap();
+    set(&mut lean, |s| s.caches.stored = true);
     assert_eq!(lean.memory().stored, m_full.stored);
-    lean.reconfigure(&vcut_shade::FrameSettings {
-        caches: vcut_shade::FrameCaches { stored: false, ..lean.settings().caches },
-        ..lean.settings().clone()
-    })
-    .unwrap();
+    set(&mut lean, |s| s.caches.stored = false);
     // The file changed in place (every byte after its header): the merges that read it fail,
     // naming the file; nothing panics and the images already shaded stand.
     let len = std::fs::metadata(&gone).unwrap().len();
@@ -159,12 +146,7 @@ fn with_the_stored_cuts_left_in_the_file_a_frame_shades_the_same() {
     assert!(matches!(e, FrameError::Cut { error: CutFailure::Decode(_), .. }), "{e}");
     // Named as it was opened.
     assert!(e.to_string().contains(&path.display().to_string()) && e.to_string().contains("changed"), "{e}");
-    let e = lean
-        .reconfigure(&vcut_shade::FrameSettings {
-            caches: vcut_shade::FrameCaches { stored: true, ..lean.settings().caches },
-            ..lean.settings().clone()
-        })
-        .unwrap_err();
+    let e = try_set(&mut lean, |s| s.caches.stored = true).unwrap_err();
     assert!(matches!(e, FrameError::Stored { .. }) && e.to_string().contains("checksum"), "{e}");
 }
 

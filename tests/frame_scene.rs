@@ -37,3 +37,20 @@ pub fn data(text: &str, params: &[(&str, &str)], out: &Path) -> Precomputed {
 }
 
 pub const EYE: Vec3 = Vec3::new(3.0, 4.0, 5.0);
+
+/// `frame` with its settings changed by `change`; returns the vertices it merged.
+#[allow(dead_code)]
+pub fn set(frame: &mut vcut_shade::Frame, change: impl FnOnce(&mut vcut_shade::FrameSettings)) -> usize {
+    try_set(frame, change).unwrap()
+}
+
+/// [`set`], its error returned.
+#[allow(dead_code)]
+pub fn try_set(
+    frame: &mut vcut_shade::Frame,
+    change: impl FnOnce(&mut vcut_shade::FrameSettings),
+) -> Result<usize, vcut_shade::FrameError> {
+    let mut s = frame.settings().clone();
+    change(&mut s);
+    frame.reconfigure(&s)
+}

@@ -184,7 +184,7 @@ fn a_field_interpolated_at_a_point_agrees_with_rays_cast_from_it() {
     // a shadow's edge and size are blended from the neighbouring samples. With 16 spheres
     // (geometric: 0.97r, 1.26r, 1.65r, 2.15r, … apart by a ratio of 1.3) × 6×16² the bounds are:
     // beyond 2.5r under 1 %, from 1.5r under 5 %, and between the surface and 1.5r under 25 %:
-    // there the shadow grows fastest with nearness (measured 0.9 %, 3.3 %, 14 %).
+    // there the shadow grows fastest with nearness.
     let mut worst = [0.0f64; 3];
     for k in 0..30 {
         let t = k as f32 / 29.0;

@@ -19,6 +19,26 @@ pub fn assets_or_skip(test: &str) -> Option<PathBuf> {
     }
 }
 
+/// A movable ball resting on a flat ground (two Lambertian objects): the smallest scene with a
+/// contact, a field and a flat occluder.
+pub const BALL_ON_GROUND: &str = r#"
+[[object]]
+name = "ground"
+source = "builtin:plane"
+size = 4.0
+resolution = 16
+material = { model = "lambert", kd = [0.5, 0.5, 0.5] }
+
+[[object]]
+name = "ball"
+source = "builtin:sphere"
+size = 0.5
+resolution = 12
+translation = [0.0, 0.5, 0.0]
+moves = true
+material = { model = "lambert", kd = [0.5, 0.5, 0.5] }
+"#;
+
 /// The environment maps among the shared assets (lat-long files and the cube folder).
 pub const ENVIRONMENT_MAPS: [&str; 6] = [
     "envmaps/quarry_01_1k.hdr",

@@ -1,6 +1,6 @@
 //! `cargo xtask publish`: what the docs show, generated. Copies a bench report's `table1.md`
 //! and plots (trade-off, scaling: those it has; a report of one section, e.g. from
-//! `bench --only-scaling`, brings its plots and keeps the table there) to `docs/report/` and
+//! `bench --only scaling`, brings its plots and keeps the table there) to `docs/report/` and
 //! writes the table between the `<!-- table1 -->` and `<!-- /table1 -->` markers of
 //! `README.md` and `docs/benchmarks.md`; and writes each library crate's `README.md` (what a registry page
 //! shows) from its crate documentation — so none of them is edited by hand. It also requires

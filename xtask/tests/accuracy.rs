@@ -11,30 +11,12 @@ use xtask::measure::accuracy::{AccuracySection, Subject, builtin_maps, measure_m
 
 use vcut_tests::{Scratch, scratch};
 
-/// A ground and a movable ball above it.
-const SCENE: &str = r#"
-[[object]]
-name = "ground"
-source = "builtin:plane"
-size = 4.0
-resolution = 16
-material = { model = "lambert", kd = [0.5, 0.5, 0.5] }
-
-[[object]]
-name = "ball"
-source = "builtin:sphere"
-size = 0.5
-resolution = 12
-translation = [0.0, 0.7, 0.0]
-moves = true
-"#;
-
 /// The test scene at 1,024 directions (4 field spheres of 4 × 4 texels a face), precomputed in
 /// `s`.
 fn precomputed(s: &Scratch) -> Precomputed {
     let out = s.join("scene.vcuts");
     let params = [("directions", "1024"), ("field_spheres", "4"), ("field_resolution", "4"), ("svc_chunk", "64")];
-    vcut_tests::precompute_text(SCENE, &params, &out);
+    vcut_tests::precompute_text(vcut_tests::BALL_ON_GROUND, &params, &out);
     Precomputed::open(&out).unwrap()
 }
 

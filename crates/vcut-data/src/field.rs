@@ -7,10 +7,10 @@
 //! spheres from 0.2r to 10r they are 0.32r apart, as far apart near the object, where occlusion
 //! changes fastest, as at 10r. [`RadialSpacing::Geometric`] (our default) keeps a constant
 //! ratio between neighbours (50^(1/31) ≈ 1.13 for the paper's range): 0.13r apart at r, 1.2r at
-//! 10r — about as fine radially as the cube texels are across (π/2 / R of the radius). On the
-//! teapot scene (balanced preset, constant environment) this cut the frame's error against
-//! the exact reference from 7.6 % to 2.8 % (`cargo run --release -p vcut-benches --example
-//! error_sources`). Between two spheres the radial weight is linear in distance either way.
+//! 10r — about as fine radially as the cube texels are across (π/2 / R of the radius), where
+//! interpolation errs most (`docs/benchmarks.md` has the error either way, by `cargo run
+//! --release -p vcut-benches --example error_sources`). Between two spheres the radial weight
+//! is linear in distance either way.
 //!
 //! Outside `outer`·r the object occludes nothing the field needs to hold ([`FieldLayout::lookup`]
 //! returns `None`: the caller treats the object as fully visible there, which is what its
@@ -76,12 +76,9 @@ impl RadialSpacing {
 /// surface. [`InsideSamples::Occluded`] (the default) blends the inside ones in as what they
 /// are, fully occluded; [`InsideSamples::Dropped`] gives their weight to the samples outside.
 /// Dropping extrapolates the outside samples' view to the point, and the outside samples next
-/// to a point under an overhang often lie *below* it, with a wider view of the sky: on the
-/// teapot scene at the paper preset, the ground around the teapot's base came out up to 30×
-/// too bright (0.76 against 0.024), and the frame's relative L2 error against the exact
-/// reference was 2.46 % dropped, 2.09 % occluded (maximum vertex error 1.13 → 0.66; bunny scene
-/// 1.204 % → 1.189 %; `cargo xtask render target/vcuts/teapot-paper.vcuts --compare exact
-/// --inside-samples dropped|occluded`).
+/// to a point under an overhang often lie *below* it, with a wider view of the sky, so the
+/// ground around an object's base comes out too bright (`docs/benchmarks.md`, "The frame's
+/// design, measured", has the error either way).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum InsideSamples {
     /// Inside samples keep their weight and their cut: fully occluded.

@@ -133,12 +133,10 @@ impl PrecomputeParams {
         }
     }
 
-    /// The recommended default, from the Pareto front of the full `cargo xtask bench` (teapot,
-    /// 2026-11-22): 16,384 directions, 32 geometrically spaced spheres of 6×16×16, SVC values in
-    /// 8 bits. Of the sweeps around the old balanced preset (16 spheres, 16-bit values: 10.4 MB,
-    /// 3.01 % against the exact reference), 32 spheres was the most accurate point (2.13 %) and
-    /// on both fronts, and 8-bit SVC values saved 23 % of the size at the same error (3.009 %):
-    /// together more accurate than the paper preset (2.46 %) at about a quarter of its size.
+    /// The recommended default, from the Pareto front of the full `cargo xtask bench`'s
+    /// trade-off sweeps on the teapot scene: 16,384 directions, 32 geometrically spaced spheres
+    /// of 6×16×16, SVC values in 8 bits — more spheres were the most accurate step, and 8-bit SVC
+    /// values cost no accuracy for their size (`docs/benchmarks.md` has the sweep).
     pub fn balanced() -> Self {
         Self {
             preset: "balanced".into(),

@@ -1,7 +1,7 @@
 //! A frame of the leaf renderer on the built-in 48-leaf plant: decoding one sun direction's LVC
 //! map, shading both passes for both sides of every vertex (against SH alone), and the level of
 //! detail's coarsest selection; plus the run-length codec on a real map. Goals (issue 9, 100k
-//! vertices): decode ≤ 2 ms, shade ≤ 28 ms — `cargo xtask bench --only-leaves` measures those
+//! vertices): decode ≤ 2 ms, shade ≤ 28 ms — `cargo xtask bench --only leaves` measures those
 //! sizes; this bench tracks the per-vertex costs on a small plant.
 
 use criterion::{Criterion, criterion_group, criterion_main};

@@ -1,9 +1,9 @@
 //! How open a gloss lobe is, per vertex and for any lobe direction, from the LVC maps' visibility.
 //!
 //! A glossy side reflects the sky only where its lobe is open. The order-5 SH of the direct
-//! transfer cannot tell (its lobes are finer than order 5 resolves; with the SH's visibility the
-//! gloss errs 36 % against a Monte Carlo truth, with this table 18 %: `cargo run -p vcuts
-//! --example gloss_sources`), but the LVC maps hold each vertex's visibility toward 6·R²
+//! transfer cannot tell (its lobes are finer than order 5 resolves; `cargo run -p vcuts
+//! --example gloss_sources` measures the gloss against a Monte Carlo truth either way, and
+//! `docs/benchmarks.md` has the figures), but the LVC maps hold each vertex's visibility toward 6·R²
 //! directions. Here, per vertex, it is filtered with a fixed lobe cos⁴⁰ (half its peak 10.6° off
 //! its centre) at the R_L × R_L nodes of an octahedral map of world directions and kept as
 //! bytes; a frame reads it bilinearly at the centre of the vertex's gloss lobe
@@ -18,9 +18,8 @@ use rayon::prelude::*;
 /// Nodes per side of the octahedral map (R_L² bytes per vertex).
 pub const RESOLUTION: usize = 17;
 /// Exponent of the filtering lobe cosᴺ: narrower than the BRDF's lobe, because the table is
-/// read at the lobe's centre and interpolated between nodes. `gloss_sources`'s
-/// `gloss_rel_l2_lobe_table` on the 100k plant with this set to N: 20.5 % at 160, 18.2 % at 80,
-/// 17.9 % at 40, 20.4 % at 20.
+/// read at the lobe's centre and interpolated between nodes; the value where `gloss_sources`'s
+/// `gloss_rel_l2_lobe_table` is lowest among those tried (`docs/benchmarks.md`).
 pub const KERNEL: f32 = 40.0;
 /// Lobe weights below this share of the peak are left out of the filter.
 const CUTOFF: f32 = 0.02;

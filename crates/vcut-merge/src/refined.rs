@@ -98,8 +98,8 @@ impl Refinement {
     /// No cursors, so nothing waits on the previous node. False (nothing built) if a value is
     /// not 0 or 1.
     fn build_bitmaps(&mut self, cuts: &[&Cut], leaves: u32) -> bool {
-        // The bitmaps' buffer stays with the thread: allocating and zeroing 36 KB for each of a
-        // move's ~2,500 new cells was 7 % of refining them.
+        // The bitmaps' buffer stays with the thread: a move refines thousands of new cells, and
+        // allocating and zeroing a buffer for each was a measurable share of refining them.
         thread_local! {
             static BITS: std::cell::RefCell<Vec<u64>> = const { std::cell::RefCell::new(Vec::new()) };
         }

@@ -119,3 +119,35 @@ def test_stats_report_the_move_and_memory(balls) -> None:
     assert s["last_move"]["vertices"] == n > 0
     assert s["memory"]["total"] == sum(v for k, v in s["memory"].items() if k != "total")
     assert s["light"]["target_error"] > 0
+
+
+def test_stats_keys_are_renders(balls) -> None:
+    f = vcuts.open(balls, deferred_merges=False)
+    f.translate(0, (0.2, 0.0, 0.0))
+    s = f.stats()
+    for key in ["frame_caches", "vertices", "sun_leaves", "merges", "setup_merges", "move_keys_ms",
+                "move_merge_only_ms", "frame_memory_mb", "frame_memory_merged_mb", "light_error_target"]:
+        assert key in s, key
+    assert s["setup_merges"] == s["vertices"]
+    assert s["frame_memory_mb"] == pytest.approx(s["memory"]["total"] / 1e6)
+
+
+def test_settings_are_keywords_of_open_and_reconfigure(balls) -> None:
+    f = vcuts.open(balls, field_reach="outermost", caches={"merged": False}, flat_edge_leaves=4)
+    s = f.settings
+    assert s["field_reach"] == "outermost" and s["flat_edge_leaves"] == 4
+    assert s["caches"] == {"stored": True, "svc": True, "cells": True, "merged": False}
+    assert f.stats()["frame_caches"] == "stored,svc,cells"
+    eye = f.camera()["position"]
+    before = f.shade(eye)
+    merged = f.reconfigure(field_reach=6.0, flat_edge_leaves=1, caches={"merged": True})
+    assert merged > 0 and f.settings["caches"]["merged"]
+    fresh = vcuts.open(balls)
+    for a, b in zip(f.shade(eye), fresh.shade(eye)):
+        assert np.array_equal(a, b)
+    assert not all(np.array_equal(a, b) for a, b in zip(before, fresh.shade(eye)))
+    for bad, word in [({"field_rech": 3}, "field_rech"), ({"light_error": 2.0}, "light_error"),
+                      ({"field_reach": float("nan")}, "field_reach"), ({"inside_samples": "in"}, "inside_samples")]:
+        with pytest.raises(vcuts.VcutsError, match=word):
+            f.reconfigure(**bad)
+    assert f.settings["field_reach"] == 6.0

@@ -73,8 +73,8 @@ pub fn eval(m: &Material, n: Vec3, wi: Vec3, wo: Vec3) -> Vec3 {
 /// the lobe's peak (9e-6 at a = 70, 7e-5 at a = 200) plus f32 rounding (`1e-8·a + 2e-7`; tested); [`PowTable::new`] declines
 /// exponents above 200, where it would grow past that. Values below 1e-20 are stored as 0:
 /// at high exponents most of the table is otherwise subnormal (0.28^70 < 2^-126), and every
-/// product with a subnormal costs the CPU a microcode assist — the shading of a BRDF edit to
-/// α = 70 took 25 % longer than at α = 15 for that alone.
+/// product with a subnormal costs the CPU a microcode assist, which would make a glossy edit's
+/// shading slower than a dull one's for that alone.
 #[derive(Debug, Clone)]
 pub struct PowTable {
     values: Vec<f32>,

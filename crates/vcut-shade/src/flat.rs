@@ -48,15 +48,14 @@ pub fn flat_cut(tree: &DirectionTree, corners: &[Vec3], p: Vec3) -> Cut {
 /// a vertex's SVC below its horizon and where the object hides itself — whatever this cut
 /// holds there: a node whose leaves all lie in one range is one node of value 0, neither
 /// classified nor walked into. The product takes the same value at every leaf and shades the
-/// same; on the teapot scene at the paper preset, where most of the teapot's vertices see the
-/// ground, an eager move took 0.79× the time (`move_path` with `EAGER=1`, 2026-12-05).
+/// same, for a walk that skips where the vertex cannot see.
 pub fn flat_cut_where(tree: &DirectionTree, corners: &[Vec3], p: Vec3, zeros: &[Range<u32>]) -> Cut {
     flat_cut_in(tree, corners, p, zeros, 1, (Vec::new(), Vec::new()))
 }
 
 /// [`flat_cut_where`] built in `buffers` (heights and values, cleared first; from
 /// [`Cut::into_parts`] of an earlier cut): a frame's move walks one cut per vertex that sees
-/// the ground, and growing fresh buffers for each was ~4 % of a move at the paper preset.
+/// the ground, and reuses one set of buffers per thread instead of growing fresh ones.
 /// `edge_leaves` (a power of two; 1: exact): the largest node straddling an edge that takes
 /// its estimated visible share instead of being walked into (the module documentation).
 pub fn flat_cut_in(
@@ -203,8 +202,8 @@ fn node_value(tree: &DirectionTree, index: u32, h: u32, planes: &[Vec3], edge_le
 /// on its inner side — a disk's centre `x` radii inside a line has `(acos x − x√(1−x²))/π`
 /// of its area beyond it — and the hidden part the least any plane holds: exact for one edge,
 /// right at the near-straight corners a ground shows from above, more hidden than the leaves
-/// at a sharp corner (a few nodes; their product, the planes taken as independent, erred 7 %
-/// along a ground's edges in the test below).
+/// at a sharp corner (a few nodes). Their product, the planes taken as independent, would count
+/// a node hidden by two planes twice; the test below fails it.
 fn visible_share(dir: Vec3, solid_angle: f32, planes: &[Vec3]) -> f32 {
     let r = (solid_angle / std::f32::consts::PI).sqrt();
     let hidden: f32 = planes

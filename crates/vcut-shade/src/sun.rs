@@ -27,8 +27,8 @@
 //! the estimate most — until it is at most [`SunRays::target`], [`SunRays::max_leaves`] are
 //! cast, or the best leaf lowers the squared estimate by less than target² / max_leaves (not
 //! worth its rays). A smaller target casts the same leaves and more (the order
-//! does not depend on the target). A sun is one to three leaves with errors of 1–10 % each at
-//! its shadow edges; a constant or dim map has no candidate worth a ray; several suns or a
+//! does not depend on the target). A sun is one to three leaves with large errors at its
+//! shadow edges; a constant or dim map has no candidate worth a ray; several suns or a
 //! window get their brightest leaves, up to the cap. What the estimate leaves out — the error
 //! of the leaves below the candidates, the cuts' coarseness under diffuse light — is the
 //! floor no ray removes (docs/benchmarks.md, "Accuracy under any light").
@@ -139,8 +139,7 @@ pub(crate) struct Sun {
     /// Per receiver o and occluder j, the vertices' masks: `blocked[o][j][v]` holds bit s when
     /// object j blocks sun leaf s from vertex v of object o (only leaves above v's horizon are
     /// cast); an empty list where j blocks nothing from o, as most pairs of a large scene (the
-    /// masks of every pair would grow with the objects squared: 5 MB on
-    /// `builtin:showroom:32`).
+    /// masks of every pair would grow with the objects squared).
     blocked: Vec<Vec<Vec<u64>>>,
     /// The translations the masks were cast at.
     at: Vec<Vec3>,

@@ -10,8 +10,8 @@
 //! - Integrators: plain descent, or FIRE (damped inertial descent) for the random start.
 //! - Starts: spherical Fibonacci (randomly rotated by the seed), or random. A purely random set's
 //!   large-scale density fluctuations would need thousands of local iterations to diffuse
-//!   away, and relaxing it leaves a polycrystal whose grain boundaries keep cell areas uneven
-//!   (CV ≈ 4 % at 32,768). So the random start is hierarchical: a random set of 66–258 points
+//!   away, and relaxing it leaves a polycrystal whose grain boundaries keep cell areas uneven.
+//!   So the random start is hierarchical: a random set of 66–258 points
 //!   is relaxed, its Delaunay triangulation is subdivided (every edge gains its midpoint: 4N − 6
 //!   points, each triangle four similar ones), and the set is relaxed again, up to N; the coarse
 //!   lattice's few defects are all the fine one inherits.

@@ -87,9 +87,9 @@ impl Frame {
     /// horizon culling, field reach) or flat cuts re-merge the vertices whose inputs or cuts
     /// change, once; the merge algorithm prepares the kept SVCs again; caches are dropped or
     /// filled (filling the merged cuts merges every vertex once, together with any other
-    /// change); turning deferral off merges what waits; the sun's settings choose and cast its
-    /// leaves again and rebuild the lists of the vertices not merged; a memory budget drops
-    /// caches to fit. Returns how many vertices were merged. On an error the frame keeps the
+    /// change); turning deferral off merges what waits; the sun's settings (and, with the sun by
+    /// rays, changed cuts) choose and cast its leaves again and rebuild the lists of the
+    /// vertices not merged; a memory budget drops caches to fit. Returns how many vertices were merged. On an error the frame keeps the
     /// settings it had.
     pub fn reconfigure(&mut self, settings: &FrameSettings) -> Result<usize, FrameError> {
         settings.validate()?;
@@ -125,7 +125,9 @@ impl Frame {
         let flat = self.ctx.flat_leaves != old_flat;
         let undefer = old.deferred_merges && !new.deferred_merges && self.pending_merges() > 0;
         let recorded = self.ctx.recorded_light_error;
-        let relight = new.sun(recorded) != old.sun(recorded);
+        // The sun's leaves are chosen by their error through the cuts: chosen again when the
+        // sun's settings or the cuts change, as a frame set up under these settings chose them.
+        let relight = new.sun(recorded) != old.sun(recorded) || (new.sun_rays && (lookups || flat));
         if relight {
             // Before the merges, so that they build their lists under the new light; the
             // choice merges its samples anew when the cuts change.

@@ -39,19 +39,15 @@ pub(super) struct FieldCache {
     pub(super) refined: Vec<Prepared>,
 }
 
-/// Merged vertices a range of [`Context::merge_all`] holds at most without the cell cache: on
-/// `builtin:showroom:32` at `balanced` a lean frame peaks at 290 MB with 1,024 (172.8 MB held),
-/// 344 MB with 4,096; 256 peaks lower but decodes 1.5× as long (CHANGELOG, 2026-12-05).
+/// Merged vertices a range of [`Context::merge_all`] holds at most without the cell cache: the
+/// cells decoded and refined at once for a range are what a lean frame's peak holds, and ranges
+/// much smaller decode the cells two ranges share twice (`docs/benchmarks.md`, "The frame's
+/// design, measured").
 const MERGE_BATCH: usize = 1024;
 
 /// Field inputs (lookups) a range of [`Context::merge_all`] holds at most without the cell cache:
 /// a vertex that many fields reach (a ground among many objects) brings as many cells, so a
-/// range ends at this many inputs too. On `builtin:showroom:32` at `balanced` with no cache
-/// (the ground: 3,136 vertices, ~8 fields each) the setup peaked at 119.0–119.1 MB with ranges
-/// of 1,024 vertices only, 90.0 MB with 2,048 inputs and 81.7–81.8 MB with 1,024, with setups
-/// of 0.67–0.80 s and drag steps of 47–51 ms at each (`setup_peak_mb`, `setup_s`, `move_ms` of
-/// `NO_STORED_CACHE=1 NO_SVC_CACHE=1 NO_CELL_CACHE=1 NO_MERGED_CACHE=1 cargo run --release -p
-/// vcut-shade --example move_path -- FILE`, two runs each, 2026-12-06).
+/// range ends at this many inputs too.
 const MERGE_BATCH_INPUTS: usize = 1024;
 
 /// The merged cut of a vertex inside an object (a cut of one zero node).
