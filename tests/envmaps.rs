@@ -112,3 +112,69 @@ fn a_scene_files_reconstruction_reaches_the_map() {
     let e = e.map(|_| ()).unwrap_err().to_string();
     assert!(e.contains("scene.toml") && e.contains("reconstruction") && e.contains("lat-long"), "{e}");
 }
+
+/// The RGBE bytes of one texel (a power of two per channel stays exact).
+fn rgbe(rgb: [f32; 3]) -> [u8; 4] {
+    let max = rgb.iter().cloned().fold(0.0f32, f32::max);
+    if max < 1e-32 {
+        return [0; 4];
+    }
+    let e = max.log2().floor() as i32 + 1;
+    let scale = 256.0 / 2f32.powi(e);
+    [(rgb[0] * scale) as u8, (rgb[1] * scale) as u8, (rgb[2] * scale) as u8, (e + 128) as u8]
+}
+
+/// Radiance files as other programs write them: the program name after `#?` (Mitsuba 3 writes
+/// `#?RGBE`), `EXPOSURE=` lines, and each of the eight orientations the format defines, each
+/// written by this test; every one loads as the same map as the usual `#?RADIANCE` `-Y H +X W`
+/// file, and an orientation the format does not define is refused naming the line.
+#[test]
+fn radiance_headers_of_every_variant_load_the_same_map() {
+    use vcut_envmap::io::{Format, InvalidTexels, load_bytes};
+    // A 4×2 map with a distinct texel at each place: row y, column x.
+    let (w, h) = (4usize, 2usize);
+    let texel = |x: usize, y: usize| [1.0 + x as f32, 0.5 * (1 + y) as f32, 0.25];
+    // `extra`: header lines, each ending in a newline.
+    let file = |first: &str, extra: &str, y_major: bool, top_first: bool, left_first: bool, scale: f32| {
+        let (ya, xa) = (if top_first { "-Y" } else { "+Y" }, if left_first { "+X" } else { "-X" });
+        let res = if y_major { format!("{ya} {h} {xa} {w}") } else { format!("{xa} {w} {ya} {h}") };
+        let mut out = format!("{first}\nFORMAT=32-bit_rle_rgbe\n{extra}\n{res}\n").into_bytes();
+        let (scanlines, length) = if y_major { (h, w) } else { (w, h) };
+        for s in 0..scanlines {
+            for i in 0..length {
+                let (mut x, mut y) = if y_major { (i, s) } else { (s, i) };
+                if !left_first {
+                    x = w - 1 - x;
+                }
+                if !top_first {
+                    y = h - 1 - y;
+                }
+                out.extend_from_slice(&rgbe(texel(x, y).map(|c| c * scale)));
+            }
+        }
+        out
+    };
+    let load = |bytes: &[u8]| load_bytes(bytes, Format::Hdr, std::path::Path::new("t.hdr"), InvalidTexels::Reject);
+    let usual = load(&file("#?RADIANCE", "", true, true, true, 1.0)).unwrap().0;
+    assert_eq!(usual.texels()[1], texel(1, 0), "the usual file reads row by row from the top left");
+    for y_major in [true, false] {
+        for top_first in [true, false] {
+            for left_first in [true, false] {
+                let m = load(&file("#?RGBE", "", y_major, top_first, left_first, 1.0)).unwrap().0;
+                assert_eq!(m.layout(), usual.layout(), "{y_major} {top_first} {left_first}");
+                assert_eq!(m.texels(), usual.texels(), "{y_major} {top_first} {left_first}");
+            }
+        }
+    }
+    // Pixels written times the exposure: the radiance is what they were before.
+    let exposed = load(&file("#?RADIANCE", "EXPOSURE=2\nSOFTWARE=test\nEXPOSURE=2\n", true, true, true, 4.0)).unwrap().0;
+    assert_eq!(exposed.texels(), usual.texels());
+    for (bytes, says) in [
+        (b"#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n+Z 2 +X 4\n".to_vec(), "resolution line"),
+        (b"#?RADIANCE\nEXPOSURE=-1\n\n-Y 2 +X 4\n".to_vec(), "EXPOSURE=-1"),
+        (b"RADIANCE\n\n-Y 2 +X 4\n".to_vec(), "#?"),
+    ] {
+        let e = load(&bytes).unwrap_err().to_string();
+        assert!(e.starts_with("t.hdr: ") && e.contains(says), "{e}");
+    }
+}

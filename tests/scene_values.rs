@@ -34,7 +34,7 @@ const CASES: &[(&str, [&str; 3])] = &[
     ("[[object]]\nsource = \"builtin:sphere\"\nsize = -1", ["object 0 ('builtin:sphere')", "size = -1.0", "above 0"]),
     // Their neighbours.
     ("[environment]\nresolution = 0", ["[environment]", "resolution = 0", "[8, 16384]"]),
-    ("[environment]\nintensity = -1.0", ["[environment]", "intensity = -1.0", "≥ 0"]),
+    ("[environment]\nintensity = -1.0", ["[environment]", "intensity = -1.0", "at least 0"]),
     ("[environment]\nintensity = inf", ["[environment]", "intensity = inf", "finite"]),
     ("[environment]\nrotation_deg = -inf", ["[environment]", "rotation_deg = -inf", "finite"]),
     ("[environment]\nsun_elevation_deg = 91", ["[environment]", "sun_elevation_deg = 91.0", "[-90, 90]"]),
@@ -65,7 +65,7 @@ const CASES: &[(&str, [&str; 3])] = &[
         "[[object]]\nsource = \"builtin:box\"\nrotation_deg = [inf, 0, 0]",
         ["object 0", "rotation_deg = [inf, 0.0, 0.0]", "finite"],
     ),
-    ("[[object]]\nsource = \"builtin:box\"\nweld = -0.1", ["object 0", "weld = -0.1", "≥ 0"]),
+    ("[[object]]\nsource = \"builtin:box\"\nweld = -0.1", ["object 0", "weld = -0.1", "at least 0"]),
     (
         "[[object]]\nsource = \"mesh.obj\"\nresolution = 8",
         ["object 0 ('mesh.obj')", "resolution", "built-in shapes only"],

@@ -97,8 +97,10 @@ impl View {
         for (i, c) in t.camera.iter().enumerate() {
             c.check(here, i).map_err(|e| ViewError::Value(e.to_string()))?;
         }
-        if let Some(e) = t.light_error.filter(|e| !(e.is_finite() && *e > 0.0 && *e < 1.0)) {
-            return Err(ViewError::Value(format!("light_error = {e}: must lie in (0, 1)")));
+        if let Some(e) = t.light_error {
+            vcut_scene::check::LIGHT_ERROR
+                .check(e)
+                .map_err(|reason| ViewError::Value(format!("light_error = {e}: {reason}")))?;
         }
         if let Some(env) = &t.environment {
             if !env.source.starts_with("builtin:") {

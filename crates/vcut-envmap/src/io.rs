@@ -164,16 +164,20 @@ fn decode(bytes: &[u8], format: Format, name: &Path) -> Result<Rgb, EnvMapError>
 fn decode_hdr(bytes: &[u8], name: &Path) -> Result<Rgb, EnvMapError> {
     use image::ImageDecoder as _;
     let err = |reason: String| EnvMapError::Hdr { path: name.into(), reason };
-    let decoder = image::codecs::hdr::HdrDecoder::new(Cursor::new(bytes)).map_err(|e| err(e.to_string()))?;
-    let (width, height) = decoder.dimensions();
-    if width == 0 || height == 0 {
-        return Err(EnvMapError::Shape { path: name.into(), reason: format!("{width}x{height} image") });
+    // Any program name after `#?`, `EXPOSURE=` and the eight orientations: read here, the
+    // pixels decoded by `image` under the one header it accepts.
+    let header = crate::rgbe::parse(bytes).map_err(err)?;
+    let normal = crate::rgbe::normalised(bytes, &header);
+    let decoder = image::codecs::hdr::HdrDecoder::new(Cursor::new(&normal)).map_err(|e| err(e.to_string()))?;
+    let (length, scanlines) = decoder.dimensions();
+    if length == 0 || scanlines == 0 {
+        return Err(EnvMapError::Shape { path: name.into(), reason: format!("{length}x{scanlines} image") });
     }
     // RGBE scanlines need at least one byte per pixel channel group; a header that promises far
     // more pixels than the file could hold is refused before allocating for it.
-    let pixels = u64::from(width) * u64::from(height);
+    let pixels = u64::from(length) * u64::from(scanlines);
     if pixels > (bytes.len() as u64).saturating_mul(64) {
-        return Err(err(format!("header says {width}x{height} but the file has only {} bytes", bytes.len())));
+        return Err(err(format!("header says {length}x{scanlines} but the file has only {} bytes", bytes.len())));
     }
     // `image` (safe Rust) multiplies old-style run lengths without a bound: a chain of run
     // markers overflows it (a panic where overflow is checked — found by the fuzzer; still so in
@@ -186,7 +190,15 @@ fn decode_hdr(bytes: &[u8], name: &Path) -> Result<Rgb, EnvMapError> {
         Ok(result) => result.map_err(|e| err(e.to_string()))?,
         Err(_) => return Err(err("malformed run-length data (the decoder gave up)".into())),
     };
-    let texels = img.pixels().map(|p| p.0).collect();
+    let o = header.orientation;
+    let in_file: Vec<[f32; 3]> = img.pixels().map(|p| p.0).collect();
+    let mut texels = if o.y_major && o.top_first && o.left_first { in_file } else { o.to_rows(&in_file) };
+    if header.exposure != 1.0 {
+        // The pixels were multiplied by the exposure; radiance is what they were before.
+        let k = (1.0 / header.exposure) as f32;
+        texels.iter_mut().for_each(|t| t.iter_mut().for_each(|c| *c *= k));
+    }
+    let (width, height) = o.size();
     Ok(Rgb { width, height, texels })
 }
 

@@ -43,6 +43,7 @@ pub mod io;
 pub mod layout;
 pub mod procedural;
 pub mod reconstruction;
+mod rgbe;
 pub mod sun;
 
 pub use io::{EnvMapError, InvalidTexels, LoadReport, load, load_bytes, load_cube_faces};

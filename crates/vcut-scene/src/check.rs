@@ -6,6 +6,7 @@
 use crate::SceneError;
 use crate::budget::{self, Budget};
 use crate::desc::{CameraDesc, EnvironmentDesc, ObjectDesc, SceneDesc};
+use crate::limits::Limit;
 use glam::Vec3;
 use std::path::Path;
 
@@ -32,6 +33,13 @@ pub const MAX_BUILTIN_VERTICES: u64 = 1 << 27;
 pub const MAX_MAP_WIDTH: u32 = 16_384;
 /// The narrowest built-in map.
 pub const MIN_MAP_WIDTH: u32 = 8;
+
+/// The target error of the light left in the cuts (`[environment] light_error`, `render
+/// --light-error`, Python's `light_error`): relative, in (0, 1).
+pub const LIGHT_ERROR: Limit = Limit::between(0.0, 1.0, "(relative, e.g. 0.002 for 0.2 %)");
+
+/// How close two vertices are welded (`weld`, `inspect --weld`).
+pub const WELD: Limit = Limit::at_least(0.0, "scene units");
 
 impl Builtin {
     /// The names accepted in `source`.
@@ -115,8 +123,9 @@ impl Table<'_> {
         }
     }
 
-    fn finite(&self, key: &str, v: f32) -> Result<(), SceneError> {
-        if v.is_finite() { Ok(()) } else { Err(self.bad(key, v, "must be a finite number")) }
+    /// `v` within `limit` ([`crate::limits`], the one check of a number users give).
+    fn limit(&self, key: &str, v: f32, limit: Limit) -> Result<(), SceneError> {
+        limit.check(f64::from(v)).map(|_| ()).map_err(|reason| self.bad(key, v, reason))
     }
 
     fn finite3(&self, key: &str, v: [f32; 3]) -> Result<(), SceneError> {
@@ -124,15 +133,7 @@ impl Table<'_> {
     }
 
     fn positive(&self, key: &str, v: f32) -> Result<(), SceneError> {
-        if v.is_finite() && v > 0.0 { Ok(()) } else { Err(self.bad(key, v, "must be a finite number above 0")) }
-    }
-
-    fn within(&self, key: &str, v: f32, lo: f32, hi: f32, unit: &str) -> Result<(), SceneError> {
-        if v.is_finite() && (lo..=hi).contains(&v) {
-            Ok(())
-        } else {
-            Err(self.bad(key, v, format!("must lie in [{lo}, {hi}]{unit}")))
-        }
+        self.limit(key, v, Limit::above(0.0, ""))
     }
 
     /// Adds `bytes` to what the scene takes so far, failing over the budget.
@@ -175,10 +176,8 @@ impl EnvironmentDesc {
                 "must name a map: builtin:sky, builtin:studio, builtin:constant or a file",
             ));
         }
-        t.finite("rotation_deg", self.rotation_deg)?;
-        if !(self.intensity.is_finite() && self.intensity >= 0.0) {
-            return Err(t.bad("intensity", self.intensity, "must be a finite number ≥ 0"));
-        }
+        t.limit("rotation_deg", self.rotation_deg, Limit::finite("degrees"))?;
+        t.limit("intensity", self.intensity, Limit::at_least(0.0, ""))?;
         if !(MIN_MAP_WIDTH..=MAX_MAP_WIDTH).contains(&self.resolution) {
             return Err(t.bad(
                 "resolution",
@@ -186,19 +185,15 @@ impl EnvironmentDesc {
                 format!("must lie in [{MIN_MAP_WIDTH}, {MAX_MAP_WIDTH}] texels across"),
             ));
         }
-        t.within("sun_elevation_deg", self.sun_elevation_deg, -90.0, 90.0, " degrees")?;
-        t.finite("sun_azimuth_deg", self.sun_azimuth_deg)?;
+        t.limit("sun_elevation_deg", self.sun_elevation_deg, Limit::within(-90.0, 90.0, "degrees"))?;
+        t.limit("sun_azimuth_deg", self.sun_azimuth_deg, Limit::finite("degrees"))?;
         // The range Preetham et al.'s fit was made for.
-        t.within("turbidity", self.turbidity, 1.7, 10.0, "")?;
-        if !(self.sun_diameter_deg.is_finite() && self.sun_diameter_deg > 0.0 && self.sun_diameter_deg <= 45.0) {
-            return Err(t.bad("sun_diameter_deg", self.sun_diameter_deg, "must lie in (0, 45] degrees"));
-        }
-        t.within("sun_to_zenith", self.sun_to_zenith, 1e-6, 1e9, "")?;
-        if !(self.lux_scale.is_finite() && self.lux_scale >= 0.0) {
-            return Err(t.bad("lux_scale", self.lux_scale, "must be a finite number ≥ 0 (map units per lux)"));
-        }
-        if let Some(e) = self.light_error.filter(|e| !(e.is_finite() && *e > 0.0 && *e < 1.0)) {
-            return Err(t.bad("light_error", e, "must lie in (0, 1): a relative error, e.g. 0.002 for 0.2 %"));
+        t.limit("turbidity", self.turbidity, Limit::within(1.7, 10.0, ""))?;
+        t.limit("sun_diameter_deg", self.sun_diameter_deg, Limit::above_up_to(0.0, 45.0, "degrees"))?;
+        t.limit("sun_to_zenith", self.sun_to_zenith, Limit::within(1e-6, 1e9, ""))?;
+        t.limit("lux_scale", self.lux_scale, Limit::at_least(0.0, "map units per lux"))?;
+        if let Some(e) = self.light_error {
+            LIGHT_ERROR.check(e).map_err(|reason| t.bad("light_error", e, reason))?;
         }
         if matches!(self.source.as_str(), "builtin:sky" | "builtin:studio") {
             let w = u64::from(self.resolution);
@@ -260,10 +255,8 @@ impl ObjectDesc {
         if !(self.scale.is_finite() && self.scale > 0.0) {
             return Err(t.bad("scale", self.scale, "must be a finite number above 0 (mirroring is not supported)"));
         }
-        if let Some(w) = self.weld
-            && !(w.is_finite() && w >= 0.0)
-        {
-            return Err(t.bad("weld", w, "must be a finite distance ≥ 0"));
+        if let Some(w) = self.weld {
+            t.limit("weld", w, WELD)?;
         }
         if let Some(m) = &self.material {
             m.validate().map_err(|e| t.bad("material", m.model, e.to_string()))?;
@@ -304,9 +297,7 @@ impl CameraDesc {
         if side.length().is_nan() || side.length() <= 1e-6 {
             return Err(t.bad("up", self.up, "must be non-zero and not along the view direction"));
         }
-        if !(self.fov_y_deg.is_finite() && self.fov_y_deg > 0.0 && self.fov_y_deg < 180.0) {
-            return Err(t.bad("fov_y_deg", self.fov_y_deg, "must lie in (0, 180) degrees"));
-        }
+        t.limit("fov_y_deg", self.fov_y_deg, Limit::between(0.0, 180.0, "degrees"))?;
         Ok(())
     }
 }

@@ -31,6 +31,7 @@ pub mod budget;
 pub mod check;
 pub mod desc;
 pub mod flat;
+pub mod limits;
 pub mod loaders;
 pub mod material;
 pub mod mesh;

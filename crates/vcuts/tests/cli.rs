@@ -84,7 +84,7 @@ fn precompute_logs_progress_without_a_terminal_and_render_works_from_another_fol
     }
     let o = vcuts(&elsewhere, &[&small[..], &["--light-error", "2"]].concat());
     assert_eq!(o.status.code(), Some(2), "{}", text(&o));
-    assert!(text(&o).contains("--light-error") && text(&o).contains("must lie in (0, 1)"), "{}", text(&o));
+    assert!(text(&o).contains("--light-error") && text(&o).contains("must be a number in (0, 1)"), "{}", text(&o));
     // The cost cap reaches the frame: at most that many leaves cast; 0 is refused by name.
     let o = vcuts(&elsewhere, &[&small[..], &["--light-error", "0.0001", "--light-max-leaves", "1"]].concat());
     assert!(o.status.success(), "{}", text(&o));
@@ -157,7 +157,11 @@ fn precompute_logs_progress_without_a_terminal_and_render_works_from_another_fol
     assert!(lean_png == full_png, "the picture under a budget differs");
     let o = vcuts(&elsewhere, &[&small[..], &["--memory-budget", "0"]].concat());
     assert_eq!(o.status.code(), Some(2), "{}", text(&o));
-    assert!(text(&o).contains("--memory-budget") && text(&o).contains("positive number of MB"), "{}", text(&o));
+    assert!(
+        text(&o).contains("--memory-budget") && text(&o).contains("must be a number in (0, 1000000000] MB"),
+        "{}",
+        text(&o)
+    );
     // -q: results on stdout as before, nothing about progress on stderr.
     let o = vcuts(
         &work,

@@ -113,19 +113,12 @@ fn parse_algorithm(s: &str) -> Result<MergeAlgorithm, String> {
 }
 
 fn parse_light_error(s: &str) -> Result<f64, String> {
-    s.parse::<f64>()
-        .ok()
-        .filter(|e| e.is_finite() && *e > 0.0 && *e < 1.0)
-        .ok_or_else(|| format!("{s:?}: must lie in (0, 1): a relative error, e.g. 0.002 for 0.2 %"))
+    vcut_scene::check::LIGHT_ERROR.parse(s)
 }
 
-/// Megabytes to bytes: finite, above 0, and at most 2^50 bytes.
+/// Megabytes to bytes ([`super::settings::BUDGET_MB`]).
 fn parse_budget(s: &str) -> Result<u64, String> {
-    let mb = s.parse::<f64>().map_err(|_| format!("{s:?}: not a number of MB"))?;
-    if !(mb.is_finite() && mb > 0.0 && mb * 1e6 <= (1u64 << 50) as f64) {
-        return Err(format!("{s:?}: must be a positive number of MB, at most {} MB", (1u64 << 50) / 1_000_000));
-    }
-    Ok(((mb * 1e6) as u64).max(1))
+    super::settings::BUDGET_MB.parse(s).map(|mb| ((mb * 1e6) as u64).max(1))
 }
 
 #[cfg(test)]

@@ -7,9 +7,18 @@
 use serde::{Deserialize, Deserializer, Serialize, Serializer};
 use vcut_data::InsideSamples;
 use vcut_merge::Algorithm as MergeAlgorithm;
+use vcut_scene::check::LIGHT_ERROR;
+use vcut_scene::limits::Limit;
 
 /// A field's default reach, in its object's bounding radii ([`FieldReach`]).
 pub const FIELD_REACH: f32 = 6.0;
+
+/// The range of a field's reach in radii ([`FieldReach::Radii`]).
+pub const REACH: Limit = Limit::above(0.0, "radii (or `outermost`)");
+
+/// The range of a memory budget on the command line, in MB (`--memory-budget`): above 0 and at
+/// most a petabyte (which a u64 of bytes holds with room to spare).
+pub const BUDGET_MB: Limit = Limit::above_up_to(0.0, 1e9, "MB");
 
 /// The share of the sphere of directions (1/256) whose nodes [`FlatEdges::Interactive`]
 /// estimates across a ground's edges.
@@ -182,12 +191,7 @@ impl std::str::FromStr for FieldReach {
     fn from_str(s: &str) -> Result<FieldReach, String> {
         match s {
             "outermost" => Ok(FieldReach::Outermost),
-            _ => s
-                .parse::<f32>()
-                .ok()
-                .filter(|r| r.is_finite() && *r > 0.0)
-                .map(FieldReach::Radii)
-                .ok_or_else(|| format!("{s:?}: not a finite number of radii above 0, or `outermost`")),
+            _ => REACH.parse_f32(s).map(FieldReach::Radii),
         }
     }
 }
@@ -264,9 +268,9 @@ impl FrameSettings {
     pub fn validate(&self) -> Result<(), SettingError> {
         let bad = |key, value: String, reason: &str| Err(SettingError { key, value, reason: reason.into() });
         if let FieldReach::Radii(r) = self.field_reach
-            && !(r.is_finite() && r > 0.0)
+            && let Err(reason) = REACH.check(f64::from(r))
         {
-            return bad("field_reach", r.to_string(), "must be a finite number of radii above 0, or `outermost`");
+            return bad("field_reach", r.to_string(), &reason);
         }
         if let FlatEdges::Leaves(n) = self.flat_edge_leaves
             && !n.is_power_of_two()
@@ -278,9 +282,9 @@ impl FrameSettings {
             );
         }
         if let Some(e) = self.light_error
-            && !(e.is_finite() && e > 0.0 && e < 1.0)
+            && let Err(reason) = LIGHT_ERROR.check(e)
         {
-            return bad("light_error", e.to_string(), "must lie in (0, 1): a relative error, e.g. 0.002 for 0.2 %");
+            return bad("light_error", e.to_string(), &reason);
         }
         if self.light_max_leaves > crate::sun::MAX_SUN_LEAVES {
             return bad(
