@@ -2,6 +2,8 @@
 # Runs every fuzz target for a bounded time on this stable toolchain (no sanitizer; set
 # SANITIZER=address with RUSTC_BOOTSTRAP=1 for AddressSanitizer). Seeds and dictionaries are
 # ours (fuzz/seeds, fuzz/dicts); the growing corpus stays in fuzz/corpus (git-ignored).
+# `command_line` runs `view --screenshot` lines with the binary VCUTS_BIN (one built with the
+# viewer), when it is set; without it those lines are only parsed.
 # Usage: fuzz/run.sh [SECONDS_PER_TARGET] [TARGET...]
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -9,7 +11,7 @@ secs="${1:-60}"
 shift || true
 targets=("$@")
 if [ ${#targets[@]} -eq 0 ]; then
-  targets=(scene_toml scene_files hdr exr cut_decode merge vcuts vleaf sampling light_tree brdf mesh_precompute)
+  targets=(scene_toml scene_files hdr exr cut_decode merge vcuts vleaf sampling light_tree brdf mesh_precompute command_line)
 fi
 command -v cargo-fuzz >/dev/null || cargo install --locked cargo-fuzz
 for t in "${targets[@]}"; do

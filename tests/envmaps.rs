@@ -167,7 +167,8 @@ fn radiance_headers_of_every_variant_load_the_same_map() {
         }
     }
     // Pixels written times the exposure: the radiance is what they were before.
-    let exposed = load(&file("#?RADIANCE", "EXPOSURE=2\nSOFTWARE=test\nEXPOSURE=2\n", true, true, true, 4.0)).unwrap().0;
+    let exposed =
+        load(&file("#?RADIANCE", "EXPOSURE=2\nSOFTWARE=test\nEXPOSURE=2\n", true, true, true, 4.0)).unwrap().0;
     assert_eq!(exposed.texels(), usual.texels());
     for (bytes, says) in [
         (b"#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n+Z 2 +X 4\n".to_vec(), "resolution line"),

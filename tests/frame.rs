@@ -129,6 +129,18 @@ fn moves_re_merge_only_what_changed_and_edits_never_merge() {
         assert!((*a - *b).abs().max_element() < 1e-6, "{a} vs {b}");
     }
 
+    // A translation f32 cannot hold the ball at (or not finite) is refused naming the object
+    // and what breaks, and changes nothing.
+    let merges = frame.stats().merges;
+    for t in [Vec3::splat(1e6), Vec3::new(f32::NAN, 0.0, 0.0), Vec3::new(0.0, f32::MAX, f32::MAX)] {
+        let e = frame.translate(ball, t).unwrap_err();
+        assert!(matches!(e, vcut_shade::FrameError::Placement { object, .. } if object == ball), "{e:?}");
+        assert!(e.to_string().contains("(ball) moved to"), "{e}");
+        assert_eq!(frame.object(ball).translation, Vec3::new(0.0, 0.0, 40.0));
+    }
+    assert_eq!(frame.stats().merges, merges);
+    assert!(frame.shade(EYE) == far, "a refused move changed the frame");
+
     // Back to rest: merged cuts and radiance bit-identical to the start.
     frame.translate(ball, Vec3::ZERO).unwrap();
     assert!(frame.shade(EYE) == before, "moving back did not restore the cached result");

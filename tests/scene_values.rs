@@ -72,11 +72,11 @@ const CASES: &[(&str, [&str; 3])] = &[
     ),
     (
         "[[object]]\nsource = \"builtin:box\"\nmaterial = { kd = [2, 0, 0] }",
-        ["object 0", "material = BlinnPhong", "kd = [2.0, 0.0, 0.0] must lie in [0, 1]"],
+        ["object 0", "material = BlinnPhong", "kd = [2.0, 0.0, 0.0]: must be a number in [0, 1]"],
     ),
     (
         "[[object]]\nsource = \"builtin:box\"\nmaterial = { model = \"ggx\", roughness = 0 }",
-        ["object 0", "material = Ggx", "roughness = 0 must lie in (0, 1]"],
+        ["object 0", "material = Ggx", "roughness = 0: must be a number in (0, 1]"],
     ),
     (
         "[[camera]]\nposition = [0, 0, 0]\ntarget = [0, 0, 0]",
@@ -136,4 +136,27 @@ fn the_defaults_and_the_built_in_scenes_pass_the_checks() {
         let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("..").join(example);
         SceneDesc::read(&path).unwrap().check(&path, &ONE_GB).unwrap();
     }
+}
+
+/// A placement f32 cannot hold — so far out that a triangle's corners round onto one line, or
+/// scaled down until its area underflows — is refused as the scene loads (naming the file, the
+/// object, the keys and the spacing f32 keeps there), not by the renderer after a precompute.
+#[test]
+fn placements_f32_cannot_hold_are_refused_as_the_scene_loads() {
+    let cases = [
+        ("translation = [0, 0, 1e38]", "translation = [0.0, 0.0, 1e38]"),
+        ("instances = [[0, 0, 0], [1e38, 0, 0]]", "instances[1] = [1e38, 0.0, 0.0]"),
+        ("stand_height = 1e-30", "stand_height = 1e-30"),
+    ];
+    for (key, says) in cases {
+        let toml = format!("[[object]]\nname = \"b\"\nsource = \"builtin:box\"\n{key}");
+        let msg = refused(&toml, ONE_GB).to_string();
+        for part in ["scene.toml", "object 0", says, "zero area", "f32 holds a position that far out only to"] {
+            assert!(msg.contains(part), "'{part}' missing from: {msg}\n{toml}");
+        }
+    }
+    // Far out but every triangle still whole in f32: loaded.
+    let toml = "[[object]]\nsource = \"builtin:box\"\ntranslation = [1000, 0, 0]";
+    let desc = SceneDesc::parse(toml, Path::new("scene.toml")).unwrap();
+    desc.instantiate_within(Path::new("."), Path::new("scene.toml"), &ONE_GB).unwrap();
 }

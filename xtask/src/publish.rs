@@ -3,7 +3,8 @@
 //! `bench --only scaling`, brings its plots and keeps the table there) to `docs/report/` and
 //! writes the table between the `<!-- table1 -->` and `<!-- /table1 -->` markers of
 //! `README.md` and `docs/benchmarks.md`; and writes each library crate's `README.md` (what a registry page
-//! shows) from its crate documentation — so none of them is edited by hand. It also requires
+//! shows) from its crate documentation, and `docs/options.md` (every option of `vcuts` with its
+//! range) from the command line's definition — so none of them is edited by hand. It also requires
 //! every library crate to carry a version of its own and a `CHANGELOG.md` entry for it.
 
 use anyhow::{Context, Result, bail};
@@ -63,6 +64,7 @@ pub fn run(args: &PublishArgs) -> Result<()> {
         Err(e) => return Err(e).with_context(|| format!("reading {}", accuracy.display())),
     };
     let mut stale: Vec<String> = crate_readmes(args.check)?;
+    stale.extend(options_table(args.check)?);
     for doc in DOCS {
         let text = std::fs::read_to_string(doc).with_context(|| format!("reading {doc}"))?;
         let mut new =
@@ -99,7 +101,27 @@ pub fn run(args: &PublishArgs) -> Result<()> {
     for s in stale.iter().filter(|s| s.ends_with("/README.md")) {
         println!("{s}: written from the crate documentation");
     }
+    if stale.iter().any(|s| s == OPTIONS) {
+        println!("{OPTIONS}: written from the command line's definition");
+    }
     Ok(())
+}
+
+/// Where the table of every command-line option goes.
+const OPTIONS: &str = "docs/options.md";
+
+/// Writes (or with `check` only compares) `docs/options.md`, the table of every option of
+/// `vcuts` with its range (`vcuts::options::markdown`); returns it when it was stale.
+fn options_table(check: bool) -> Result<Option<String>> {
+    use clap::CommandFactory;
+    let md = vcuts::options::markdown(&vcuts::Cli::command());
+    if std::fs::read_to_string(OPTIONS).ok().as_deref() == Some(md.as_str()) {
+        return Ok(None);
+    }
+    if !check {
+        std::fs::write(OPTIONS, &md).with_context(|| format!("writing {OPTIONS}"))?;
+    }
+    Ok(Some(OPTIONS.to_string()))
 }
 
 /// A crate's `README.md`: its name, its description, and its crate documentation (the `//!`

@@ -9,6 +9,7 @@ use crate::RadialSpacing;
 use std::f64::consts::PI;
 use vcut_cut::codec::{ShapeCoding, ValueFormat};
 use vcut_cut::select::SelectParams;
+use vcut_scene::limits::Limit;
 
 /// Everything that decides the precomputed data.
 #[derive(Debug, Clone, PartialEq)]
@@ -53,6 +54,40 @@ pub struct PrecomputeParams {
     pub field_max_error: f64,
     /// How field values are stored (`u1` for exact fields).
     pub field_values: ValueFormat,
+}
+
+/// The range of `svc_max_error`.
+pub const SVC_MAX_ERROR: Limit = Limit::within(0.0, 1.0, "");
+/// The range of `field_spheres`.
+pub const FIELD_SPHERES: Limit = Limit::within(1.0, 256.0, "spheres");
+/// The range of `field_resolution`.
+pub const FIELD_RESOLUTION: Limit = Limit::within(1.0, 256.0, "texels a face side");
+/// The range of `field_max_error`: binary visibility never has more variance than 0.25.
+pub const FIELD_MAX_ERROR: Limit = Limit::at_least_below(0.0, 0.25, "");
+
+/// Numeric parameter `key` written as `value`, within [`PrecomputeParams::limit`].
+fn number(key: &str, value: &str) -> Result<f64, ParamError> {
+    limited(key, value, |l| l.parse(value))
+}
+
+/// [`number`] for an f32 parameter: checked as the f32 it becomes.
+fn number32(key: &str, value: &str) -> Result<f32, ParamError> {
+    limited(key, value, |l| l.parse_f32(value))
+}
+
+/// Whole-number parameter `key` written as `value`, within [`PrecomputeParams::limit`].
+fn whole(key: &str, value: &str) -> Result<u32, ParamError> {
+    limited(key, value, |l| l.parse_whole(value).map(|n| n as u32))
+}
+
+/// `parse` with `key`'s limit, its reason (which quotes the value) as the parameter's error.
+fn limited<T>(key: &str, value: &str, parse: impl FnOnce(Limit) -> Result<T, String>) -> Result<T, ParamError> {
+    let limit = PrecomputeParams::limit(key).unwrap_or(Limit::finite(""));
+    parse(limit).map_err(|reason| ParamError::Value {
+        key: key.into(),
+        value: value.into(),
+        reason: reason.trim_start_matches(&format!("{value:?}")).trim_start_matches([':', ' ']).into(),
+    })
 }
 
 /// A parameter could not be set.
@@ -191,34 +226,10 @@ impl PrecomputeParams {
                 self.directions = n;
             }
             "direction_seed" => self.direction_seed = num(value, bad)?,
-            "svc_max_error" => {
-                let e: f64 = num(value, bad)?;
-                if !(0.0..=1.0).contains(&e) {
-                    return Err(bad("must be in [0, 1]"));
-                }
-                self.svc_max_error = e;
-            }
-            "svc_solid_angle_divisor" => {
-                let d: f64 = num(value, bad)?;
-                if !(d >= 1.0 && d.is_finite()) {
-                    return Err(bad("must be at least 1 (4π/1 = no limit)"));
-                }
-                self.svc_solid_angle_divisor = d;
-            }
-            "svc_origin_offset" => {
-                let o: f32 = num(value, bad)?;
-                if !(0.0..0.1).contains(&o) {
-                    return Err(bad("must be in [0, 0.1)"));
-                }
-                self.svc_origin_offset = o;
-            }
-            "svc_chunk" => {
-                let c: u32 = num(value, bad)?;
-                if c == 0 {
-                    return Err(bad("must be at least 1"));
-                }
-                self.svc_chunk = c;
-            }
+            "svc_max_error" => self.svc_max_error = number(key, value)?,
+            "svc_solid_angle_divisor" => self.svc_solid_angle_divisor = number(key, value)?,
+            "svc_origin_offset" => self.svc_origin_offset = number32(key, value)?,
+            "svc_chunk" => self.svc_chunk = whole(key, value)?,
             "shape_coding" => {
                 self.shape_coding =
                     ShapeCoding::named(value.trim()).ok_or_else(|| bad("must be heights or split-flags"))?;
@@ -227,33 +238,17 @@ impl PrecomputeParams {
                 let f = ValueFormat::named(value.trim()).ok_or_else(|| bad("must be f32, f16, u16, u8 or u1"))?;
                 if key == "svc_values" { self.svc_values = f } else { self.field_values = f }
             }
-            "field_spheres" | "field_resolution" => {
-                let n: u32 = num(value, bad)?;
-                if !(1..=256).contains(&n) {
-                    return Err(bad("must be from 1 to 256"));
-                }
-                if key == "field_spheres" { self.field_spheres = n } else { self.field_resolution = n }
-            }
-            "field_inner" | "field_inner_flat" | "field_outer" => {
-                let x: f32 = num(value, bad)?;
-                if !(x > 0.0 && x.is_finite()) {
-                    return Err(bad("must be positive"));
-                }
-                match key {
-                    "field_inner" => self.field_inner = x,
-                    "field_inner_flat" => self.field_inner_flat = x,
-                    _ => self.field_outer = x,
-                }
-            }
+            "field_spheres" => self.field_spheres = whole(key, value)?,
+            "field_resolution" => self.field_resolution = whole(key, value)?,
+            "field_inner" => self.field_inner = number32(key, value)?,
+            "field_inner_flat" => self.field_inner_flat = number32(key, value)?,
+            "field_outer" => self.field_outer = number32(key, value)?,
             "field_spacing" => {
                 self.field_spacing =
                     RadialSpacing::named(value.trim()).ok_or_else(|| bad("must be geometric or linear"))?;
             }
             "field_max_error" => {
-                let e: f64 = num(value, bad)?;
-                if !(0.0..0.25).contains(&e) {
-                    return Err(bad("must be in [0, 0.25): binary visibility never has more variance"));
-                }
+                let e = number(key, value)?;
                 self.field_max_error = e;
                 // Inexact fields hold fractions: one-bit values cannot store them.
                 if e > 0.0 && self.field_values == ValueFormat::U1 {
@@ -263,6 +258,23 @@ impl PrecomputeParams {
             _ => return Err(ParamError::Unknown { what: "parameter", name: key.into(), known: KEYS.join(", ") }),
         }
         Ok(())
+    }
+
+    /// The range of numeric parameter `key` (the one check of a number a user gives,
+    /// [`vcut_scene::limits`]); `None` for the others (`directions`, a power of two, and the
+    /// named choices).
+    pub fn limit(key: &str) -> Option<Limit> {
+        Some(match key {
+            "svc_max_error" => SVC_MAX_ERROR,
+            "svc_solid_angle_divisor" => Limit::at_least(1.0, "(4π/1 = no limit)"),
+            "svc_origin_offset" => Limit::at_least_below(0.0, 0.1, "bounding radii"),
+            "svc_chunk" => Limit::within(1.0, f64::from(u32::MAX), "vertices"),
+            "field_spheres" => FIELD_SPHERES,
+            "field_resolution" => FIELD_RESOLUTION,
+            "field_inner" | "field_inner_flat" | "field_outer" => Limit::above(0.0, "bounding radii"),
+            "field_max_error" => FIELD_MAX_ERROR,
+            _ => return None,
+        })
     }
 
     /// Sets every key of a scene file's `[precompute]` table (except `preset`, which chooses the
@@ -400,7 +412,7 @@ mod tests {
         q.set("svc_max_error", "0.02").unwrap();
         q.set("field_inner_flat", "0.1").unwrap();
         assert_eq!(PrecomputeParams::from_toml(&q.to_toml()).unwrap(), q);
-        assert!(q.set("field_inner_flat", "0").unwrap_err().to_string().contains("positive"));
+        assert!(q.set("field_inner_flat", "0").unwrap_err().to_string().contains("above 0"));
     }
 
     #[test]

@@ -256,20 +256,66 @@ impl Gpu {
         texture
     }
 
+    /// Whether this device can render a `width × height` target: each side within the
+    /// device's largest 2D texture (`max_texture_dimension_2d`); `what` names the sides for
+    /// the error (`--width 20000 --height 100`).
+    pub fn check_target(&self, (width, height): (u32, u32), what: &str) -> Result<(), GpuError> {
+        let max = self.device.limits().max_texture_dimension_2d;
+        if width.max(height) > max {
+            return Err(GpuError::Unsupported {
+                adapter: self.describe(),
+                what: format!("render a {width} × {height} image ({what})"),
+                lacks: format!("its textures are at most {max} pixels on a side"),
+            });
+        }
+        Ok(())
+    }
+
     /// Copies a `width × height` texture of `texel_bytes` per texel (made with `COPY_SRC`) to
-    /// the CPU, after the work submitted before: its rows packed one after another.
+    /// the CPU, after the work submitted before: its rows packed one after another. The rows are
+    /// read in bands that each fit the device's largest buffer, so any texture the device can
+    /// make can be read back.
     pub fn read_texture(
         &self,
         texture: &wgpu::Texture,
         (width, height): (u32, u32),
         texel_bytes: u32,
     ) -> Result<Vec<u8>, GpuError> {
+        self.read_texture_in_bands(texture, (width, height), texel_bytes, self.device.limits().max_buffer_size)
+    }
+
+    /// [`Gpu::read_texture`] through buffers of at most `band_bytes` (one row at least).
+    pub fn read_texture_in_bands(
+        &self,
+        texture: &wgpu::Texture,
+        (width, height): (u32, u32),
+        texel_bytes: u32,
+        band_bytes: u64,
+    ) -> Result<Vec<u8>, GpuError> {
         let line = (texel_bytes * width) as usize;
         let row = (texel_bytes * width).next_multiple_of(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT);
+        let band = (band_bytes / u64::from(row)).clamp(1, u64::from(height.max(1))) as u32;
+        let mut out = Vec::with_capacity(line * height as usize);
+        for y0 in (0..height).step_by(band as usize) {
+            let rows = band.min(height - y0);
+            self.read_band(texture, (width, y0, rows), (row, line), &mut out)?;
+        }
+        Ok(out)
+    }
+
+    /// Appends rows `y0 .. y0 + rows` of `texture` (each `line` bytes, `row` with the copy's
+    /// alignment) to `out`.
+    fn read_band(
+        &self,
+        texture: &wgpu::Texture,
+        (width, y0, rows): (u32, u32, u32),
+        (row, line): (u32, usize),
+        out: &mut Vec<u8>,
+    ) -> Result<(), GpuError> {
         let buffer = self.checked("read an image back", || {
             let buffer = self.device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some("readback"),
-                size: u64::from(row) * u64::from(height),
+                size: u64::from(row) * u64::from(rows),
                 usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
                 mapped_at_creation: false,
             });
@@ -278,7 +324,7 @@ impl Gpu {
                 wgpu::TexelCopyTextureInfo {
                     texture,
                     mip_level: 0,
-                    origin: wgpu::Origin3d::ZERO,
+                    origin: wgpu::Origin3d { x: 0, y: y0, z: 0 },
                     aspect: wgpu::TextureAspect::All,
                 },
                 wgpu::TexelCopyBufferInfo {
@@ -286,10 +332,10 @@ impl Gpu {
                     layout: wgpu::TexelCopyBufferLayout {
                         offset: 0,
                         bytes_per_row: Some(row),
-                        rows_per_image: Some(height),
+                        rows_per_image: Some(rows),
                     },
                 },
-                wgpu::Extent3d { width, height, depth_or_array_layers: 1 },
+                wgpu::Extent3d { width, height: rows, depth_or_array_layers: 1 },
             );
             self.queue.submit([encoder.finish()]);
             buffer
@@ -302,13 +348,12 @@ impl Gpu {
         let fail = |e: &dyn std::fmt::Display| GpuError::Readback(e.to_string());
         rx.recv().map_err(|e| fail(&e))?.map_err(|e| fail(&e))?;
         let data = buffer.get_mapped_range(..).map_err(|e| fail(&e))?;
-        let mut out = Vec::with_capacity(line * height as usize);
-        for y in 0..height as usize {
+        for y in 0..rows as usize {
             out.extend_from_slice(&data[y * row as usize..y * row as usize + line]);
         }
         drop(data);
         buffer.unmap();
-        Ok(out)
+        Ok(())
     }
 }
 

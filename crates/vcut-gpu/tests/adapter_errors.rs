@@ -69,3 +69,37 @@ fn a_missing_capability_is_an_error_naming_the_adapter() {
     assert!(e.contains("failed to draw a frame") && e.contains("create_render_pipeline"), "{e}");
     gpu.take_errors("again").unwrap();
 }
+
+/// An image is read back whole however many bands its read-back takes (a screenshot larger than
+/// the device's largest buffer), and a size past the device's textures is refused naming it.
+#[test]
+fn an_image_reads_back_whole_in_bands() {
+    let Some(gpu) = gpu("an_image_reads_back_whole_in_bands") else { return };
+    let (w, h) = (37u32, 29u32);
+    let texels: Vec<u8> = (0..w * h * 4).map(|i| (i * 7 % 251) as u8).collect();
+    let texture = gpu.device.create_texture(&wgpu::TextureDescriptor {
+        label: Some("pattern"),
+        size: wgpu::Extent3d { width: w, height: h, depth_or_array_layers: 1 },
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format: wgpu::TextureFormat::Rgba8Unorm,
+        usage: wgpu::TextureUsages::COPY_SRC | wgpu::TextureUsages::COPY_DST,
+        view_formats: &[],
+    });
+    gpu.queue.write_texture(
+        texture.as_image_copy(),
+        &texels,
+        wgpu::TexelCopyBufferLayout { offset: 0, bytes_per_row: Some(w * 4), rows_per_image: Some(h) },
+        wgpu::Extent3d { width: w, height: h, depth_or_array_layers: 1 },
+    );
+    assert_eq!(gpu.read_texture(&texture, (w, h), 4).unwrap(), texels, "one band");
+    for rows in [1u32, 3, 28] {
+        let band = u64::from(rows) * u64::from(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT);
+        assert_eq!(gpu.read_texture_in_bands(&texture, (w, h), 4, band).unwrap(), texels, "{rows} rows a band");
+    }
+    let max = gpu.device.limits().max_texture_dimension_2d;
+    gpu.check_target((max, 1), "--width").unwrap();
+    let e = gpu.check_target((1, max + 1), "--height").unwrap_err().to_string();
+    assert!(e.contains(&gpu.describe()) && e.contains("--height") && e.contains(&max.to_string()), "{e}");
+}

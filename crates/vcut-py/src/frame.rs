@@ -211,7 +211,7 @@ impl Frame {
         width: u32,
         height: u32,
     ) -> PyResult<Bound<'py, PyArray3<f32>>> {
-        size(width, height)?;
+        size(width, height, vcuts::resources::ImageCost::Cuts)?;
         let camera = self.resolve_camera(camera)?;
         let Opened { frame, env, .. } = &mut self.opened;
         let img = py.detach(|| {
@@ -233,7 +233,7 @@ impl Frame {
         width: u32,
         height: u32,
     ) -> PyResult<Bound<'py, PyArray3<f32>>> {
-        size(width, height)?;
+        size(width, height, vcuts::resources::ImageCost::ScreenSpace)?;
         let mode = <vcuts::ssdo::ScreenMode as clap::ValueEnum>::from_str(mode, false)
             .map_err(|_| VcutsError::new_err(format!("mode {mode}: expected ssao, ssdo or ssdo-peeled")))?;
         let camera = self.resolve_camera(camera)?;
@@ -266,10 +266,11 @@ impl Frame {
         seed: u64,
     ) -> PyResult<Vec<Bound<'py, PyArray2<f32>>>> {
         let eye = finite(eye, "eye")?;
-        if !(rel_error.is_finite() && rel_error > 0.0) || max_samples == 0 {
-            return Err(VcutsError::new_err(format!(
-                "monte_carlo_reference: rel_error {rel_error} must be > 0 and max_samples {max_samples} ≥ 1"
-            )));
+        vcut_scene::limits::Limit::above(0.0, "")
+            .check(rel_error)
+            .map_err(|r| VcutsError::new_err(format!("monte_carlo_reference: rel_error {rel_error}: {r}")))?;
+        if max_samples == 0 {
+            return Err(VcutsError::new_err("monte_carlo_reference: max_samples 0: must be at least 1"));
         }
         let p = MonteCarloParams { rel_error, max_samples, seed, ..MonteCarloParams::default() };
         let Opened { frame, env, data, .. } = &self.opened;
@@ -379,11 +380,12 @@ impl Frame {
     }
 }
 
-fn size(width: u32, height: u32) -> PyResult<()> {
-    if width == 0 || height == 0 || width > 16384 || height > 16384 {
-        return Err(VcutsError::new_err(format!("image size {width}x{height}: each side must lie in 1..=16384")));
-    }
-    Ok(())
+/// An image of `width × height`: each side in range ([`vcuts::values::SIDE`]) and the image
+/// within the memory available, as the command line checks them.
+pub(crate) fn size(width: u32, height: u32, cost: vcuts::resources::ImageCost) -> PyResult<()> {
+    vcuts::values::Size::new(width, height)
+        .map_err(|e| VcutsError::new_err(format!("image size {width}x{height}: {e}")))?;
+    vcuts::resources::check_image(width, height, cost).map_err(error)
 }
 
 /// The drag the Python overhead bench repeats, run here in Rust: `steps` moves of `object` by

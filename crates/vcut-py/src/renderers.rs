@@ -133,9 +133,7 @@ impl Leaves {
         height: u32,
     ) -> PyResult<Bound<'py, PyArray3<f32>>> {
         let m = self::method(method)?;
-        if width == 0 || height == 0 || width > 16384 || height > 16384 {
-            return Err(VcutsError::new_err(format!("image size {width}x{height}: each side must lie in 1..=16384")));
-        }
+        crate::frame::size(width, height, vcuts::resources::ImageCost::ScreenSpace)?;
         let cam = match camera {
             Some(d) => camera_from(&d)?,
             None => self.camera.clone(),

@@ -7,6 +7,7 @@ use numpy::{IntoPyArray, PyArrayMethods};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use vcut_envmap::Layout;
+use vcut_scene::check::{INTENSITY, RADIANCE, ROTATION};
 
 /// A scene opened as the command line opens `--scene`.
 #[pyclass(module = "vcuts", frozen)]
@@ -157,8 +158,8 @@ impl EnvMap {
     /// A map of radiance `rgb` in every direction.
     #[staticmethod]
     fn constant(rgb: [f32; 3]) -> PyResult<EnvMap> {
-        if !rgb.iter().all(|x| x.is_finite() && *x >= 0.0) {
-            return Err(crate::VcutsError::new_err(format!("constant {rgb:?}: radiance must be finite and ≥ 0")));
+        for x in rgb {
+            RADIANCE.check(f64::from(x)).map_err(|r| crate::VcutsError::new_err(format!("constant {rgb:?}: {r}")))?;
         }
         Ok(EnvMap { map: vcut_envmap::EnvMap::constant(rgb) })
     }
@@ -209,18 +210,16 @@ impl EnvMap {
 
     #[setter]
     fn set_intensity(&mut self, s: f32) -> PyResult<()> {
-        if !(s.is_finite() && s >= 0.0) {
-            return Err(crate::VcutsError::new_err(format!("intensity {s}: must be finite and ≥ 0")));
-        }
+        INTENSITY.check(f64::from(s)).map_err(|r| crate::VcutsError::new_err(format!("intensity {s}: {r}")))?;
         self.map.set_intensity(s);
         Ok(())
     }
 
     /// Rotates the map about +Y to `degrees` (replacing any earlier rotation).
     fn set_rotation_y_degrees(&mut self, degrees: f32) -> PyResult<()> {
-        if !degrees.is_finite() {
-            return Err(crate::VcutsError::new_err(format!("rotation {degrees}: must be finite")));
-        }
+        ROTATION
+            .check(f64::from(degrees))
+            .map_err(|r| crate::VcutsError::new_err(format!("rotation {degrees}: {r}")))?;
         self.map.set_rotation_y_degrees(degrees);
         Ok(())
     }

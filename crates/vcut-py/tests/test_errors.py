@@ -48,6 +48,10 @@ def test_bad_edits_name_the_object_and_value(balls) -> None:
         f.set_brdf("ball", "ggx:roughness=7")
     with pytest.raises(vcuts.VcutsError, match="finite"):
         f.translate("ball", (float("nan"), 0, 0))
+    before = f.translation("ball")
+    with pytest.raises(vcuts.VcutsError, match=r"\(ball\) moved to .*f32 holds"):
+        f.translate("ball", (1e8, 1e8, 1e8))
+    assert f.translation("ball") == before
     with pytest.raises(vcuts.VcutsError, match="builtin:nowhere"):
         f.set_environment("builtin:nowhere")
     with pytest.raises(vcuts.VcutsError, match="camera 'side'"):

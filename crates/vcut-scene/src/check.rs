@@ -41,6 +41,16 @@ pub const LIGHT_ERROR: Limit = Limit::between(0.0, 1.0, "(relative, e.g. 0.002 f
 /// How close two vertices are welded (`weld`, `inspect --weld`).
 pub const WELD: Limit = Limit::at_least(0.0, "scene units");
 
+/// A map's brightness factor (`[environment] intensity`, Python's `EnvMap.intensity`).
+pub const INTENSITY: Limit = Limit::at_least(0.0, "");
+
+/// A map's turn about the vertical (`[environment] rotation_deg`, `--env-rotation`, Python's
+/// `EnvMap.set_rotation_y_degrees`).
+pub const ROTATION: Limit = Limit::finite("degrees");
+
+/// Radiance, each channel (a constant map's, Python's `EnvMap.constant`).
+pub const RADIANCE: Limit = Limit::at_least(0.0, "");
+
 impl Builtin {
     /// The names accepted in `source`.
     pub const KNOWN: &'static str = "builtin:teapot, builtin:sphere, builtin:torus, builtin:box, builtin:plane";
@@ -176,8 +186,8 @@ impl EnvironmentDesc {
                 "must name a map: builtin:sky, builtin:studio, builtin:constant or a file",
             ));
         }
-        t.limit("rotation_deg", self.rotation_deg, Limit::finite("degrees"))?;
-        t.limit("intensity", self.intensity, Limit::at_least(0.0, ""))?;
+        t.limit("rotation_deg", self.rotation_deg, ROTATION)?;
+        t.limit("intensity", self.intensity, INTENSITY)?;
         if !(MIN_MAP_WIDTH..=MAX_MAP_WIDTH).contains(&self.resolution) {
             return Err(t.bad(
                 "resolution",

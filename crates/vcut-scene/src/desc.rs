@@ -364,55 +364,68 @@ impl ObjectDesc {
             r.map_err(|source| SceneError::Mesh { path: file.into(), object: self.source.clone(), source })
         };
         let (mut cameras, mut suns, mut ignored) = (Vec::new(), Vec::new(), Vec::new());
-        let mut parts: Vec<(String, Mesh, Option<Material>, MaterialTextures)> =
-            match (Builtin::named(&self.source), self.source.as_str()) {
-                (Some(b), _) => {
-                    let r = res.unwrap_or(b.default_resolution());
-                    let s = size.unwrap_or(b.default_size());
-                    let (name, mesh) = match b {
-                        Builtin::Teapot => ("teapot", teapot::teapot(r).map(|m| m.0)),
-                        Builtin::Sphere => ("sphere", shapes::sphere(s, 2 * r, r)),
-                        Builtin::Torus => ("torus", shapes::torus(s, 0.3 * s, 2 * r, r)),
-                        Builtin::Box => ("box", shapes::cuboid(Vec3::splat(s), r)),
-                        Builtin::Plane => ("plane", shapes::plane(s, r)),
-                    };
-                    vec![(name.into(), shape(mesh)?, None, MaterialTextures::default())]
-                }
-                (None, s) if s.starts_with("builtin:") => {
-                    return Err(SceneError::UnknownBuiltin { name: s.into(), known: Builtin::KNOWN });
-                }
-                (None, "") => return Err(bad("no source".into())),
-                (None, s) => {
-                    let path = resolve(s, base, file)?;
-                    let (g, o) = match self.split {
-                        Some(Split::MeshNodes) | None => (GltfObjects::MeshNodes, ObjObjects::File),
-                        Some(Split::TopLevelNodes) => (GltfObjects::TopLevelNodes, ObjObjects::File),
-                        Some(Split::Groups) => (GltfObjects::MeshNodes, ObjObjects::Groups),
-                        Some(Split::File) => (GltfObjects::TopLevelNodes, ObjObjects::File),
-                    };
-                    let weld = self.weld.map_or(Weld::None, Weld::Within);
-                    let out = crate::loaders::load_file(&path, g, o, MeshOptions { weld, ..Default::default() })?;
-                    (cameras, suns, ignored) = (out.cameras, out.suns, out.ignored);
-                    let mut parts: Vec<_> =
-                        out.objects.into_iter().map(|o| (o.name, o.mesh, Some(o.material), o.textures)).collect();
-                    if self.split == Some(Split::File) && parts.len() > 1 {
-                        // One object, one material: the first part's.
-                        let (name, mut first, mat, textures) = parts.remove(0);
-                        for (_, m, _, _) in &parts {
-                            first.append(m);
-                        }
-                        parts = vec![(name, first, mat, textures)];
+        let parts: Vec<Part> = match (Builtin::named(&self.source), self.source.as_str()) {
+            (Some(b), _) => {
+                let r = res.unwrap_or(b.default_resolution());
+                let s = size.unwrap_or(b.default_size());
+                let (name, mesh) = match b {
+                    Builtin::Teapot => ("teapot", teapot::teapot(r).map(|m| m.0)),
+                    Builtin::Sphere => ("sphere", shapes::sphere(s, 2 * r, r)),
+                    Builtin::Torus => ("torus", shapes::torus(s, 0.3 * s, 2 * r, r)),
+                    Builtin::Box => ("box", shapes::cuboid(Vec3::splat(s), r)),
+                    Builtin::Plane => ("plane", shapes::plane(s, r)),
+                };
+                vec![(name.into(), shape(mesh)?, None, MaterialTextures::default())]
+            }
+            (None, s) if s.starts_with("builtin:") => {
+                return Err(SceneError::UnknownBuiltin { name: s.into(), known: Builtin::KNOWN });
+            }
+            (None, "") => return Err(bad("no source".into())),
+            (None, s) => {
+                let path = resolve(s, base, file)?;
+                let (g, o) = match self.split {
+                    Some(Split::MeshNodes) | None => (GltfObjects::MeshNodes, ObjObjects::File),
+                    Some(Split::TopLevelNodes) => (GltfObjects::TopLevelNodes, ObjObjects::File),
+                    Some(Split::Groups) => (GltfObjects::MeshNodes, ObjObjects::Groups),
+                    Some(Split::File) => (GltfObjects::TopLevelNodes, ObjObjects::File),
+                };
+                let weld = self.weld.map_or(Weld::None, Weld::Within);
+                let out = crate::loaders::load_file(&path, g, o, MeshOptions { weld, ..Default::default() })?;
+                (cameras, suns, ignored) = (out.cameras, out.suns, out.ignored);
+                let mut parts: Vec<_> =
+                    out.objects.into_iter().map(|o| (o.name, o.mesh, Some(o.material), o.textures)).collect();
+                if self.split == Some(Split::File) && parts.len() > 1 {
+                    // One object, one material: the first part's.
+                    let (name, mut first, mat, textures) = parts.remove(0);
+                    for (_, m, _, _) in &parts {
+                        first.append(m);
                     }
-                    parts
+                    parts = vec![(name, first, mat, textures)];
                 }
-            };
+                parts
+            }
+        };
+        self.place(parts, Loaded { objects: Vec::new(), cameras, suns, ignored }, &bad, budget)
+    }
+
+    /// The parts placed in the world (`stand_height`, then `scale`, `rotation_deg`,
+    /// `translation`, then each of `instances`), each placement checked ([`Mesh::place`]), with
+    /// their file's cameras and suns turned as they are.
+    fn place(
+        &self,
+        mut parts: Vec<Part>,
+        loaded: Loaded,
+        bad: &dyn Fn(String) -> SceneError,
+        budget: &Budget,
+    ) -> Result<Loaded, SceneError> {
+        let Loaded { mut cameras, mut suns, ignored, .. } = loaded;
         if let Some(h) = self.stand_height {
             let b = crate::mesh::Bounds::of_points(parts.iter().flat_map(|p| p.1.positions().iter().copied()));
             let tall = (b.max.y - b.min.y).max(f32::MIN_POSITIVE);
             let m = Mat4::from_scale(Vec3::splat(h / tall))
                 * Mat4::from_translation(Vec3::new(-0.5 * (b.min.x + b.max.x), -b.min.y, -0.5 * (b.min.z + b.max.z)));
-            for p in &mut parts {
-                p.1.transform(m);
+            for (child, mesh, _, _) in &mut parts {
+                mesh.place(m).map_err(|e| bad(format!("stand_height = {h:?}, part {child}: {e}")))?;
             }
             transform_cameras(&mut cameras, m);
         }
@@ -446,30 +459,43 @@ impl ObjectDesc {
         }
         let single = parts.len() == 1;
         let own = self.name.clone();
-        let objects = parts.into_iter().map(|(child, mut mesh, mat, textures)| {
-            mesh.transform(xf);
+        let placement = format!(
+            "translation = {:?}, rotation_deg = {:?}, scale = {}",
+            self.translation, self.rotation_deg, self.scale
+        );
+        let mut objects = Vec::with_capacity(parts.len());
+        for (child, mut mesh, mat, textures) in parts {
+            mesh.place(xf).map_err(|e| bad(format!("{placement}, part {child}: {e}")))?;
             let name = match (&own, single) {
                 (Some(n), true) => n.clone(),
                 (Some(n), false) => format!("{n}/{child}"),
                 (None, _) => child,
             };
-            SceneObject {
+            objects.push(SceneObject {
                 name,
                 mesh,
                 material: self.material.or(mat).unwrap_or_default(),
                 // A scene file's material replaces the file's, textures included.
                 textures: if self.material.is_some() { MaterialTextures::default() } else { textures },
                 motion: if self.moves { Motion::Movable } else { Motion::Static },
-            }
-        });
-        if self.instances.is_empty() {
-            return Ok(Loaded { objects: objects.collect(), cameras, suns, ignored });
+            });
         }
-        let mut out = Vec::with_capacity(self.instances.len());
+        let objects = if self.instances.is_empty() { objects } else { self.instanced(objects, bad)? };
+        Ok(Loaded { objects, cameras, suns, ignored })
+    }
+
+    /// Each object copied to each of `instances`, named `NAME/k`.
+    fn instanced(
+        &self,
+        objects: Vec<SceneObject>,
+        bad: &dyn Fn(String) -> SceneError,
+    ) -> Result<Vec<SceneObject>, SceneError> {
+        let mut out = Vec::with_capacity(self.instances.len() * objects.len());
         for o in objects {
             for (k, offset) in self.instances.iter().enumerate() {
                 let mut mesh = o.mesh.clone();
-                mesh.transform(Mat4::from_translation(Vec3::from(*offset)));
+                mesh.place(Mat4::from_translation(Vec3::from(*offset)))
+                    .map_err(|e| bad(format!("instances[{k}] = {offset:?}, part {}: {e}", o.name)))?;
                 let textures = o.textures.clone();
                 out.push(SceneObject {
                     name: format!("{}/{k}", o.name),
@@ -480,9 +506,12 @@ impl ObjectDesc {
                 });
             }
         }
-        Ok(Loaded { objects: out, cameras, suns, ignored })
+        Ok(out)
     }
 }
+
+/// A part of an object entry: its name, mesh, material and textures.
+type Part = (String, Mesh, Option<Material>, MaterialTextures);
 
 /// What an object entry gives: its objects, and its file's cameras and directional lights
 /// (transformed as its objects are, not copied per instance) and what the file holds that is

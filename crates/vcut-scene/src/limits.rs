@@ -55,6 +55,11 @@ impl Limit {
         Limit { low: End::Open(low), high: End::Closed(high), unit }
     }
 
+    /// A number in `[low, high)`.
+    pub const fn at_least_below(low: f64, high: f64, unit: &'static str) -> Limit {
+        Limit { low: End::Closed(low), high: End::Open(high), unit }
+    }
+
     /// Whether `v` is finite and within the range.
     pub fn contains(self, v: f64) -> bool {
         let low = match self.low {
@@ -88,6 +93,13 @@ impl Limit {
     pub fn parse_f32(self, text: &str) -> Result<f32, String> {
         let v = self.parse(text)? as f32;
         self.check(f64::from(v)).map(|_| v).map_err(|reason| format!("{text:?}: {reason}"))
+    }
+
+    /// A whole number written as `text` (pixels, counts), within the range.
+    pub fn parse_whole(self, text: &str) -> Result<u64, String> {
+        let refuse = || format!("{text:?}: must be a whole {}", self.describe().trim_start_matches("a "));
+        let n: u64 = text.trim().parse().map_err(|_| refuse())?;
+        if self.contains(n as f64) { Ok(n) } else { Err(refuse()) }
     }
 
     /// What the range is, for messages and help: `a finite number above 0 MB`, `a number in
@@ -141,5 +153,13 @@ mod tests {
         assert!(Limit::finite("").parse_f32("1e39").is_err());
         assert_eq!(Limit::at_least(0.0, "ms").describe(), "a finite number, at least 0 ms");
         assert_eq!(Limit::above_up_to(0.0, 45.0, "degrees").describe(), "a number in (0, 45] degrees");
+        let side = Limit::within(1.0, 16384.0, "pixels");
+        assert_eq!(side.parse_whole("640").unwrap(), 640);
+        for bad in ["0", "16385", "-1", "1.5", "", "1e3", "99999999999999999999999"] {
+            assert_eq!(
+                side.parse_whole(bad).unwrap_err(),
+                format!("{bad:?}: must be a whole number in [1, 16384] pixels")
+            );
+        }
     }
 }

@@ -20,6 +20,7 @@
 //! the metallic-roughness texture's mean over the vertices. A primitive without a material gets
 //! glTF's default (white, fully metallic, fully rough — which we map as above).
 
+use crate::limits::Limit;
 use serde::{Deserialize, Serialize};
 
 /// The BRDF families the shading crate evaluates.
@@ -86,43 +87,47 @@ impl Material {
         Material { model: BrdfModel::BlinnPhong, kd, ks, exponent, ..Material::default() }
     }
 
-    /// Checks the parameters are finite and in range; names the first one that is not.
+    /// Checks the parameters are finite and in range ([`REFLECTANCE`], [`EXPONENT`],
+    /// [`ROUGHNESS`]); names the first one that is not.
     pub fn validate(&self) -> Result<(), MaterialError> {
-        let unit = |key: &'static str, v: [f32; 3]| {
-            if v.iter().all(|x| x.is_finite() && (0.0..=1.0).contains(x)) {
-                Ok(())
-            } else {
-                Err(MaterialError { key, value: format!("{v:?}"), range: "lie in [0, 1]" })
+        let refuse =
+            |key: &'static str, value: String, limit: Limit| MaterialError { key, value, range: limit.describe() };
+        for (key, v) in [("kd", self.kd), ("ks", self.ks)] {
+            if !v.iter().all(|x| REFLECTANCE.contains(f64::from(*x))) {
+                return Err(refuse(key, format!("{v:?}"), REFLECTANCE));
             }
-        };
-        unit("kd", self.kd)?;
-        unit("ks", self.ks)?;
-        if !(self.exponent.is_finite() && self.exponent >= 0.0) {
-            return Err(MaterialError {
-                key: "exponent",
-                value: self.exponent.to_string(),
-                range: "be finite and ≥ 0",
-            });
         }
-        if !(self.roughness.is_finite() && self.roughness > 0.0 && self.roughness <= 1.0) {
-            return Err(MaterialError { key: "roughness", value: self.roughness.to_string(), range: "lie in (0, 1]" });
+        if !EXPONENT.contains(f64::from(self.exponent)) {
+            return Err(refuse("exponent", self.exponent.to_string(), EXPONENT));
+        }
+        if !ROUGHNESS.contains(f64::from(self.roughness)) {
+            return Err(refuse("roughness", self.roughness.to_string(), ROUGHNESS));
         }
         Ok(())
     }
 }
 
+/// The range of `kd` and `ks`, each channel.
+pub const REFLECTANCE: Limit = Limit::within(0.0, 1.0, "");
+/// The range of a Phong or Blinn-Phong `exponent`.
+pub const EXPONENT: Limit = Limit::at_least(0.0, "");
+/// The range of a GGX `roughness` (α).
+pub const ROUGHNESS: Limit = Limit::above_up_to(0.0, 1.0, "");
+
 /// A material parameter out of its range ([`Material::validate`]).
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
-#[error("{key} = {value} must {range}")]
+#[error("{key} = {value}: must be {range}")]
 pub struct MaterialError {
     /// The parameter (`kd`, `ks`, `exponent`, `roughness`).
     pub key: &'static str,
     /// Its value as written.
     pub value: String,
-    /// The range it must lie in.
-    pub range: &'static str,
+    /// The range it must lie in ([`Limit::describe`]).
+    pub range: String,
 }
 
+/// A glTF factor as the material takes it: clamped into [0, `max`], 0 when not finite (glTF
+/// loaders keep what they can of a file's material rather than refuse the file).
 fn sanitize(x: f32, max: f32) -> f32 {
     if x.is_finite() { x.clamp(0.0, max) } else { 0.0 }
 }
@@ -144,6 +149,6 @@ mod tests {
         d.validate().unwrap();
         m.validate().unwrap();
         let e = Material { kd: [2.0, 0.0, 0.0], ..d }.validate().unwrap_err();
-        assert_eq!((e.key, e.to_string().as_str()), ("kd", "kd = [2.0, 0.0, 0.0] must lie in [0, 1]"));
+        assert_eq!((e.key, e.to_string().as_str()), ("kd", "kd = [2.0, 0.0, 0.0]: must be a number in [0, 1]"));
     }
 }

@@ -103,6 +103,20 @@ pub enum MeshError {
     /// More vertices than 32-bit indices address.
     #[error("{0} vertices exceed the 32-bit index range")]
     TooLarge(usize),
+    /// Placed there (moved, scaled), the mesh would break an invariant in f32: a position
+    /// overflows, or a triangle's corners round onto one line ([`Mesh::placed`]).
+    #[error(
+        "placed there, {reason}: f32 holds a position that far out only to {spacing:e} scene units, \
+         and the mesh's shortest edge is {shortest_edge:e}"
+    )]
+    Placement {
+        /// What breaks (`triangle 12 has zero area`, `vertex 3 overflows`).
+        reason: String,
+        /// The spacing of f32 values at the largest coordinate of the placed mesh.
+        spacing: f32,
+        /// The mesh's shortest edge before it is placed.
+        shortest_edge: f32,
+    },
 }
 
 /// A triangle mesh with unit per-vertex normals. Invariants (checked by [`Mesh::build`], re-checked
@@ -320,7 +334,8 @@ impl Mesh {
     }
 
     /// Applies an affine transform (normals by the inverse transpose; winding flipped when the
-    /// transform mirrors, so faces keep facing out).
+    /// transform mirrors, so faces keep facing out). The result may break the mesh's invariants
+    /// when the transform takes it far out or scales it down to nothing: [`Mesh::place`] checks.
     pub fn transform(&mut self, m: glam::Mat4) {
         let nm = glam::Mat3::from_mat4(m).inverse().transpose();
         for p in &mut self.positions {
@@ -334,6 +349,47 @@ impl Mesh {
                 t.swap(1, 2);
             }
         }
+    }
+
+    /// [`Mesh::transform`], refused (and the mesh left as it was) when the placed mesh would
+    /// break an invariant: a scene's `translation`, `scale` and `instances` go through this, so
+    /// a placement f32 cannot hold fails as the scene loads, before any precompute.
+    pub fn place(&mut self, m: glam::Mat4) -> Result<(), MeshError> {
+        let placed: Vec<Vec3> = self.positions.iter().map(|&p| m.transform_point3(p)).collect();
+        self.check_positions(&placed)?;
+        self.transform(m);
+        Ok(())
+    }
+
+    /// Checks that the mesh translated by `t` (each position `p + t`, as a frame places a moved
+    /// object) keeps every invariant: finite positions and triangles of non-zero area.
+    pub fn placed(&self, t: Vec3) -> Result<(), MeshError> {
+        let placed: Vec<Vec3> = self.positions.iter().map(|&p| p + t).collect();
+        self.check_positions(&placed)
+    }
+
+    /// `positions` (this mesh's, placed) keep every position finite and every triangle's area
+    /// non-zero, the invariants a placement can break ([`Mesh::validate`] checks the same way).
+    fn check_positions(&self, positions: &[Vec3]) -> Result<(), MeshError> {
+        let reason = if let Some(v) = positions.iter().position(|p| !p.is_finite()) {
+            format!("vertex {v} overflows")
+        } else if let Some(t) = self.triangles.iter().position(|t| {
+            let [a, b, c] = t.map(|i| positions[i as usize]);
+            (b - a).cross(c - a).length_squared() == 0.0
+        }) {
+            format!("triangle {t} has zero area")
+        } else {
+            return Ok(());
+        };
+        let far = positions.iter().map(|p| p.abs().max_element()).fold(0.0f32, f32::max);
+        let spacing = if far.is_finite() { (far.next_up() - far).max(f32::MIN_POSITIVE) } else { f32::INFINITY };
+        let shortest_edge = self
+            .triangles
+            .iter()
+            .flat_map(|t| (0..3).map(move |k| (t[k], t[(k + 1) % 3])))
+            .map(|(i, j)| self.positions[i as usize].distance(self.positions[j as usize]))
+            .fold(f32::INFINITY, f32::min);
+        Err(MeshError::Placement { reason, spacing, shortest_edge })
     }
 
     /// Texture coordinates per vertex (glTF's `TEXCOORD_0`), when the mesh has them.

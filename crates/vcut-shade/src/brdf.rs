@@ -8,6 +8,7 @@
 
 use glam::Vec3;
 use std::f32::consts::PI;
+use vcut_scene::material::{EXPONENT, REFLECTANCE, ROUGHNESS};
 use vcut_scene::{BrdfModel, Material};
 
 /// sin 1°: how far above its tangent plane a silhouette vertex is viewed ([`view_direction`]).
@@ -227,7 +228,7 @@ pub enum SpecError {
     /// A parameter without `=`.
     #[error("'{0}': expected KEY=VALUE")]
     NotKeyValue(String),
-    /// A value that is not a finite number ≥ 0, or not one value or `r/g/b`.
+    /// A value out of its key's range, or not one value or `r/g/b`.
     #[error("{key} = {value}: {reason}")]
     Value {
         /// The key.
@@ -235,7 +236,7 @@ pub enum SpecError {
         /// The value as given.
         value: String,
         /// What is wrong with it.
-        reason: &'static str,
+        reason: String,
     },
     /// KEY is none of the known ones.
     #[error("unknown BRDF parameter '{0}' (kd, ks, alpha, roughness)")]
@@ -262,27 +263,29 @@ pub fn parse_spec(base: Material, spec: &str) -> Result<Material, SpecError> {
     };
     for kv in rest.split(',').map(str::trim).filter(|s| !s.is_empty()) {
         let (k, v) = kv.split_once('=').ok_or_else(|| SpecError::NotKeyValue(kv.into()))?;
-        let bad = |x: &str, reason| SpecError::Value { key: k.into(), value: x.into(), reason };
+        let bad = |x: &str, reason: String| SpecError::Value { key: k.into(), value: x.into(), reason };
+        let limit = match k.trim() {
+            "kd" | "ks" => REFLECTANCE,
+            "roughness" => ROUGHNESS,
+            _ => EXPONENT,
+        };
         let num = |x: &str| -> Result<f32, SpecError> {
-            let f: f32 = x.trim().parse().map_err(|_| bad(x, "not a number"))?;
-            if f.is_finite() && f >= 0.0 { Ok(f) } else { Err(bad(x, "must be finite and ≥ 0")) }
+            let f: f32 = x.trim().parse().map_err(|_| bad(x, format!("not a number: must be {}", limit.describe())))?;
+            limit.check(f64::from(f)).map(|_| f).map_err(|reason| bad(x, reason))
         };
         let rgb = |x: &str| -> Result<[f32; 3], SpecError> {
             let parts: Vec<f32> = x.split('/').map(num).collect::<Result<_, _>>()?;
             match parts.as_slice() {
                 [g] => Ok([*g; 3]),
                 [r, g, b] => Ok([*r, *g, *b]),
-                _ => Err(bad(x, "one value or r/g/b")),
+                _ => Err(bad(x, "one value or r/g/b".into())),
             }
         };
         match k.trim() {
             "kd" => m.kd = rgb(v)?,
             "ks" => m.ks = rgb(v)?,
             "alpha" | "exponent" => m.exponent = num(v)?.max(1e-3),
-            "roughness" => match num(v)? {
-                r if r > 1.0 => return Err(bad(v, "GGX roughness α must lie in (0, 1]")),
-                r => m.roughness = r.max(1e-3),
-            },
+            "roughness" => m.roughness = num(v)?.max(1e-3),
             other => return Err(SpecError::Parameter(other.into())),
         }
     }

@@ -16,6 +16,7 @@ pub mod cmd;
 pub mod files;
 pub mod frame_report;
 pub mod open;
+pub mod options;
 pub mod outcome;
 pub mod progress;
 pub mod resources;
@@ -28,6 +29,19 @@ pub use cmd::{Command, directions, farm, inspect, leaves, precompute, render, ru
 
 use anyhow::{Context, Result};
 
+/// Precomputed visibility-cut rendering: photo-real lighting of dynamic scenes under
+/// environment light, objects moved and materials edited live.
+#[derive(clap::Parser)]
+#[command(name = "vcuts", version, arg_required_else_help = true)]
+pub struct Cli {
+    /// Options every command takes.
+    #[command(flatten)]
+    pub global: GlobalArgs,
+    /// The command.
+    #[command(subcommand)]
+    pub command: Command,
+}
+
 /// Options every command takes (before or after the command's name).
 #[derive(clap::Args, Clone, Debug, Default)]
 pub struct GlobalArgs {
@@ -38,7 +52,7 @@ pub struct GlobalArgs {
     #[arg(short, long, global = true)]
     pub quiet: bool,
     /// Worker threads for everything that computes (default: every core).
-    #[arg(long, global = true, value_name = "N")]
+    #[arg(long, global = true, value_name = "N", value_parser = options::whole::<usize>("threads"), allow_hyphen_values = true)]
     pub threads: Option<usize>,
     /// Results on stdout as one JSON object (the same keys as the `key=value` lines).
     #[arg(long, global = true)]
@@ -70,7 +84,6 @@ impl GlobalArgs {
             .try_init();
         outcome::set_json(self.json);
         if let Some(n) = self.threads {
-            anyhow::ensure!(n >= 1, "--threads {n}: at least 1");
             rayon::ThreadPoolBuilder::new().num_threads(n).build_global().context("--threads")?;
         }
         Ok(())

@@ -118,16 +118,16 @@ pub fn object_names(frame: &Frame) -> String {
 /// milliseconds and the vertices they re-merged.
 pub fn apply_edits(frame: &mut Frame, brdfs: &[BrdfEdit], moves: &[Move]) -> Result<(f64, usize)> {
     for b in brdfs {
-        let o = object(frame, &b.object)?;
+        let o = object(frame, &b.object).with_context(|| format!("--brdf {b}"))?;
         let m = b.apply(*frame.object(o).material).with_context(|| format!("--brdf {b}"))?;
         frame.set_material(o, m);
     }
     let mut move_ms = 0.0;
     let mut moved = 0;
     for m in moves {
-        let o = object(frame, &m.object)?;
+        let o = object(frame, &m.object).with_context(|| format!("--move {m}"))?;
         let t = Instant::now();
-        moved += frame.translate(o, m.translation)?;
+        moved += frame.translate(o, m.translation).with_context(|| format!("--move {m}"))?;
         move_ms += t.elapsed().as_secs_f64() * 1e3;
     }
     Ok((move_ms, moved))

@@ -4,13 +4,21 @@
 
 use glam::Vec3;
 use vcut_scene::Material;
+use vcut_scene::limits::Limit;
 use vcut_shade::brdf::{SpecError, parse_spec};
 
-/// The largest translation a move takes, per axis (scene units): far beyond any scene's extent,
-/// and small enough that a translated mesh keeps every position finite in f32.
-pub const MAX_TRANSLATION: f32 = 1e6;
+/// An image's side (`--width`, `--height`, each side of `--size`).
+pub const SIDE: Limit = Limit::within(1.0, Size::MAX_SIDE as f64, "pixels");
+/// `--exposure`: the factor before tone mapping.
+pub const EXPOSURE: Limit = Limit::above(0.0, "");
+/// `--env-rotation`: the map's turn about the vertical, as a scene's `rotation_deg`.
+pub const ENV_ROTATION: Limit = vcut_scene::check::ROTATION;
+/// `--live-move-ms`: the viewer's time for a drag step.
+pub const LIVE_MOVE_MS: Limit = Limit::at_least(0.0, "ms");
 
-/// `NAME=DX,DY,DZ`: move object NAME to this translation from its rest position.
+/// `NAME=DX,DY,DZ`: move object NAME to this translation from its rest position (finite; one
+/// its mesh cannot take in f32 is refused when the move is made, naming the spacing f32 keeps
+/// there: `vcut_shade::FrameError::Placement`).
 #[derive(Debug, Clone, PartialEq)]
 pub struct Move {
     /// The object's name.
@@ -26,9 +34,6 @@ impl std::str::FromStr for Move {
         let (name, v) = s.split_once('=').ok_or_else(|| format!("{s:?}: expected NAME=DX,DY,DZ"))?;
         let [dx, dy, dz] = numbers::<3>(v).map_err(|e| format!("{s:?}: {e}"))?;
         let t = Vec3::new(dx, dy, dz);
-        if t.abs().max_element() > MAX_TRANSLATION {
-            return Err(format!("{s:?}: each component must lie within ±{MAX_TRANSLATION:e} scene units"));
-        }
         if name.is_empty() {
             return Err(format!("{s:?}: expected an object's name before `=`"));
         }
@@ -93,12 +98,10 @@ impl Size {
     /// The largest side an image takes.
     pub const MAX_SIDE: u32 = 16_384;
 
-    /// `width` × `height`, each side checked.
+    /// `width` × `height`, each side checked ([`SIDE`]).
     pub fn new(width: u32, height: u32) -> Result<Size, String> {
         for (side, what) in [(width, "width"), (height, "height")] {
-            if side == 0 || side > Size::MAX_SIDE {
-                return Err(format!("{what} {side}: must lie in 1..={}", Size::MAX_SIDE));
-            }
+            SIDE.check(f64::from(side)).map_err(|reason| format!("{what} {side}: {reason}"))?;
         }
         Ok(Size { width, height })
     }
@@ -109,8 +112,10 @@ impl std::str::FromStr for Size {
 
     fn from_str(s: &str) -> Result<Size, String> {
         let (w, h) = s.split_once('x').ok_or_else(|| format!("{s:?}: expected WIDTHxHEIGHT"))?;
-        let side = |x: &str| x.trim().parse::<u32>().map_err(|_| format!("{s:?}: expected WIDTHxHEIGHT in pixels"));
-        Size::new(side(w)?, side(h)?).map_err(|e| format!("{s:?}: {e}"))
+        Ok(Size {
+            width: side(w).map_err(|e| format!("{s:?}: width {e}"))?,
+            height: side(h).map_err(|e| format!("{s:?}: height {e}"))?,
+        })
     }
 }
 
@@ -120,10 +125,9 @@ impl std::fmt::Display for Size {
     }
 }
 
-/// An image side in pixels, 1 to [`Size::MAX_SIDE`] (`--width`, `--height`).
+/// An image side in pixels ([`SIDE`]: `--width`, `--height`).
 pub fn side(s: &str) -> Result<u32, String> {
-    let n = s.trim().parse::<u32>().map_err(|_| format!("{s:?}: not a number of pixels"))?;
-    Size::new(n, 1).map(|_| n).map_err(|_| format!("{n}: must lie in 1..={}", Size::MAX_SIDE))
+    SIDE.parse_whole(s).map(|n| n as u32)
 }
 
 /// `R,G,B` (or one value for all three): finite and ≥ 0, such as a reflectance or a coefficient.
@@ -181,7 +185,7 @@ mod tests {
         let m: Move = "teapot=0.6,0,-0.4".parse().unwrap();
         assert_eq!((m.object.as_str(), m.translation), ("teapot", Vec3::new(0.6, 0.0, -0.4)));
         assert_eq!(m.to_string().parse::<Move>().unwrap(), m);
-        for bad in ["teapot", "teapot=1,2", "teapot=nan,0,0", "teapot=inf,0,0", "teapot=1e30,0,0", "=1,2,3", "t=1,,3"] {
+        for bad in ["teapot", "teapot=1,2", "teapot=nan,0,0", "teapot=inf,0,0", "teapot=1e39,0,0", "=1,2,3", "t=1,,3"] {
             assert!(bad.parse::<Move>().is_err(), "{bad}");
         }
         let b: BrdfEdit = "teapot=blinn-phong:alpha=70".parse().unwrap();
@@ -194,6 +198,7 @@ mod tests {
             assert!(bad.parse::<Size>().is_err(), "{bad}");
         }
         assert!(side("0").is_err() && side("100000000").is_err() && side("640").is_ok());
+        assert_eq!(side("0").unwrap_err(), "\"0\": must be a whole number in [1, 16384] pixels");
         assert_eq!("0.5".parse::<Rgb>().unwrap(), Rgb(Vec3::splat(0.5)));
         assert!("1,2".parse::<Rgb>().is_err() && "-1,0,0".parse::<Rgb>().is_err());
         assert_eq!("0.1,0.3".parse::<Pair>().unwrap(), Pair(0.1, 0.3));

@@ -162,6 +162,27 @@ fn precompute_logs_progress_without_a_terminal_and_render_works_from_another_fol
         "{}",
         text(&o)
     );
+    // A move f32 cannot hold the ball at is refused naming --move, the object and the
+    // spacing, and nothing is written.
+    let far = ["render", file.to_str().unwrap(), "-o", "moved.png", "--move", "ball=1e6,1e6,1e6"];
+    let o = vcuts(&elsewhere, &far);
+    assert_eq!(o.status.code(), Some(1), "{}", text(&o));
+    for says in ["--move ball=1000000,1000000,1000000", "(ball) moved to", "zero area", "f32 holds"] {
+        assert!(text(&o).contains(says), "no {says:?}: {}", text(&o));
+    }
+    assert!(!elsewhere.join("moved.png").exists(), "an image was written");
+    // An image larger than memory is refused naming its size, before anything is allocated.
+    let free = vcut_scene::budget::available_memory().unwrap_or(0);
+    if free < 16_384 * 16_384 * vcuts::resources::ImageCost::Cuts as u64 {
+        let o = vcuts(
+            &elsewhere,
+            &["render", file.to_str().unwrap(), "-o", "big.png", "--width", "16384", "--height", "16384"],
+        );
+        assert_eq!(o.status.code(), Some(1), "{}", text(&o));
+        assert!(text(&o).contains("--width 16384 --height 16384: an image this size needs about"), "{}", text(&o));
+    } else {
+        eprintln!("SKIPPED the image-memory check: {free} bytes available hold a 16384 × 16384 render");
+    }
     // -q: results on stdout as before, nothing about progress on stderr.
     let o = vcuts(
         &work,
@@ -187,8 +208,8 @@ fn precompute_logs_progress_without_a_terminal_and_render_works_from_another_fol
 #[test]
 fn bad_global_options_are_refused_by_name() {
     let o = vcuts(Path::new("."), &["--threads", "0", "inspect", "builtin:teapot"]);
-    assert_eq!(o.status.code(), Some(1), "{}", text(&o));
-    assert!(text(&o).contains("--threads 0"), "{}", text(&o));
+    assert_eq!(o.status.code(), Some(2), "{}", text(&o));
+    assert!(text(&o).contains("--threads") && text(&o).contains("must be a whole number in [1, 4096]"), "{}", text(&o));
     let o = vcuts(Path::new("."), &["render", "x.vcuts", "--mode", "ssdo-fancy"]);
     assert_eq!(o.status.code(), Some(2), "{}", text(&o));
     assert!(text(&o).contains("ssdo-peeled"), "the choices are listed: {}", text(&o));

@@ -20,12 +20,12 @@ pub struct FrameArgs {
     pub no_horizon_culling: bool,
     /// How far a field shadows, in its object's bounding radii (default 6), or `outermost`:
     /// to its outermost sphere (the precompute's `field_outer`, the paper's reach).
-    #[arg(long, value_name = "RADII|outermost", allow_negative_numbers = true)]
+    #[arg(long, value_name = "RADII|outermost", allow_hyphen_values = true)]
     pub field_reach: Option<FieldReach>,
     /// How finely a ground's cut follows its edges: a node of at most N leaves across an edge
     /// takes its estimated visible share (a power of two; default 1, exact); `interactive` is
     /// 1/256 of the directions (128 at the paper preset, 16 at `fast`).
-    #[arg(long, value_name = "N|interactive", allow_negative_numbers = true)]
+    #[arg(long, value_name = "N|interactive", allow_hyphen_values = true)]
     pub flat_edge_leaves: Option<FlatEdges>,
     /// Merge every vertex a move changes at once. By default a move merges the vertices facing
     /// the camera and leaves the others until a camera sees them: the image is the same bit
@@ -44,12 +44,12 @@ pub struct FrameArgs {
     /// Target relative error of the light left in the cuts (default: the scene file's
     /// `[environment] light_error`, else 0.002): the brightest leaves are cast by rays until
     /// the estimated error is within it. Must lie in (0, 1).
-    #[arg(long, value_name = "REL", value_parser = parse_light_error, allow_negative_numbers = true)]
+    #[arg(long, value_name = "REL", value_parser = parse_light_error, allow_hyphen_values = true)]
     pub light_error: Option<f64>,
     /// At most this many leaves of the light cast by rays (1 to 64; default 32). Each costs a ray
     /// per vertex facing it on a lighting change and a move, and a BRDF evaluation per vertex
     /// facing it on every shading.
-    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u8).range(1..=64), allow_negative_numbers = true)]
+    #[arg(long, value_name = "N", value_parser = parse_max_leaves, allow_hyphen_values = true)]
     pub light_max_leaves: Option<u8>,
     /// Keep no merged cut per vertex, only its shading list: less memory (the merged cuts are
     /// the frame's largest part), the same moves, edits and image; a lighting change or a
@@ -64,7 +64,7 @@ pub struct FrameArgs {
     /// Hold the frame's memory (`frame_memory_mb`) to MB: the stored cuts stay in the file
     /// (read from it as merges need them), no merged cuts and no field cells between moves are
     /// kept, and the decoded SVCs only if they fit; `frame_caches` says which are kept.
-    #[arg(long, value_name = "MB", value_parser = parse_budget, conflicts_with = "no_merged_cache", allow_negative_numbers = true)]
+    #[arg(long, value_name = "MB", value_parser = parse_budget, conflicts_with = "no_merged_cache", allow_hyphen_values = true)]
     pub memory_budget: Option<u64>,
 }
 
@@ -110,6 +110,10 @@ fn parse_inside(s: &str) -> Result<InsideSamples, String> {
 
 fn parse_algorithm(s: &str) -> Result<MergeAlgorithm, String> {
     algorithm_named(s).ok_or_else(|| format!("{s:?}: expected `counter` or `index`"))
+}
+
+fn parse_max_leaves(s: &str) -> Result<u8, String> {
+    super::settings::LIGHT_MAX_LEAVES.parse_whole(s).map(|n| n as u8)
 }
 
 fn parse_light_error(s: &str) -> Result<f64, String> {

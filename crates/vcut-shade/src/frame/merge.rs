@@ -58,8 +58,17 @@ pub(super) fn full_zero(h: u32) -> MergedCut {
 impl Frame {
     /// Moves object `o` to `translation` (from its rest position) and re-merges the vertices
     /// whose field inputs changed: its own, and other objects' vertices near it. Returns how
-    /// many vertices were merged.
+    /// many vertices were merged. A translation its mesh cannot take in f32 (non-finite, or so
+    /// far out that a triangle's corners round onto one line) is refused before anything
+    /// changes ([`FrameError::Placement`]).
     pub fn translate(&mut self, o: usize, translation: Vec3) -> Result<usize, FrameError> {
+        let object = &self.ctx.objects[o];
+        object.mesh.placed(translation).map_err(|error| FrameError::Placement {
+            object: o,
+            name: object.name.clone(),
+            translation: translation.to_array(),
+            error,
+        })?;
         self.ctx.objects[o].translation = translation;
         Ok(super::deferral::count(&self.rekey(Rekey::moved(o))?))
     }

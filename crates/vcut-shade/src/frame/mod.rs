@@ -89,7 +89,7 @@ mod lighting;
 mod lists;
 mod merge;
 mod object;
-mod settings;
+pub mod settings;
 mod shading;
 mod stats;
 #[cfg(test)]
@@ -143,6 +143,19 @@ pub enum FrameError {
         object: usize,
         /// What failed.
         error: vcut_data::sections::CutFault,
+    },
+    /// A translation the object's mesh cannot take in f32 (a position overflows, or a
+    /// triangle's corners round onto one line): the frame is left as it was.
+    #[error("object {object} ({name}) moved to {translation:?}: {error}")]
+    Placement {
+        /// Object index.
+        object: usize,
+        /// Its name.
+        name: String,
+        /// The translation refused.
+        translation: [f32; 3],
+        /// What the placed mesh would break.
+        error: vcut_scene::MeshError,
     },
     /// The direction tree has more nodes than a shading list entry can name.
     #[error("the direction tree has {nodes} nodes; a frame shades at most {max} (65,536 directions)")]

@@ -20,6 +20,10 @@ pub const REACH: Limit = Limit::above(0.0, "radii (or `outermost`)");
 /// most a petabyte (which a u64 of bytes holds with room to spare).
 pub const BUDGET_MB: Limit = Limit::above_up_to(0.0, 1e9, "MB");
 
+/// The range of the leaves of the light cast by rays (`light_max_leaves`,
+/// `--light-max-leaves`).
+pub const LIGHT_MAX_LEAVES: Limit = Limit::within(1.0, crate::sun::MAX_SUN_LEAVES as f64, "leaves");
+
 /// The share of the sphere of directions (1/256) whose nodes [`FlatEdges::Interactive`]
 /// estimates across a ground's edges.
 pub const INTERACTIVE_EDGE_SHARE: u32 = 256;
@@ -286,12 +290,8 @@ impl FrameSettings {
         {
             return bad("light_error", e.to_string(), &reason);
         }
-        if self.light_max_leaves > crate::sun::MAX_SUN_LEAVES {
-            return bad(
-                "light_max_leaves",
-                self.light_max_leaves.to_string(),
-                &format!("must be at most {} leaves", crate::sun::MAX_SUN_LEAVES),
-            );
+        if let Err(reason) = LIGHT_MAX_LEAVES.check(self.light_max_leaves as f64) {
+            return bad("light_max_leaves", self.light_max_leaves.to_string(), &reason);
         }
         if self.memory_budget == Some(0) {
             return bad("memory_budget", "0".into(), "must be a number of bytes above 0");

@@ -13,7 +13,7 @@ use vcut_sphere::{CacheOutcome, DirectionSet, RepulsionParams, Start};
 #[derive(clap::Args)]
 pub struct DirectionsArgs {
     /// Number of directions (a power of two for the tree: 2^6 .. 2^20).
-    #[arg(long, default_value_t = 32768)]
+    #[arg(long, default_value_t = 32768, value_parser = crate::options::whole::<usize>("n"), allow_hyphen_values = true)]
     pub n: usize,
     /// Seed of the start.
     #[arg(long, default_value_t = 0)]

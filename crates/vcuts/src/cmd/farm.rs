@@ -40,16 +40,16 @@ pub enum Engine {
 #[derive(clap::Args, Clone)]
 pub struct EngineArgs {
     /// Shards (array tasks).
-    #[arg(long)]
+    #[arg(long, value_parser = crate::options::whole::<u32>("shards"), allow_hyphen_values = true)]
     pub shards: u32,
     /// At most this many tasks at once (default: all).
-    #[arg(long)]
+    #[arg(long, value_parser = crate::options::whole::<u32>("max-running"), allow_hyphen_values = true)]
     pub max_running: Option<u32>,
     /// Folder of the scripts and logs (default: target/farm/<output stem>).
     #[arg(long)]
     pub dir: Option<PathBuf>,
     /// CPUs per task (Slurm `--cpus-per-task`; the task's `--threads`).
-    #[arg(long)]
+    #[arg(long, value_parser = crate::options::whole::<u32>("cpus-per-task"), allow_hyphen_values = true)]
     pub cpus_per_task: Option<u32>,
     /// An extra `#SBATCH` option for both jobs, e.g. `--partition=cpu` (repeatable).
     #[arg(long = "sbatch", value_name = "OPTION")]

@@ -18,7 +18,7 @@ pub struct InspectArgs {
     #[arg(long, value_parser = parse_split)]
     pub split: Option<Split>,
     /// Weld mesh vertices closer than this distance (finite, at least 0).
-    #[arg(long, value_parser = parse_weld)]
+    #[arg(long, value_parser = crate::options::real("weld"), allow_hyphen_values = true)]
     pub weld: Option<f32>,
     /// Clamp NaN/Inf/negative environment texels instead of refusing the file.
     #[arg(long)]
@@ -40,13 +40,6 @@ fn parse_split(s: &str) -> Result<Split, String> {
         "file" => Ok(Split::File),
         _ => Err(format!("{s:?}: expected mesh-nodes, top-level-nodes, groups or file")),
     }
-}
-
-fn parse_weld(s: &str) -> Result<f32, String> {
-    s.parse::<f32>()
-        .ok()
-        .filter(|d| d.is_finite() && *d >= 0.0)
-        .ok_or_else(|| format!("{s:?}: must be a finite distance, at least 0"))
 }
 
 fn is_envmap(t: &str) -> bool {

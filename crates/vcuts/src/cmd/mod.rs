@@ -9,6 +9,7 @@ pub mod render;
 pub mod ssdo;
 #[cfg(feature = "viewer")]
 pub mod view;
+pub mod view_args;
 
 use anyhow::Result;
 use clap::Subcommand;
@@ -43,8 +44,7 @@ pub enum Command {
     /// Open the interactive viewer on a .vcuts file (or `--scene S` precomputed first, cached):
     /// drag objects, edit BRDFs, rotate the environment, compare with the exact reference; with
     /// --screenshot out.png render the same frame with no window on any wgpu adapter.
-    #[cfg(feature = "viewer")]
-    View(Box<view::ViewArgs>),
+    View(Box<view_args::ViewArgs>),
     /// Plant leaves (Wang et al. 2005): build the procedural plant (or load one), precompute the
     /// sun's light-visibility convolution (RLE) and the SH transfer, shade a frame in two passes,
     /// and compare it and the SH-only rendering with the path-traced reference: images and
@@ -66,6 +66,10 @@ pub fn run(command: Command) -> Result<()> {
         }
         #[cfg(feature = "viewer")]
         Command::View(args) => view::run(&args).map(|o| crate::outcome::print(&o)),
+        #[cfg(not(feature = "viewer"))]
+        Command::View(_) => {
+            anyhow::bail!("view: this vcuts was built without the viewer (the feature `viewer`, on by default)")
+        }
         Command::Leaves(args) => leaves::run(&args).map(|o| crate::outcome::print(&o)),
     }
 }

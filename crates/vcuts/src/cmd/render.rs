@@ -2,6 +2,7 @@
 //! EXR, PLY, glTF), with merge, shade and raster times, and optionally the error against the
 //! references. Returns a typed [`RenderOutcome`]; the command prints it.
 
+use crate::resources::ImageCost;
 use anyhow::{Context, Result, bail};
 use glam::Vec3;
 use serde::Serialize;
@@ -116,14 +117,14 @@ pub struct RenderArgs {
     #[arg(long)]
     pub camera: Option<String>,
     /// Image width in pixels (1 to 16,384).
-    #[arg(long, default_value_t = 640, value_parser = crate::values::side)]
+    #[arg(long, default_value_t = 640, value_parser = crate::options::whole::<u32>("width"), allow_hyphen_values = true)]
     pub width: u32,
     /// Image height in pixels (1 to 16,384).
-    #[arg(long, default_value_t = 480, value_parser = crate::values::side)]
+    #[arg(long, default_value_t = 480, value_parser = crate::options::whole::<u32>("height"), allow_hyphen_values = true)]
     pub height: u32,
     /// Exposure applied before tone mapping (PNG only; finite, above 0); default: the
     /// geometry's log-average luminance to middle grey.
-    #[arg(long, value_parser = exposure, allow_negative_numbers = true)]
+    #[arg(long, value_parser = crate::options::real("exposure"), allow_hyphen_values = true)]
     pub exposure: Option<f32>,
     /// Output PNG (tone-mapped: ACES filmic, Narkowicz's fit, sRGB).
     #[arg(short, long, default_value = "target/render/frame.png")]
@@ -184,14 +185,6 @@ impl RenderArgs {
             frame: FrameArgs::default(),
         }
     }
-}
-
-/// `--exposure`: finite and above 0.
-fn exposure(s: &str) -> Result<f32, String> {
-    s.parse::<f32>()
-        .ok()
-        .filter(|e| e.is_finite() && *e > 0.0)
-        .ok_or_else(|| format!("{s:?}: must be a finite number above 0"))
 }
 
 /// What a render measured and wrote, its fields named as the keys it prints.
@@ -334,6 +327,8 @@ pub fn run(args: &RenderArgs) -> Result<RenderOutcome> {
     if args.compare == Some(Compare::Raytraced) && args.mode.screen().is_none() {
         bail!("--compare raytraced: only a screen-space --mode (ssao, ssdo, ssdo-peeled) compares with it");
     }
+    let cost = if args.mode.screen().is_some() { ImageCost::ScreenSpace } else { ImageCost::Cuts };
+    crate::resources::check_image(args.width, args.height, cost)?;
     let settings = args.frame.settings();
     let Opened { data, mut frame, env, view, setup_s, .. } =
         open_with(&args.input, args.env.as_deref(), args.reconstruction, &settings, args.camera.as_deref())?;

@@ -1,128 +1,31 @@
 //! `vcuts view`: the interactive viewer (`vcut-view`) on a `.vcuts` file, or on a scene
 //! precomputed first; `--screenshot` renders the same frame with no window.
 
+pub use super::view_args::{ViewArgs, ViewMode, ViewOutcome};
 use crate::outcome::ms_since;
 use anyhow::{Context, Result, bail};
-use serde::Serialize;
-use std::path::PathBuf;
 use std::time::{Duration, Instant};
 use vcut_view::{Gpu, LeafSession, LeafViewOptions, Mode, OrbitCamera, Session, ViewOptions};
 
-/// Arguments of `view`.
-#[derive(clap::Args, Clone)]
-pub struct ViewArgs {
-    /// The precomputed file (from `cargo xtask precompute`); default: `--scene` precomputed.
-    pub input: Option<PathBuf>,
-    /// Precompute this scene first (cached in target/vcuts/ like the demo's) and view it.
-    #[arg(long, conflicts_with = "input")]
-    pub scene: Option<String>,
-    /// Preset for `--scene`.
-    #[arg(long, default_value = "fast")]
-    pub preset: String,
-    /// Environment map (default: the data's).
-    #[arg(long)]
-    pub env: Option<String>,
-    /// How maps are reconstructed between texel centres and integrated: box or bilinear
-    /// (lat-long maps). Default: the data's (box).
-    #[arg(long)]
-    pub reconstruction: Option<vcut_envmap::Reconstruction>,
-    /// Start from this scene camera (default: the scene's first).
-    #[arg(long)]
-    pub camera: Option<String>,
-    /// Move an object first: NAME=dx,dy,dz (repeatable).
-    #[arg(long = "move", value_name = "NAME=DX,DY,DZ", allow_hyphen_values = true)]
-    pub moves: Vec<crate::values::Move>,
-    /// Edit a BRDF first: NAME=MODEL[:KEY=VALUE,...] (repeatable).
-    #[arg(long = "brdf", value_name = "NAME=SPEC")]
-    pub brdfs: Vec<crate::values::BrdfEdit>,
-    /// Environment rotation about +Y, degrees (finite).
-    #[arg(long, default_value_t = 0.0, allow_hyphen_values = true, value_parser = finite)]
-    pub env_rotation: f32,
-    /// Exposure before tone mapping (finite, above 0; default: automatic).
-    #[arg(long, value_parser = positive, allow_negative_numbers = true)]
-    pub exposure: Option<f32>,
-    /// What to show: cuts, exact (the exact-direction reference), difference (heat map), or
-    /// the screen-space methods ssao and ssdo (WGSL passes, no precomputation).
-    #[arg(long, value_enum, default_value_t = ViewMode::Cuts)]
-    pub mode: ViewMode,
-    /// Render one frame with no window into this PNG and exit.
-    #[arg(long)]
-    pub screenshot: Option<PathBuf>,
-    /// Screenshot width in pixels (1 to 16,384).
-    #[arg(long, default_value_t = 1280, value_parser = crate::values::side)]
-    pub width: u32,
-    /// Screenshot height in pixels (1 to 16,384).
-    #[arg(long, default_value_t = 720, value_parser = crate::values::side)]
-    pub height: u32,
-    /// Close the window after this many frames (scripted runs).
-    #[arg(long)]
-    pub frames: Option<u64>,
-    /// Re-merge at every mouse move while dragging if a move costs less than this (ms; finite,
-    /// at least 0).
-    #[arg(long, default_value_t = 120.0, value_parser = non_negative)]
-    pub live_move_ms: f64,
-    /// The frame's settings, as `render`'s (`--no-sun-rays` starts with the panel's "sun by
-    /// rays" box unticked, `--light-error` sets its slider, `--flat-edge-leaves interactive`
-    /// ticks "ground edges estimated").
-    #[command(flatten)]
-    pub frame: vcut_shade::FrameArgs,
-    /// The plant-leaf viewer instead (`vcut-leaf`: the plant precomputed first, then the sun,
-    /// method, level of detail and leaf panel); the plant options below apply.
-    #[arg(long, conflicts_with_all = ["input", "scene"])]
-    pub leaves: bool,
-    /// The plant, leaves and sun (with --leaves).
-    #[command(flatten)]
-    pub plant: crate::leaves::PlantArgs,
+/// The GPU a screenshot renders on, and how long it took to set up.
+struct Headless {
+    gpu: Gpu,
+    setup_ms: f64,
 }
 
-/// A finite number (`--env-rotation`).
-fn finite(s: &str) -> Result<f32, String> {
-    s.parse::<f32>().ok().filter(|x| x.is_finite()).ok_or_else(|| format!("{s:?}: not a finite number"))
-}
-
-/// A finite number above 0 (`--exposure`).
-fn positive(s: &str) -> Result<f32, String> {
-    finite(s).and_then(|x| if x > 0.0 { Ok(x) } else { Err(format!("{s:?}: must be above 0")) })
-}
-
-/// A finite number, at least 0 (`--live-move-ms`).
-fn non_negative(s: &str) -> Result<f64, String> {
-    s.parse::<f64>()
-        .ok()
-        .filter(|x| x.is_finite() && *x >= 0.0)
-        .ok_or_else(|| format!("{s:?}: must be a finite number, at least 0"))
-}
-
-/// What `view --screenshot` measured and wrote (nothing for a window).
-#[derive(Debug, Clone, Default, Serialize)]
-pub struct ViewOutcome {
-    /// `--leaves`: where the leaf data is and what was done to get it.
-    #[serde(flatten)]
-    pub store: Option<crate::leaves::StoreOutcome>,
-    /// The wgpu adapter.
-    pub adapter: Option<String>,
-    /// Setting the GPU up (ms).
-    pub gpu_setup_ms: Option<f64>,
-    /// The screenshot's frame (ms).
-    pub screenshot_ms: Option<f64>,
-    /// What it shows.
-    pub mode: Option<&'static str>,
-    /// Its exposure.
-    pub exposure: Option<f32>,
-    /// Shading (ms).
-    pub shade_ms: Option<f64>,
-    /// The exact reference's time (exact and difference modes).
-    pub reference_s: Option<f64>,
-    /// The frame against the exact reference (exact and difference modes).
-    pub vertex_rel_l2_vs_exact: Option<f64>,
-    /// The screenshot written.
-    pub screenshot: Option<PathBuf>,
-    /// `--leaves`: the screenshot written.
-    pub png: Option<PathBuf>,
+/// The headless GPU for `--screenshot`, refused when the image is larger than memory or than
+/// the device's textures.
+fn headless(args: &ViewArgs) -> Result<Headless> {
+    crate::resources::check_image(args.width, args.height, crate::resources::ImageCost::Screenshot)?;
+    let t = Instant::now();
+    let gpu = Gpu::headless()?;
+    let setup_ms = ms_since(t);
+    gpu.check_target((args.width, args.height), &format!("--width {} --height {}", args.width, args.height))?;
+    Ok(Headless { gpu, setup_ms })
 }
 
 /// `view --leaves`: the plant precomputed, then the leaf window (or a screenshot).
-fn run_leaves(args: &ViewArgs) -> Result<ViewOutcome> {
+fn run_leaves(args: &ViewArgs, gpu: Option<Headless>) -> Result<ViewOutcome> {
     let p = &args.plant;
     let material = crate::leaves::material(p)?;
     let t = Instant::now();
@@ -157,8 +60,7 @@ fn run_leaves(args: &ViewArgs) -> Result<ViewOutcome> {
     }
     session.set_edge_rays(p.sun_edge_rays);
     session.exposure = args.exposure;
-    if let Some(path) = &args.screenshot {
-        let gpu = Gpu::headless()?;
+    if let (Some(path), Some(Headless { gpu, .. })) = (&args.screenshot, gpu) {
         out.adapter = Some(gpu.describe());
         let t = Instant::now();
         let image = vcut_view::leaf_screenshot(&gpu, &mut session, args.width, args.height)?;
@@ -202,48 +104,23 @@ fn env_choices(current: &str) -> Vec<String> {
     v
 }
 
-/// What the viewer shows first (`--mode`).
-#[derive(clap::ValueEnum, Clone, Copy, PartialEq, Eq, Debug)]
-pub enum ViewMode {
-    /// The visibility cuts.
-    Cuts,
-    /// The exact-direction reference.
-    Exact,
-    /// The difference as a heat map.
-    #[value(alias = "diff")]
-    Difference,
-    /// Screen-space ambient occlusion (WGSL passes).
-    Ssao,
-    /// Screen-space directional occlusion (WGSL passes).
-    Ssdo,
-}
-
-impl ViewMode {
-    fn mode(self) -> Mode {
-        match self {
-            ViewMode::Cuts => Mode::Cuts,
-            ViewMode::Exact => Mode::Exact,
-            ViewMode::Difference => Mode::Difference,
-            ViewMode::Ssao => Mode::Ssao,
-            ViewMode::Ssdo => Mode::Ssdo,
-        }
-    }
-
-    fn name(self) -> &'static str {
-        match self {
-            ViewMode::Cuts => "cuts",
-            ViewMode::Exact => "exact",
-            ViewMode::Difference => "difference",
-            ViewMode::Ssao => "ssao",
-            ViewMode::Ssdo => "ssdo",
-        }
+/// The viewer's mode for `--mode`.
+fn mode(m: ViewMode) -> Mode {
+    match m {
+        ViewMode::Cuts => Mode::Cuts,
+        ViewMode::Exact => Mode::Exact,
+        ViewMode::Difference => Mode::Difference,
+        ViewMode::Ssao => Mode::Ssao,
+        ViewMode::Ssdo => Mode::Ssdo,
     }
 }
 
 /// Runs `view`: the window, or with `--screenshot` one frame into a PNG.
 pub fn run(args: &ViewArgs) -> Result<ViewOutcome> {
+    // A screenshot's GPU is set up first: a size it cannot render is refused before the frame.
+    let gpu = args.screenshot.as_ref().map(|_| headless(args)).transpose()?;
     if args.leaves {
-        return run_leaves(args);
+        return run_leaves(args, gpu);
     }
     let input = match (&args.input, &args.scene) {
         (Some(p), _) => p.clone(),
@@ -274,22 +151,22 @@ pub fn run(args: &ViewArgs) -> Result<ViewOutcome> {
     if args.env_rotation != 0.0 {
         session.set_env_rotation(args.env_rotation);
     }
-    session.set_mode(args.mode.mode())?;
+    session.set_mode(mode(args.mode))?;
     if let Some(path) = &args.screenshot {
-        return screenshot(args, &mut session, path);
+        let gpu = gpu.context("a screenshot's GPU is set up first")?;
+        return screenshot(args, &mut session, path, gpu);
     }
     window(args, session, (&input, summary), (env, env_name))?;
     Ok(ViewOutcome::default())
 }
 
 /// One frame of `session` with no window into the PNG `path`.
-fn screenshot(args: &ViewArgs, session: &mut Session, path: &std::path::Path) -> Result<ViewOutcome> {
+fn screenshot(args: &ViewArgs, session: &mut Session, path: &std::path::Path, gpu: Headless) -> Result<ViewOutcome> {
     let t = Instant::now();
     while session.step_reference(Duration::from_secs(3600)) {}
     let reference_s = t.elapsed().as_secs_f64();
-    let t = Instant::now();
-    let gpu = Gpu::headless()?;
-    let mut out = ViewOutcome { adapter: Some(gpu.describe()), gpu_setup_ms: Some(ms_since(t)), ..Default::default() };
+    let Headless { gpu, setup_ms } = gpu;
+    let mut out = ViewOutcome { adapter: Some(gpu.describe()), gpu_setup_ms: Some(setup_ms), ..Default::default() };
     let t = Instant::now();
     let image = vcut_view::screenshot(&gpu, session, args.width, args.height)?;
     out.screenshot_ms = Some(ms_since(t));
@@ -298,7 +175,7 @@ fn screenshot(args: &ViewArgs, session: &mut Session, path: &std::path::Path) ->
     out.mode = Some(args.mode.name());
     out.exposure = Some(session.exposure_in_use());
     out.shade_ms = Some(session.timings.shade_ms);
-    if matches!(args.mode.mode(), Mode::Exact | Mode::Difference) {
+    if matches!(mode(args.mode), Mode::Exact | Mode::Difference) {
         out.reference_s = Some(reference_s);
         out.vertex_rel_l2_vs_exact = session.reference_error();
     }

@@ -8,7 +8,7 @@
 mod data;
 mod frame;
 mod outcome;
-mod plant;
+pub mod plant;
 
 pub use crate::resources::EstimateArgs;
 pub use data::{AgainstOutcome, LeafEstimateOutcome, Precomputed, Prepared, StoreOutcome, bar, data_path, precompute};
@@ -36,10 +36,10 @@ pub struct LeavesArgs {
     #[arg(long, default_value = "builtin:sky")]
     pub env: String,
     /// Paths per vertex side of the reference (0: no reference).
-    #[arg(long, default_value_t = 1024)]
+    #[arg(long, default_value_t = 1024, value_parser = crate::options::whole::<u32>("reference-paths"), allow_hyphen_values = true)]
     pub reference_paths: u32,
     /// At most this many vertices get a reference (a spread subset; all of a small scene).
-    #[arg(long, default_value_t = 6500, value_parser = clap::value_parser!(u64).range(1..))]
+    #[arg(long, default_value_t = 6500, value_parser = crate::options::whole::<u64>("reference-vertices"), allow_hyphen_values = true)]
     pub reference_vertices: u64,
     /// Also split the error by light path (the sun and the environment, each whole and
     /// unscattered, the sun on the maps' own direction) and by gloss (the environment and the
@@ -47,10 +47,10 @@ pub struct LeavesArgs {
     #[arg(long)]
     pub breakdown: bool,
     /// Image width in pixels (1 to 16,384).
-    #[arg(long, default_value_t = 960, value_parser = crate::values::side, conflicts_with = "size")]
+    #[arg(long, default_value_t = 960, value_parser = crate::options::whole::<u32>("width"), conflicts_with = "size", allow_hyphen_values = true)]
     pub width: u32,
     /// Image height in pixels (1 to 16,384).
-    #[arg(long, default_value_t = 720, value_parser = crate::values::side, conflicts_with = "size")]
+    #[arg(long, default_value_t = 720, value_parser = crate::options::whole::<u32>("height"), conflicts_with = "size", allow_hyphen_values = true)]
     pub height: u32,
     /// The image size as WIDTHxHEIGHT (as --width and --height; kept for earlier scripts).
     #[arg(long)]
@@ -70,6 +70,7 @@ impl LeavesArgs {
 /// Runs `vcuts leaves`.
 pub fn run(args: &LeavesArgs) -> Result<LeavesOutcome> {
     let (w, h) = args.size();
+    crate::resources::check_image(w, h, crate::resources::ImageCost::Leaves)?;
     let p = &args.plant;
     let m = material(p)?;
     let t = Instant::now();

@@ -14,6 +14,7 @@ use vcut_leaf::prt::PrtParams;
 use vcut_leaf::scene::LeafScene;
 use vcut_leaf::shade::{Lighting, sun_at, sun_direction};
 use vcut_scene::Camera;
+use vcut_scene::limits::Limit;
 
 /// Where a plant comes from.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -57,36 +58,36 @@ pub struct PlantArgs {
     #[arg(long, default_value = "procedural")]
     pub plant: PlantSource,
     /// Leaves of the procedural plant (at least 1).
-    #[arg(long, default_value_t = 48, value_parser = clap::value_parser!(u32).range(1..=1_000_000))]
+    #[arg(long, default_value_t = 48, value_parser = crate::options::whole::<u32>("leaf-count"), allow_hyphen_values = true)]
     pub leaf_count: u32,
     /// Instead of --leaf-count: about this many leaf vertices (16 × 8 quads per leaf).
-    #[arg(long, value_parser = clap::value_parser!(u64).range(1..=100_000_000))]
+    #[arg(long, value_parser = crate::options::whole::<u64>("vertices"), allow_hyphen_values = true)]
     pub vertices: Option<u64>,
     /// Sun direction as ELEVATION,AZIMUTH in degrees (azimuth from +Z toward +X); default the map's.
     #[arg(long, allow_hyphen_values = true)]
     pub sun: Option<Pair>,
     /// Sun direction from a time of day in hours (6 = sunrise in the east, 12 = noon at 60°,
     /// 18 = sunset in the west); overrides --sun.
-    #[arg(long, value_parser = hours)]
+    #[arg(long, value_parser = crate::options::real("time-of-day"), allow_hyphen_values = true)]
     pub time_of_day: Option<f32>,
     /// Sun disk diameter in degrees (above 0, below 180).
-    #[arg(long, default_value_t = 0.53, value_parser = sun_diameter)]
+    #[arg(long, default_value_t = 0.53, value_parser = crate::options::real("sun-diameter"), allow_hyphen_values = true)]
     pub sun_diameter: f32,
     /// LVC cube face resolution (6·R² sun directions).
-    #[arg(long, default_value_t = 32, value_parser = clap::value_parser!(u32).range(1..=1024))]
+    #[arg(long, default_value_t = 32, value_parser = crate::options::whole::<u32>("lvc-resolution"), allow_hyphen_values = true)]
     pub lvc_resolution: u32,
     /// Store the paper's cosine-weighted V in the maps instead of the visibility alone.
     #[arg(long)]
     pub cosine_baked: bool,
     /// PRT rays per vertex side.
-    #[arg(long, default_value_t = 256, value_parser = clap::value_parser!(u32).range(1..=1_000_000))]
+    #[arg(long, default_value_t = 256, value_parser = crate::options::whole::<u32>("prt-rays"), allow_hyphen_values = true)]
     pub prt_rays: u32,
     /// Rays per vertex toward the true sun where the maps around its direction disagree (a
     /// shadow edge passes between them); 0: those maps blended only.
-    #[arg(long, default_value_t = 4, value_parser = clap::value_parser!(u32).range(0..=4096))]
+    #[arg(long, default_value_t = 4, value_parser = crate::options::whole::<u32>("sun-edge-rays"), allow_hyphen_values = true)]
     pub sun_edge_rays: u32,
     /// PRT scatterings in the indirect transfer.
-    #[arg(long, default_value_t = 3, value_parser = clap::value_parser!(u32).range(0..=64))]
+    #[arg(long, default_value_t = 3, value_parser = crate::options::whole::<u32>("bounces"), allow_hyphen_values = true)]
     pub bounces: u32,
     /// Leaf reflectance R,G,B (with --transmittance and --thickness: the tissue is fitted).
     #[arg(long, requires = "transmittance")]
@@ -95,7 +96,7 @@ pub struct PlantArgs {
     #[arg(long, requires = "reflectance")]
     pub transmittance: Option<Rgb>,
     /// Leaf thickness (mm, finite and above 0).
-    #[arg(long, value_parser = thickness)]
+    #[arg(long, value_parser = crate::options::real("thickness"), allow_hyphen_values = true)]
     pub thickness: Option<f32>,
     /// Absorption σ_a R,G,B (per mm), instead of a fit.
     #[arg(long)]
@@ -125,30 +126,21 @@ pub struct PlantArgs {
     pub estimate: crate::resources::EstimateArgs,
 }
 
-fn finite_in(s: &str, lo: f32, hi: f32, what: &str) -> Result<f32, String> {
-    s.parse::<f32>().ok().filter(|x| x.is_finite() && *x > lo && *x < hi).ok_or_else(|| format!("{s:?}: {what}"))
-}
-
-fn hours(s: &str) -> Result<f32, String> {
-    s.parse::<f32>()
-        .ok()
-        .filter(|h| (0.0..=24.0).contains(h))
-        .ok_or_else(|| format!("{s:?}: must be an hour of the day, 0 to 24"))
-}
-
-fn sun_diameter(s: &str) -> Result<f32, String> {
-    finite_in(s, 0.0, 180.0, "must be a diameter in degrees above 0 and below 180")
-}
-
-fn thickness(s: &str) -> Result<f32, String> {
-    finite_in(s, 0.0, f32::INFINITY, "must be a finite thickness in mm above 0")
-}
+/// `--time-of-day`.
+pub const HOURS: Limit = Limit::within(0.0, 24.0, "hours");
+/// `--sun-diameter`.
+pub const SUN_DIAMETER: Limit = Limit::between(0.0, 180.0, "degrees");
+/// `--thickness`.
+pub const THICKNESS: Limit = Limit::above(0.0, "mm");
+/// The specular albedo of `--gloss-top`, `--gloss-bottom`.
+pub const RHO_S: Limit = Limit::at_least(0.0, "");
+/// The roughness of `--gloss-top`, `--gloss-bottom`.
+pub const ROUGHNESS: Limit = Limit::above(0.0, "");
 
 fn gloss(s: &str) -> Result<Pair, String> {
     let p: Pair = s.parse()?;
-    if p.0 < 0.0 || p.1 <= 0.0 {
-        return Err(format!("{s:?}: need ρ_s ≥ 0 and roughness > 0"));
-    }
+    RHO_S.check(f64::from(p.0)).map_err(|r| format!("{s:?}: ρ_s {r}"))?;
+    ROUGHNESS.check(f64::from(p.1)).map_err(|r| format!("{s:?}: roughness {r}"))?;
     Ok(p)
 }
 

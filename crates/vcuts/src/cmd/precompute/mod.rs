@@ -42,16 +42,16 @@ pub struct PrecomputeArgs {
     #[arg(long)]
     pub directions: Option<u32>,
     /// SVC error threshold.
-    #[arg(long)]
+    #[arg(long, value_parser = crate::options::real64("svc-max-error"), allow_hyphen_values = true)]
     pub svc_max_error: Option<f64>,
     /// Field spheres.
-    #[arg(long)]
+    #[arg(long, value_parser = crate::options::whole::<u32>("field-spheres"), allow_hyphen_values = true)]
     pub field_spheres: Option<u32>,
     /// Field cube-map resolution per face.
-    #[arg(long)]
+    #[arg(long, value_parser = crate::options::whole::<u32>("field-resolution"), allow_hyphen_values = true)]
     pub field_resolution: Option<u32>,
     /// Field error threshold (0 = exact, below 0.25).
-    #[arg(long)]
+    #[arg(long, value_parser = crate::options::real64("field-max-error"), allow_hyphen_values = true)]
     pub field_max_error: Option<f64>,
     /// Any parameter as KEY=VALUE (repeatable); `--set help` lists them.
     #[arg(long = "set", value_name = "KEY=VALUE")]
@@ -63,7 +63,7 @@ pub struct PrecomputeArgs {
     #[arg(long)]
     pub fresh: bool,
     /// Print the cut sections with their estimated cost and their split over N shards, and stop.
-    #[arg(long, value_name = "N", conflicts_with_all = ["shard", "gather"])]
+    #[arg(long, value_name = "N", value_parser = crate::options::whole::<u32>("plan"), conflicts_with_all = ["shard", "gather"], allow_hyphen_values = true)]
     pub plan: Option<u32>,
     /// Compute only shard I of N (0-based) into `<output>.shard-I-of-N.vcuts`; `env/N` takes I
     /// from SLURM_ARRAY_TASK_ID, JOB_COMPLETION_INDEX or AWS_BATCH_JOB_ARRAY_INDEX.

@@ -1,0 +1,130 @@
+//! The arguments and the outcome of `vcuts view`, built with or without the viewer (the
+//! feature `viewer`), so the options table and the command line are the same in both builds;
+//! the viewer itself is `super::view`.
+
+use serde::Serialize;
+use std::path::PathBuf;
+
+/// Arguments of `view`.
+#[derive(clap::Args, Clone)]
+pub struct ViewArgs {
+    /// The precomputed file (from `cargo xtask precompute`); default: `--scene` precomputed.
+    pub input: Option<PathBuf>,
+    /// Precompute this scene first (cached in target/vcuts/ like the demo's) and view it.
+    #[arg(long, conflicts_with = "input")]
+    pub scene: Option<String>,
+    /// Preset for `--scene`.
+    #[arg(long, default_value = "fast")]
+    pub preset: String,
+    /// Environment map (default: the data's).
+    #[arg(long)]
+    pub env: Option<String>,
+    /// How maps are reconstructed between texel centres and integrated: box or bilinear
+    /// (lat-long maps). Default: the data's (box).
+    #[arg(long)]
+    pub reconstruction: Option<vcut_envmap::Reconstruction>,
+    /// Start from this scene camera (default: the scene's first).
+    #[arg(long)]
+    pub camera: Option<String>,
+    /// Move an object first: NAME=dx,dy,dz (repeatable).
+    #[arg(long = "move", value_name = "NAME=DX,DY,DZ", allow_hyphen_values = true)]
+    pub moves: Vec<crate::values::Move>,
+    /// Edit a BRDF first: NAME=MODEL[:KEY=VALUE,...] (repeatable).
+    #[arg(long = "brdf", value_name = "NAME=SPEC")]
+    pub brdfs: Vec<crate::values::BrdfEdit>,
+    /// Environment rotation about +Y, degrees (finite).
+    #[arg(long, default_value_t = 0.0, allow_hyphen_values = true, value_parser = crate::options::real("env-rotation"))]
+    pub env_rotation: f32,
+    /// Exposure before tone mapping (finite, above 0; default: automatic).
+    #[arg(long, value_parser = crate::options::real("exposure"), allow_hyphen_values = true)]
+    pub exposure: Option<f32>,
+    /// What to show: cuts, exact (the exact-direction reference), difference (heat map), or
+    /// the screen-space methods ssao and ssdo (WGSL passes, no precomputation).
+    #[arg(long, value_enum, default_value_t = ViewMode::Cuts)]
+    pub mode: ViewMode,
+    /// Render one frame with no window into this PNG and exit.
+    #[arg(long)]
+    pub screenshot: Option<PathBuf>,
+    /// Screenshot width in pixels (1 to 16,384).
+    #[arg(long, default_value_t = 1280, value_parser = crate::options::whole::<u32>("width"), allow_hyphen_values = true)]
+    pub width: u32,
+    /// Screenshot height in pixels (1 to 16,384).
+    #[arg(long, default_value_t = 720, value_parser = crate::options::whole::<u32>("height"), allow_hyphen_values = true)]
+    pub height: u32,
+    /// Close the window after this many frames (scripted runs).
+    #[arg(long, value_parser = crate::options::whole::<u64>("frames"), allow_hyphen_values = true)]
+    pub frames: Option<u64>,
+    /// Re-merge at every mouse move while dragging if a move costs less than this (ms; finite,
+    /// at least 0).
+    #[arg(long, default_value_t = 120.0, value_parser = crate::options::real64("live-move-ms"), allow_hyphen_values = true)]
+    pub live_move_ms: f64,
+    /// The frame's settings, as `render`'s (`--no-sun-rays` starts with the panel's "sun by
+    /// rays" box unticked, `--light-error` sets its slider, `--flat-edge-leaves interactive`
+    /// ticks "ground edges estimated").
+    #[command(flatten)]
+    pub frame: vcut_shade::FrameArgs,
+    /// The plant-leaf viewer instead (`vcut-leaf`: the plant precomputed first, then the sun,
+    /// method, level of detail and leaf panel); the plant options below apply.
+    #[arg(long, conflicts_with_all = ["input", "scene"])]
+    pub leaves: bool,
+    /// The plant, leaves and sun (with --leaves).
+    #[command(flatten)]
+    pub plant: crate::leaves::PlantArgs,
+}
+
+/// What `view --screenshot` measured and wrote (nothing for a window).
+#[derive(Debug, Clone, Default, Serialize)]
+pub struct ViewOutcome {
+    /// `--leaves`: where the leaf data is and what was done to get it.
+    #[serde(flatten)]
+    pub store: Option<crate::leaves::StoreOutcome>,
+    /// The wgpu adapter.
+    pub adapter: Option<String>,
+    /// Setting the GPU up (ms).
+    pub gpu_setup_ms: Option<f64>,
+    /// The screenshot's frame (ms).
+    pub screenshot_ms: Option<f64>,
+    /// What it shows.
+    pub mode: Option<&'static str>,
+    /// Its exposure.
+    pub exposure: Option<f32>,
+    /// Shading (ms).
+    pub shade_ms: Option<f64>,
+    /// The exact reference's time (exact and difference modes).
+    pub reference_s: Option<f64>,
+    /// The frame against the exact reference (exact and difference modes).
+    pub vertex_rel_l2_vs_exact: Option<f64>,
+    /// The screenshot written.
+    pub screenshot: Option<PathBuf>,
+    /// `--leaves`: the screenshot written.
+    pub png: Option<PathBuf>,
+}
+
+/// What the viewer shows first (`--mode`).
+#[derive(clap::ValueEnum, Clone, Copy, PartialEq, Eq, Debug)]
+pub enum ViewMode {
+    /// The visibility cuts.
+    Cuts,
+    /// The exact-direction reference.
+    Exact,
+    /// The difference as a heat map.
+    #[value(alias = "diff")]
+    Difference,
+    /// Screen-space ambient occlusion (WGSL passes).
+    Ssao,
+    /// Screen-space directional occlusion (WGSL passes).
+    Ssdo,
+}
+
+impl ViewMode {
+    /// The mode's name, as `--mode` takes it.
+    pub fn name(self) -> &'static str {
+        match self {
+            ViewMode::Cuts => "cuts",
+            ViewMode::Exact => "exact",
+            ViewMode::Difference => "difference",
+            ViewMode::Ssao => "ssao",
+            ViewMode::Ssdo => "ssdo",
+        }
+    }
+}
