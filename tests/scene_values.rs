@@ -138,25 +138,28 @@ fn the_defaults_and_the_built_in_scenes_pass_the_checks() {
     }
 }
 
-/// A placement f32 cannot hold — so far out that a triangle's corners round onto one line, or
-/// scaled down until its area underflows — is refused as the scene loads (naming the file, the
-/// object, the keys and the spacing f32 keeps there), not by the renderer after a precompute.
+/// A placement f32 cannot hold — so far out that a triangle's corners round onto one line or
+/// its positions round by more than 2^-12 of its radius, or scaled down until its area
+/// underflows — is refused as the scene loads (naming the file, the object, the keys and the
+/// spacing f32 keeps there), not by the renderer after a precompute.
 #[test]
 fn placements_f32_cannot_hold_are_refused_as_the_scene_loads() {
     let cases = [
-        ("translation = [0, 0, 1e38]", "translation = [0.0, 0.0, 1e38]"),
-        ("instances = [[0, 0, 0], [1e38, 0, 0]]", "instances[1] = [1e38, 0.0, 0.0]"),
-        ("stand_height = 1e-30", "stand_height = 1e-30"),
+        ("box", "translation = [0, 0, 1e38]", "translation = [0.0, 0.0, 1e38]", "zero area"),
+        ("box", "instances = [[0, 0, 0], [1e38, 0, 0]]", "instances[1] = [1e38, 0.0, 0.0]", "zero area"),
+        ("box", "stand_height = 1e-30", "stand_height = 1e-30", "zero area"),
+        // A sphere's vertices are not on a grid f32 keeps exactly out there, as a box's are.
+        ("sphere", "translation = [1e4, 0, 0]", "translation = [10000.0, 0.0, 0.0]", "round by up to"),
     ];
-    for (key, says) in cases {
-        let toml = format!("[[object]]\nname = \"b\"\nsource = \"builtin:box\"\n{key}");
+    for (shape, key, says, why) in cases {
+        let toml = format!("[[object]]\nname = \"b\"\nsource = \"builtin:{shape}\"\n{key}");
         let msg = refused(&toml, ONE_GB).to_string();
-        for part in ["scene.toml", "object 0", says, "zero area", "f32 holds a position that far out only to"] {
+        for part in ["scene.toml", "object 0", says, why, "f32 holds a position that far out only to"] {
             assert!(msg.contains(part), "'{part}' missing from: {msg}\n{toml}");
         }
     }
-    // Far out but every triangle still whole in f32: loaded.
-    let toml = "[[object]]\nsource = \"builtin:box\"\ntranslation = [1000, 0, 0]";
+    // Far out but kept to 2^-12 of its radius: loaded.
+    let toml = "[[object]]\nsource = \"builtin:sphere\"\ntranslation = [1000, 0, 0]";
     let desc = SceneDesc::parse(toml, Path::new("scene.toml")).unwrap();
     desc.instantiate_within(Path::new("."), Path::new("scene.toml"), &ONE_GB).unwrap();
 }

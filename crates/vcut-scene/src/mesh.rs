@@ -103,21 +103,24 @@ pub enum MeshError {
     /// More vertices than 32-bit indices address.
     #[error("{0} vertices exceed the 32-bit index range")]
     TooLarge(usize),
-    /// Placed there (moved, scaled), the mesh would break an invariant in f32: a position
-    /// overflows, or a triangle's corners round onto one line ([`Mesh::placed`]).
-    #[error(
-        "placed there, {reason}: f32 holds a position that far out only to {spacing:e} scene units, \
-         and the mesh's shortest edge is {shortest_edge:e}"
-    )]
+    /// Placed there (moved, scaled), the mesh would not keep its shape in f32: a position
+    /// overflows, a triangle's corners round onto one line, or its positions round by more than
+    /// [`PLACEMENT_TOLERANCE`] of its bounding radius ([`Mesh::place`], [`Mesh::placed`]).
+    #[error("placed there, {reason}: f32 holds a position that far out only to {spacing:e} scene units")]
     Placement {
-        /// What breaks (`triangle 12 has zero area`, `vertex 3 overflows`).
+        /// What breaks (`triangle 12 has zero area`, `vertex 3 is not finite`, `its positions
+        /// round by up to …`).
         reason: String,
         /// The spacing of f32 values at the largest coordinate of the placed mesh.
         spacing: f32,
-        /// The mesh's shortest edge before it is placed.
-        shortest_edge: f32,
     },
 }
+
+/// How far a placement may round a mesh's positions, as a share of its bounding radius
+/// ([`Mesh::place`], [`Mesh::placed`]): 2^-12, so an object keeps its shape to 12 bits across
+/// its size wherever it is put, while a part of a metre-wide assembly may still move a
+/// kilometre.
+pub const PLACEMENT_TOLERANCE: f64 = 1.0 / 4096.0;
 
 /// A triangle mesh with unit per-vertex normals. Invariants (checked by [`Mesh::build`], re-checked
 /// by [`Mesh::validate`]): positions finite, normals unit length and as many as positions, every
@@ -352,44 +355,69 @@ impl Mesh {
     }
 
     /// [`Mesh::transform`], refused (and the mesh left as it was) when the placed mesh would
-    /// break an invariant: a scene's `translation`, `scale` and `instances` go through this, so
-    /// a placement f32 cannot hold fails as the scene loads, before any precompute.
+    /// not keep its shape in f32 ([`MeshError::Placement`]): a scene's `translation`, `scale`
+    /// and `instances` go through this, so a placement f32 cannot hold fails as the scene loads,
+    /// before any precompute.
     pub fn place(&mut self, m: glam::Mat4) -> Result<(), MeshError> {
+        let linear = glam::DMat3::from_mat4(m.as_dmat4());
         let placed: Vec<Vec3> = self.positions.iter().map(|&p| m.transform_point3(p)).collect();
-        self.check_positions(&placed)?;
+        self.check_placed(&placed, m.w_axis.truncate().as_dvec3(), |p| linear * p.as_dvec3())?;
         self.transform(m);
         Ok(())
     }
 
     /// Checks that the mesh translated by `t` (each position `p + t`, as a frame places a moved
-    /// object) keeps every invariant: finite positions and triangles of non-zero area.
+    /// object) keeps its shape in f32, as [`Mesh::place`] does.
     pub fn placed(&self, t: Vec3) -> Result<(), MeshError> {
         let placed: Vec<Vec3> = self.positions.iter().map(|&p| p + t).collect();
-        self.check_positions(&placed)
+        self.check_placed(&placed, t.as_dvec3(), |p| p.as_dvec3())
     }
 
-    /// `positions` (this mesh's, placed) keep every position finite and every triangle's area
-    /// non-zero, the invariants a placement can break ([`Mesh::validate`] checks the same way).
-    fn check_positions(&self, positions: &[Vec3]) -> Result<(), MeshError> {
+    /// `positions` (this mesh's, placed in f32 at `origin`; `linear` turns and scales one
+    /// position exactly, in f64) keep every position finite, every triangle's area non-zero, and
+    /// every position within [`PLACEMENT_TOLERANCE`] × the mesh's placed radius of where it
+    /// belongs. Offsets from `origin` are compared, not positions: f64 cannot hold a small
+    /// offset far out either, while an f32 position less `origin` is exact in f64.
+    fn check_placed(
+        &self,
+        positions: &[Vec3],
+        origin: glam::DVec3,
+        linear: impl Fn(Vec3) -> glam::DVec3,
+    ) -> Result<(), MeshError> {
+        let offsets: Vec<glam::DVec3> = self.positions.iter().map(|&p| linear(p)).collect();
+        // Half the placed mesh's bounding box's diagonal: a scale shrinks the rounding it may
+        // take.
+        let radius = || {
+            let lo = offsets.iter().copied().fold(glam::DVec3::INFINITY, glam::DVec3::min);
+            let hi = offsets.iter().copied().fold(glam::DVec3::NEG_INFINITY, glam::DVec3::max);
+            0.5 * lo.distance(hi)
+        };
+        let rounding = || {
+            offsets
+                .iter()
+                .zip(positions)
+                .map(|(e, q)| (q.as_dvec3() - origin - *e).abs().max_element())
+                .fold(0.0f64, f64::max)
+        };
         let reason = if let Some(v) = positions.iter().position(|p| !p.is_finite()) {
-            format!("vertex {v} overflows")
+            format!("vertex {v} is not finite")
         } else if let Some(t) = self.triangles.iter().position(|t| {
             let [a, b, c] = t.map(|i| positions[i as usize]);
             (b - a).cross(c - a).length_squared() == 0.0
         }) {
             format!("triangle {t} has zero area")
+        } else if rounding() > PLACEMENT_TOLERANCE * radius() {
+            format!(
+                "its positions round by up to {:.3e}, more than {PLACEMENT_TOLERANCE:e} of its radius {:.3e}",
+                rounding(),
+                radius()
+            )
         } else {
             return Ok(());
         };
         let far = positions.iter().map(|p| p.abs().max_element()).fold(0.0f32, f32::max);
         let spacing = if far.is_finite() { (far.next_up() - far).max(f32::MIN_POSITIVE) } else { f32::INFINITY };
-        let shortest_edge = self
-            .triangles
-            .iter()
-            .flat_map(|t| (0..3).map(move |k| (t[k], t[(k + 1) % 3])))
-            .map(|(i, j)| self.positions[i as usize].distance(self.positions[j as usize]))
-            .fold(f32::INFINITY, f32::min);
-        Err(MeshError::Placement { reason, spacing, shortest_edge })
+        Err(MeshError::Placement { reason, spacing })
     }
 
     /// Texture coordinates per vertex (glTF's `TEXCOORD_0`), when the mesh has them.
@@ -540,6 +568,30 @@ mod tests {
             assert!(n.distance(Vec3::Y) < 1e-6, "{n}");
         }
         m.validate().unwrap();
+    }
+
+    #[test]
+    fn placements_are_held_to_their_rounding() {
+        let (p, t) = quad();
+        // Off the grid f32 keeps exactly far out, as real meshes are.
+        let p = p.into_iter().map(|p| p * 0.3 + Vec3::splat(0.01)).collect();
+        let (m, _) = Mesh::build(p, None, t, MeshOptions::default()).unwrap();
+        let reason = |r: Result<(), MeshError>| match r {
+            Err(MeshError::Placement { reason, .. }) => reason,
+            other => panic!("{other:?}"),
+        };
+        m.placed(Vec3::splat(10.0)).unwrap();
+        // Out along x the quad (in the xz plane) flattens; out along y it keeps its area but
+        // not its shape, even where f64 could not hold the offsets either.
+        assert!(reason(m.placed(Vec3::new(1e30, 0.0, 0.0))).contains("zero area"));
+        assert!(reason(m.placed(Vec3::new(0.0, 1e30, 0.0))).contains("round by up to"));
+        assert!(reason(m.placed(Vec3::new(0.0, f32::INFINITY, 0.0))).contains("not finite"));
+        // The same small copy is held at the origin and refused far out.
+        let small = |at: Vec3| glam::Mat4::from_scale_rotation_translation(Vec3::splat(1e-3), glam::Quat::IDENTITY, at);
+        m.clone().place(small(Vec3::ZERO)).unwrap();
+        let mut far = m.clone();
+        assert!(reason(far.place(small(Vec3::splat(100.0)))).contains("round by up to"));
+        assert_eq!(far.positions(), m.positions(), "a refused placement changed the mesh");
     }
 
     #[test]

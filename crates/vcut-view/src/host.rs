@@ -147,13 +147,16 @@ impl<A: WindowApp> Host<A> {
         let raw = state.egui_state.take_egui_input(&state.window);
         let ctx = state.egui_ctx.clone();
         let mut panel_points = 0.0;
-        let output = ctx.run_ui(raw, |ui| panel_points = self.app.panel(ui, self.frame_ms, &self.status));
+        let mut output = ctx.run_ui(raw, |ui| panel_points = self.app.panel(ui, self.frame_ms, &self.status));
         let size = (state.config.width, state.config.height);
         let left = (panel_points * output.pixels_per_point).round().clamp(0.0, size.0 as f32 - 1.0);
         self.viewport = Viewport { x: left, y: 0.0, width: size.0 as f32 - left, height: size.1 as f32 };
         let view = texture.texture.create_view(&Default::default());
         let mut encoder = state.gpu.device.create_command_encoder(&Default::default());
         if let Err(e) = self.app.draw(state, &mut encoder, &view, self.viewport, &mut self.status) {
+            // The frame is not painted: its texture changes are dropped on purpose (egui
+            // asserts in debug builds that none is dropped unapplied).
+            output.textures_delta.clear();
             return self.fail(event_loop, e);
         }
         let repaint = output.viewport_output.values().any(|v| v.repaint_delay.is_zero());

@@ -143,11 +143,11 @@ impl WindowState {
         output: egui::FullOutput,
     ) {
         let size = (self.config.width, self.config.height);
-        self.egui_state.handle_platform_output(&self.window, output.platform_output);
-        let primitives = self.egui_ctx.tessellate(output.shapes, output.pixels_per_point);
-        let screen =
-            egui_wgpu::ScreenDescriptor { size_in_pixels: [size.0, size.1], pixels_per_point: output.pixels_per_point };
-        for (id, deltas) in &output.textures_delta.set {
+        let egui::FullOutput { platform_output, mut textures_delta, shapes, pixels_per_point, .. } = output;
+        self.egui_state.handle_platform_output(&self.window, platform_output);
+        let primitives = self.egui_ctx.tessellate(shapes, pixels_per_point);
+        let screen = egui_wgpu::ScreenDescriptor { size_in_pixels: [size.0, size.1], pixels_per_point };
+        for (id, deltas) in &textures_delta.set {
             for delta in deltas {
                 self.egui_renderer.update_texture(&self.gpu.device, &self.gpu.queue, *id, delta);
             }
@@ -172,9 +172,12 @@ impl WindowState {
                 .forget_lifetime();
             self.egui_renderer.render(&mut pass, &primitives, &screen);
         }
-        for id in &output.textures_delta.free {
+        for id in &textures_delta.free {
             self.egui_renderer.free_texture(id);
         }
+        // Every delta is applied above; egui asserts (in debug builds) that none is dropped
+        // unapplied.
+        textures_delta.clear();
         self.gpu.queue.submit(extra.into_iter().chain([encoder.finish()]));
         self.gpu.queue.present(texture);
     }

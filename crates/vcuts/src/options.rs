@@ -94,7 +94,7 @@ pub const OTHER_VALUES: &[(&str, &str)] = &[
     ("directions", "a power of two from 64 to 65,536"),
     ("flat-edge-leaves", "a power of two (1: exact), or `interactive`"),
     ("field-reach", "or `outermost`"),
-    ("move", "NAME=DX,DY,DZ: finite, and a place the object's mesh keeps its triangles at in f32"),
+    ("move", "NAME=DX,DY,DZ: finite, and a place where f32 keeps the object's shape (to 2^-12 of its radius)"),
     ("brdf", "NAME=MODEL[:KEY=VALUE,...]: kd, ks in [0, 1]; exponent ≥ 0; roughness in (0, 1]"),
     ("size", "WIDTHxHEIGHT, each a whole number in [1, 16384] pixels"),
     ("sun", "ELEVATION,AZIMUTH: two finite numbers of degrees"),
