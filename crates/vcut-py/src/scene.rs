@@ -19,7 +19,7 @@ pub(crate) struct Scene {
 #[pymethods]
 impl Scene {
     /// Opens `spec`: `builtin:teapot`, `builtin:bunny`, `builtin:spheres`,
-    /// `builtin:showroom[:N]`, a `.toml` scene file, or a mesh (`.gltf`, `.glb`, `.obj`, `.ply`).
+    /// `builtin:showroom[:N]`, `builtin:assembly[:N]`, a `.toml` scene file, or a mesh (`.gltf`, `.glb`, `.obj`, `.ply`).
     #[new]
     fn new(py: Python<'_>, spec: String) -> PyResult<Self> {
         let scene = py.detach(|| vcut_scene::Scene::open(&spec)).map_err(error)?;

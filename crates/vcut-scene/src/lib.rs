@@ -225,7 +225,7 @@ impl Scene {
         if let Some(name) = spec.strip_prefix("builtin:") {
             let desc = scenes::builtin(name).ok_or_else(|| SceneError::UnknownBuiltin {
                 name: spec.into(),
-                known: "builtin:teapot, builtin:bunny, builtin:spheres, builtin:showroom[:N] (N objects, 1 to 1024)",
+                known: "builtin:teapot, builtin:bunny, builtin:spheres, builtin:showroom[:N], builtin:assembly[:N] (N objects, 1 to 1024)",
             })?;
             return desc.instantiate(Path::new("."), Path::new(spec));
         }
@@ -339,9 +339,40 @@ mod tests {
             .map(|o| o.name.split('-').next().unwrap().to_string())
             .collect();
         assert_eq!(kinds.len(), 5, "{kinds:?}");
-        for bad in ["builtin:showroom:0", "builtin:showroom:1025", "builtin:showroom:x", "builtin:showroomy"] {
+        for bad in [
+            "builtin:showroom:0",
+            "builtin:showroom:1025",
+            "builtin:showroom:x",
+            "builtin:showroomy",
+            "builtin:assembly:0",
+        ] {
             let e = Scene::open(bad).unwrap_err();
             assert!(e.to_string().contains("showroom[:N]"), "{bad}: {e}");
+        }
+    }
+
+    /// The assembly is the showroom packed: the same objects, neighbours nearly touching.
+    #[test]
+    fn the_assembly_packs_the_showroom_objects_nearly_touching() {
+        let (a, s) = (Scene::open("builtin:assembly:9").unwrap(), Scene::open("builtin:showroom:9").unwrap());
+        let names = |s: &Scene| s.objects.iter().map(|o| o.name.clone()).collect::<Vec<_>>();
+        assert_eq!(names(&a), names(&s));
+        let movers: Vec<_> =
+            a.objects.iter().filter(|o| o.motion == Motion::Movable).map(|o| o.mesh.bounds()).collect();
+        // Each object's nearest neighbour (by bounding boxes in the ground's plane) is within
+        // 0.35 units (the showroom's are 1.5 or more apart).
+        for (i, b) in movers.iter().enumerate() {
+            let gap = movers
+                .iter()
+                .enumerate()
+                .filter(|(j, _)| *j != i)
+                .map(|(_, d)| {
+                    let dx = (d.min.x - b.max.x).max(b.min.x - d.max.x);
+                    let dz = (d.min.z - b.max.z).max(b.min.z - d.max.z);
+                    dx.max(dz)
+                })
+                .fold(f32::INFINITY, f32::min);
+            assert!(gap < 0.35, "object {i}: nearest gap {gap}");
         }
     }
 

@@ -10,12 +10,15 @@
 //!   [`SHOWROOM_MAX`]): teapots, spheres, tori and boxes of mixed sizes, 3 units apart on a
 //!   square grid over a ground plane, every one movable — the many-object scene of the scaling
 //!   bench (about 530 vertices an object: N = 64 is 36,641 vertices with the ground).
+//! - `assembly` (or `assembly:N`, as many objects as `showroom` takes): the showroom's objects
+//!   [`ASSEMBLY_SPACING`] apart, where neighbours nearly touch — a dense arrangement, where
+//!   every receiver sits next to the fields that shadow it.
 
 use crate::desc::{CameraDesc, EnvironmentDesc, ObjectDesc, SceneDesc};
 use crate::material::Material;
 
-/// Names accepted by [`builtin`] (`showroom` also as `showroom:N`).
-pub const BUILTIN_SCENES: [&str; 4] = ["teapot", "bunny", "spheres", "showroom"];
+/// Names accepted by [`builtin`] (`showroom` and `assembly` also as `NAME:N`).
+pub const BUILTIN_SCENES: [&str; 5] = ["teapot", "bunny", "spheres", "showroom", "assembly"];
 
 /// Objects of `builtin:showroom` without a count.
 pub const SHOWROOM_DEFAULT: usize = 16;
@@ -23,16 +26,21 @@ pub const SHOWROOM_DEFAULT: usize = 16;
 pub const SHOWROOM_MAX: usize = 1024;
 /// Distance between neighbouring objects of the showroom.
 pub const SHOWROOM_SPACING: f32 = 3.0;
+/// Distance between neighbouring objects of the assembly: the showroom's objects are 0.96 to
+/// 1.9 units across, so each stands within 0.35 units of a neighbour, some closer than 0.01.
+pub const ASSEMBLY_SPACING: f32 = 1.55;
 
 /// The description of built-in scene `name`, if there is one.
 pub fn builtin(name: &str) -> Option<SceneDesc> {
-    if let Some(count) = name.strip_prefix("showroom") {
-        let count = match count.strip_prefix(':') {
-            None if count.is_empty() => SHOWROOM_DEFAULT,
-            Some(n) => n.parse().ok().filter(|n| (1..=SHOWROOM_MAX).contains(n))?,
-            None => return None,
-        };
-        return Some(showroom(count));
+    for (prefix, spacing) in [("showroom", SHOWROOM_SPACING), ("assembly", ASSEMBLY_SPACING)] {
+        if let Some(count) = name.strip_prefix(prefix) {
+            let count = match count.strip_prefix(':') {
+                None if count.is_empty() => SHOWROOM_DEFAULT,
+                Some(n) => n.parse().ok().filter(|n| (1..=SHOWROOM_MAX).contains(n))?,
+                None => return None,
+            };
+            return Some(grid(count, spacing));
+        }
     }
     let ground = |size: f32, res: u32| ObjectDesc {
         name: Some("ground".into()),
@@ -125,9 +133,19 @@ pub fn builtin(name: &str) -> Option<SceneDesc> {
 /// turn, their sizes cycling through five factors so shapes and sizes mix) on a square grid
 /// [`SHOWROOM_SPACING`] apart, over a ground plane 2 units wider than the grid on every side.
 pub fn showroom(count: usize) -> SceneDesc {
+    grid(count, SHOWROOM_SPACING)
+}
+
+/// `builtin:assembly:COUNT`: the showroom's objects [`ASSEMBLY_SPACING`] apart.
+pub fn assembly(count: usize) -> SceneDesc {
+    grid(count, ASSEMBLY_SPACING)
+}
+
+/// The showroom's objects on a square grid `spacing` apart.
+fn grid(count: usize, spacing: f32) -> SceneDesc {
     let cols = (count as f64).sqrt().ceil().max(1.0) as usize;
     let rows = count.div_ceil(cols);
-    let at = |i: usize, n: usize| (i as f32 - (n as f32 - 1.0) / 2.0) * SHOWROOM_SPACING;
+    let at = |i: usize, n: usize| (i as f32 - (n as f32 - 1.0) / 2.0) * spacing;
     let mut objects: Vec<ObjectDesc> = (0..count)
         .map(|i| {
             let (x, z) = (at(i % cols, cols), at(i / cols, rows));
@@ -176,7 +194,7 @@ pub fn showroom(count: usize) -> SceneDesc {
             }
         })
         .collect();
-    let side = cols.max(rows) as f32 * SHOWROOM_SPACING + 4.0;
+    let side = cols.max(rows) as f32 * spacing + 4.0;
     objects.push(ObjectDesc {
         name: Some("ground".into()),
         source: "builtin:plane".into(),

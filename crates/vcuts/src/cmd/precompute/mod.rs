@@ -25,7 +25,7 @@ use vcut_scene::{Scene, SceneDesc};
 /// Arguments of `precompute`.
 #[derive(clap::Args, Clone)]
 pub struct PrecomputeArgs {
-    /// The scene: builtin:teapot | builtin:bunny | builtin:spheres | builtin:showroom[:N], a .toml scene file, or a mesh.
+    /// The scene: builtin:teapot | builtin:bunny | builtin:spheres | builtin:showroom[:N] | builtin:assembly[:N], a .toml scene file, or a mesh.
     #[arg(long, default_value = "builtin:teapot")]
     pub scene: String,
     /// Environment to record for rendering (default: the scene's own); checked to load.
