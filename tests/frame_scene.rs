@@ -5,6 +5,7 @@ use std::path::{Path, PathBuf};
 use vcut_data::Precomputed;
 
 /// A ground and a movable ball above it.
+#[allow(dead_code)]
 pub const BALL_ABOVE_GROUND: &str = r#"
 [[object]]
 name = "ground"

@@ -112,6 +112,32 @@ impl Frame {
         py.detach(|| frame.translate(o, t)).map_err(error)
     }
 
+    /// Moves `object` to `translation` as one step of a drag: the first step prepares, for each
+    /// vertex the object's field reaches, the product of every other factor, and each step
+    /// merges that with the moved field alone. The cuts may differ from `translate`'s in their
+    /// last bits until `settle()`; a `translate`, a settings change or a drag of another object
+    /// settles first. Returns the vertices re-merged.
+    fn drag(&mut self, py: Python<'_>, object: ObjectRef, translation: [f32; 3]) -> PyResult<usize> {
+        let o = self.index(&object)?;
+        let t = finite(translation, "translation")?;
+        let frame = &mut self.opened.frame;
+        py.detach(|| frame.drag(o, t)).map_err(error)
+    }
+
+    /// Ends a drag: the vertices it merged on their rest products merged again in full, every
+    /// cut then bit for bit `translate`'s. Returns how many (0 with no drag under way).
+    fn settle(&mut self, py: Python<'_>) -> PyResult<usize> {
+        let frame = &mut self.opened.frame;
+        py.detach(|| frame.settle()).map_err(error)
+    }
+
+    /// The name of the object being dragged, or `None`.
+    #[getter]
+    fn dragging(&self) -> Option<String> {
+        let f = &self.opened.frame;
+        f.dragging().map(|o| f.object(o).name.to_string())
+    }
+
     /// `object`'s translation from rest.
     fn translation(&self, object: ObjectRef) -> PyResult<[f32; 3]> {
         Ok(self.opened.frame.object(self.index(&object)?).translation.to_array())

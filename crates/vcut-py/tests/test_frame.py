@@ -31,6 +31,24 @@ def test_move_and_back_restores_radiance_bit_for_bit(balls) -> None:
         assert np.array_equal(a, b)
 
 
+def test_a_drag_settles_to_the_translation_bit_for_bit(balls) -> None:
+    dragged, moved = vcuts.open(balls), vcuts.open(balls)
+    eye = dragged.camera()["position"]
+    for k in range(1, 4):
+        assert dragged.drag("ball", (0.2 * k, 0.0, 0.1 * k)) > 0
+    assert dragged.dragging == "ball"
+    stats = dragged.stats()
+    assert stats["drag_prepared_vertices"] > 0 and stats["frame_memory_drag_mb"] > 0
+    assert stats["move_on_rest_vertices"] > 0
+    moved.translate("ball", (0.6, 0.0, 0.3))
+    for a, b in zip(dragged.shade(eye), moved.shade(eye)):
+        np.testing.assert_allclose(a, b, rtol=1e-5, atol=1e-6)
+    assert dragged.settle() > 0 and dragged.dragging is None
+    assert dragged.stats()["drag_settled_vertices"] > 0
+    for a, b in zip(dragged.shade(eye), moved.shade(eye)):
+        assert np.array_equal(a, b)
+
+
 def test_a_grounds_edges_estimated_change_the_balls_and_exact_again_is_bit_for_bit(balls) -> None:
     f = vcuts.open(balls)
     eye = f.camera()["position"]

@@ -10,7 +10,10 @@
 //! `--flat-edge-leaves N|interactive`, `--no-sun-rays`, …; `FrameArgs`). `--vs-index` also times
 //! the index baseline over the same path (`index_move_ms`, move + shade), between two rounds of
 //! the frame's own merge, for a ratio in one run; `--cold` times the frame's first path (by
-//! default a first round over it comes before, so the timed one sees a warm frame). The
+//! default a first round over it comes before, so the timed one sees a warm frame); `--drag`
+//! drags the object along the timed path (`Frame::drag`) after translating it along the same
+//! path (`drag_vs_translate`, move and shade) and prints the drag's preparation
+//! (`drag_prepare_ms`, kept out of the first step) and its settle (`drag_settle_ms`). The
 //! environment variables of earlier versions still set the same: `EAGER=1`, `NO_SVC_CACHE=1`,
 //! `NO_SUN_RAYS=1`, `NO_MERGED_CACHE=1`, `NO_CELL_CACHE=1`, `NO_STORED_CACHE=1`, `FIELD_REACH=R`,
 //! `FLAT_EDGE_LEAVES=N`, `VS_INDEX=1`, `COLD=1`. Over the path it prints the merged cuts' nodes
@@ -48,6 +51,10 @@ struct Args {
     /// Time the frame's first path (no warm-up round).
     #[arg(long)]
     cold: bool,
+    /// Drag the object along the timed path (`Frame::drag`: the receivers it reaches merge on
+    /// their rest products) and settle after it; prints the preparation and the settle apart.
+    #[arg(long)]
+    drag: bool,
     #[command(flatten)]
     frame: FrameArgs,
 }
@@ -135,12 +142,27 @@ fn main() -> Result<(), String> {
     }
     frame.reconfigure(&own).map_err(|e| e.to_string())?;
     frame.translate(o, Vec3::ZERO).map_err(|e| e.to_string())?;
+    // With --drag, the same path translated first: the baseline of the drag's ratio, in one run.
+    let mut translate_ms = Vec::new();
+    if args.drag {
+        for i in 1..=steps {
+            let t = Instant::now();
+            frame.translate(o, step * i as f32).map_err(|e| e.to_string())?;
+            std::hint::black_box(frame.shade(eye));
+            translate_ms.push(t.elapsed().as_secs_f64() * 1e3);
+        }
+        frame.translate(o, Vec3::ZERO).map_err(|e| e.to_string())?;
+    }
     let (cpu0, wall0) = (cpu_seconds(), Instant::now());
     let mut totals = (0usize, 0usize, 0.0f64, 0.0f64);
+    let mut fields = 0usize;
     for i in 1..=steps {
         let t = Instant::now();
-        let merged = frame.translate(o, step * i as f32).map_err(|e| e.to_string())?;
-        let move_ms = t.elapsed().as_secs_f64() * 1e3;
+        let merged = if args.drag { frame.drag(o, step * i as f32) } else { frame.translate(o, step * i as f32) }
+            .map_err(|e| e.to_string())?;
+        // The first step of a drag prepares it: that time is reported apart.
+        let prepare_ms = if args.drag && i == 1 { frame.stats().drag.prepare_s * 1e3 } else { 0.0 };
+        let move_ms = t.elapsed().as_secs_f64() * 1e3 - prepare_ms;
         let t = Instant::now();
         std::hint::black_box(frame.shade(eye));
         let shade_ms = t.elapsed().as_secs_f64() * 1e3;
@@ -153,13 +175,29 @@ fn main() -> Result<(), String> {
         );
         rows.push(row);
         totals = (totals.0 + m.vertices, totals.1 + m.nodes, totals.2 + m.merge_s, totals.3 + move_ms);
+        fields += m.fields;
     }
     // A merge's cost is the walk's output (each node emitted and listed once): nodes per
     // vertex say how fine the vertices' products are, nanoseconds per node what each costs.
     let (vertices, nodes, merge_s, move_ms) = totals;
     println!("nodes_per_merged_vertex={:.0}", nodes as f64 / vertices.max(1) as f64);
     println!("ns_per_merged_node={:.1}", merge_s * 1e9 / nodes.max(1) as f64);
+    println!("fields_per_merged_vertex={:.2}", fields as f64 / vertices.max(1) as f64);
     println!("us_per_merged_vertex={:.2}", move_ms * 1e3 / vertices.max(1) as f64);
+    if args.drag {
+        let d = frame.stats().drag;
+        println!("drag_prepare_ms={:.1}", d.prepare_s * 1e3);
+        println!("drag_prepared_vertices={}", d.prepared);
+        println!("drag_unprepared_vertices={}", d.unprepared);
+        println!("drag_memory_mb={:.1}", d.bytes as f64 / 1e6);
+        println!("drag_frame_memory_mb={:.1}", frame.memory().total() as f64 / 1e6);
+        println!("drag_on_rest_vertices={}", frame.stats().last_move.on_rest);
+        println!("drag_hidden_vertices={}", frame.stats().last_move.hidden);
+        frame.settle().map_err(|e| e.to_string())?;
+        let d = frame.stats().drag;
+        println!("drag_settle_ms={:.1}", d.settle_s * 1e3);
+        println!("drag_settled_vertices={}", d.settled);
+    }
     if let (Some(a), Some(b)) = (cpu0, cpu_seconds()) {
         // Cores busy over the path (of rayon's threads): below their count, serial parts wait.
         println!("path_cores_busy={:.2}", (b - a) / wall0.elapsed().as_secs_f64());
@@ -191,6 +229,11 @@ fn main() -> Result<(), String> {
     }
     let move_shade = median(rows.iter().map(|r| r[0] + r[5]).collect());
     println!("move_and_shade_ms={move_shade:.2}");
+    if !translate_ms.is_empty() {
+        let translate = median(translate_ms);
+        println!("translate_move_and_shade_ms={translate:.2}");
+        println!("drag_vs_translate={:.3}", move_shade / translate);
+    }
     if !index_ms.is_empty() {
         let index = median(index_ms);
         println!("index_move_and_shade_ms={index:.2}");

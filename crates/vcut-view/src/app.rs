@@ -4,7 +4,8 @@
 //! Mouse: left-drag on empty space orbits, right- or middle-drag pans, the wheel zooms;
 //! left-drag on a movable object moves it over the horizontal plane through the grabbed point
 //! (with Shift: vertically). While dragging, the object is re-merged at every mouse move if
-//! the last move cost less than [`ViewOptions::live_move_ms`], otherwise once on release.
+//! the last move cost less than [`ViewOptions::live_move_ms`], otherwise once on release; the
+//! steps are a [`vcut_shade::Frame::drag`]'s, settled on release.
 
 use crate::camera::{OrbitCamera, ray_plane};
 use crate::gpu::ViewError;
@@ -80,8 +81,9 @@ pub fn run_window(session: Session, options: ViewOptions) -> Result<(), ViewErro
 }
 
 impl App {
+    /// A step of the mouse's drag of object `o` to `t` ([`Session::drag`]).
     fn apply_move(&mut self, o: usize, t: Vec3, status: &mut String) {
-        match self.session.translate(o, t) {
+        match self.session.drag(o, t) {
             Ok(()) => {
                 let tm = self.session.timings;
                 *status = format!("moved: {} vertices re-merged in {:.1} ms", tm.merged_vertices, tm.merge_ms);
@@ -230,9 +232,15 @@ impl WindowApp for App {
         }
     }
 
+    /// The drag's last step, then its settle ([`Session::settle`]).
     fn release(&mut self, status: &mut String) {
-        if let Some(ObjectDrag { o, pending: Some(t), .. }) = self.drag.take() {
-            self.apply_move(o, t, status);
+        if let Some(ObjectDrag { o, pending, .. }) = self.drag.take() {
+            if let Some(t) = pending {
+                self.apply_move(o, t, status);
+            }
+            if let Err(e) = self.session.settle() {
+                *status = e.to_string();
+            }
         }
     }
 }

@@ -83,6 +83,8 @@ pub struct Timings {
     pub merge_ms: f64,
     /// Vertices re-merged by the last move.
     pub merged_vertices: usize,
+    /// The last drag's settle: its dragged vertices merged again in full.
+    pub settle_ms: f64,
     /// Vertices the last camera turn merged: those a move left facing away
     /// (`FrameSettings::deferred_merges`).
     pub turn_merged: usize,
@@ -264,6 +266,30 @@ impl Session {
     /// Moves object `o` to `translation` from its rest position (re-merging what changed).
     /// Static objects have no visibility field and cannot move.
     pub fn translate(&mut self, o: usize, translation: Vec3) -> Result<(), SessionError> {
+        self.move_object(o, translation, false)
+    }
+
+    /// Moves object `o` to `translation` as a step of a drag ([`vcut_shade::Frame::drag`]):
+    /// the vertices its field reaches merge on their rest products. [`Session::settle`] ends
+    /// the drag.
+    pub fn drag(&mut self, o: usize, translation: Vec3) -> Result<(), SessionError> {
+        self.move_object(o, translation, true)
+    }
+
+    /// Ends a drag ([`vcut_shade::Frame::settle`]): the dragged vertices merged again in full.
+    pub fn settle(&mut self) -> Result<(), SessionError> {
+        let start = Instant::now();
+        let merged = self.frame.settle()?;
+        if merged > 0 {
+            self.timings.settle_ms = start.elapsed().as_secs_f64() * 1e3;
+            self.invalidate_shading();
+            self.update();
+        }
+        Ok(())
+    }
+
+    /// [`Session::translate`], or a drag's step.
+    fn move_object(&mut self, o: usize, translation: Vec3, drag: bool) -> Result<(), SessionError> {
         if o >= self.frame.object_count() {
             return Err(SessionError::NoObject(o));
         }
@@ -278,7 +304,7 @@ impl Session {
             return Ok(());
         }
         let start = Instant::now();
-        let merged = self.frame.translate(o, translation)?;
+        let merged = if drag { self.frame.drag(o, translation)? } else { self.frame.translate(o, translation)? };
         self.timings.merge_ms = start.elapsed().as_secs_f64() * 1e3;
         self.timings.merged_vertices = merged;
         self.geometry_version += 1;

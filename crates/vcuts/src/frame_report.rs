@@ -29,6 +29,9 @@ pub struct FrameReport {
     /// Where the last move's time went (after a move).
     #[serde(flatten)]
     pub last_move: Option<MoveReport>,
+    /// The drag under way or the last one (after a drag: `Frame::drag`).
+    #[serde(flatten)]
+    pub drag: Option<DragReport>,
     /// Its memory by part.
     #[serde(flatten)]
     pub memory: MemoryReport,
@@ -74,6 +77,41 @@ pub struct MoveReport {
     pub move_fields_per_vertex: f64,
     /// Nodes of the merged cuts per merged vertex.
     pub move_nodes_per_vertex: f64,
+    /// Vertices merged on their rest products (a drag's step).
+    pub move_on_rest_vertices: usize,
+    /// Vertices a drag's step left as they were: the moved object hidden from them.
+    pub move_hidden_vertices: usize,
+}
+
+/// A drag's preparation and settle ([`vcut_shade::DragStats`]).
+#[derive(Debug, Clone, Serialize)]
+pub struct DragReport {
+    /// Preparing the rest products.
+    pub drag_prepare_ms: f64,
+    /// Vertices given a rest product.
+    pub drag_prepared_vertices: usize,
+    /// Vertices the memory budget left to full merges.
+    pub drag_unprepared_vertices: usize,
+    /// The rest products' memory (0 once settled).
+    pub drag_memory_mb: f64,
+    /// The last settle.
+    pub drag_settle_ms: f64,
+    /// Vertices the last settle merged again in full.
+    pub drag_settled_vertices: usize,
+}
+
+impl DragReport {
+    /// The report of `d`; `None` when no drag has begun.
+    pub fn of(d: &vcut_shade::DragStats) -> Option<DragReport> {
+        (d.object.is_some() || d.prepared + d.unprepared + d.settled > 0).then(|| DragReport {
+            drag_prepare_ms: d.prepare_s * 1e3,
+            drag_prepared_vertices: d.prepared,
+            drag_unprepared_vertices: d.unprepared,
+            drag_memory_mb: d.bytes as f64 / 1e6,
+            drag_settle_ms: d.settle_s * 1e3,
+            drag_settled_vertices: d.settled,
+        })
+    }
 }
 
 impl MoveReport {
@@ -90,6 +128,8 @@ impl MoveReport {
             move_deferred_vertices: t.deferred,
             move_fields_per_vertex: per(t.fields),
             move_nodes_per_vertex: per(t.nodes),
+            move_on_rest_vertices: t.on_rest,
+            move_hidden_vertices: t.hidden,
         }
     }
 }
@@ -117,6 +157,8 @@ pub struct MemoryReport {
     pub frame_memory_field_cache_mb: f64,
     /// The sun by rays: hierarchies and masks.
     pub frame_memory_rays_mb: f64,
+    /// A drag's rest products.
+    pub frame_memory_drag_mb: f64,
     /// The process's peak resident memory, where the system says it.
     pub peak_rss_mb: Option<f64>,
 }
@@ -147,6 +189,7 @@ impl FrameReport {
             spot_merges: stats.spot_merges,
             pending_merges: stats.pending_merges,
             last_move: moved.then(|| MoveReport::of(&stats.last_move)),
+            drag: DragReport::of(&stats.drag),
             memory: MemoryReport::of(frame),
         }
     }
@@ -168,6 +211,7 @@ impl MemoryReport {
             frame_memory_svc_cache_mb: mb(m.svc_cache),
             frame_memory_keys_mb: mb(m.keys),
             frame_memory_field_cache_mb: mb(m.field_cache),
+            frame_memory_drag_mb: mb(m.drag),
             frame_memory_rays_mb: mb(m.rays),
             peak_rss_mb: vcut_scene::budget::peak_memory().map(|p| p as f64 / 1e6),
         }

@@ -62,7 +62,7 @@ impl Frame {
             specular: Vec::new(),
             eye,
         };
-        let mut frame = Frame { ctx, states, tally: Tally::default() };
+        let mut frame = Frame { ctx, states, tally: Tally::default(), drag: None };
         frame.ctx.set_svc_cache(caches.svc)?;
         // The sun and the shading table before the merges build the lists.
         frame.ctx.light_state(&frame.states, false);
@@ -74,7 +74,7 @@ impl Frame {
             let MergeState { keys, lists, decoded, merged, .. } = state;
             let kept = caches.merged.then_some(&mut merged[..]);
             let count =
-                frame.ctx.merge_all(o, keys, &vec![true; n], kept, lists, decoded, &mut MoveTiming::default())?;
+                frame.ctx.merge_all(o, keys, &vec![true; n], kept, lists, decoded, None, &mut MoveTiming::default())?;
             frame.tally.setup_merges += count as u64;
         }
         if let Some(budget) = settings.memory_budget {
@@ -89,11 +89,14 @@ impl Frame {
     /// filled (filling the merged cuts merges every vertex once, together with any other
     /// change); turning deferral off merges what waits; the sun's settings (and, with the sun by
     /// rays, changed cuts) choose and cast its leaves again and rebuild the lists of the
-    /// vertices not merged; a memory budget drops caches to fit. Returns how many vertices were merged. On an error the frame keeps the
-    /// settings it had.
+    /// vertices not merged; a memory budget drops caches to fit. A drag under way settles
+    /// first. Returns how many vertices were merged. On an error the frame keeps the settings
+    /// it had.
     pub fn reconfigure(&mut self, settings: &FrameSettings) -> Result<usize, FrameError> {
         settings.validate()?;
         let flat = flat_leaves(settings, &self.ctx.tree)?;
+        // Rest products are the old settings' products.
+        self.settle()?;
         let old = std::mem::replace(&mut self.ctx.settings, settings.clone());
         let old_flat = std::mem::replace(&mut self.ctx.flat_leaves, flat);
         let result = self.apply(&old, old_flat);
@@ -138,7 +141,7 @@ impl Frame {
             let changed = Changed::Settings { keys: lookups, flat };
             // A flat cut changes the cut, not the keys a waiting vertex is compared by: those
             // it shadows merge now, whichever way they face.
-            merged = self.rekey(Rekey { changed, eager: flat, all: fill, record: false })?;
+            merged = self.rekey(Rekey { changed, eager: flat, all: fill, record: false, on_rest: false })?;
         }
         if relight {
             self.relist_all(Some(&merged));

@@ -4,6 +4,7 @@
 //! move's batch and a merge on the spot, whichever [`super::MergeAlgorithm`] prepared its
 //! inputs (the seam is `vcut_merge::prepared`).
 
+use super::drag::RestOf;
 use super::kept::KeptCut;
 use super::keys::{CellKey, Changed, FieldKey, SampleId, take_held};
 use super::lists::ShadeList;
@@ -59,24 +60,31 @@ impl Frame {
     /// Moves object `o` to `translation` (from its rest position) and re-merges the vertices
     /// whose field inputs changed: its own, and other objects' vertices near it. Returns how
     /// many vertices were merged. A translation its mesh cannot take in f32 (non-finite, or so
-    /// far out that a triangle's corners round onto one line) is refused before anything
-    /// changes ([`FrameError::Placement`]).
+    /// far out that f32 no longer keeps its shape) is refused before anything changes
+    /// ([`FrameError::Placement`]). A drag under way settles first ([`Frame::settle`]): every
+    /// cut is then the full product.
     pub fn translate(&mut self, o: usize, translation: Vec3) -> Result<usize, FrameError> {
+        self.check_placement(o, translation)?;
+        self.settle()?;
+        self.ctx.objects[o].translation = translation;
+        Ok(super::deferral::count(&self.rekey(Rekey::moved(o))?))
+    }
+
+    /// Refuses a translation object `o`'s mesh cannot take in f32 ([`FrameError::Placement`]).
+    pub(super) fn check_placement(&self, o: usize, translation: Vec3) -> Result<(), FrameError> {
         let object = &self.ctx.objects[o];
         object.mesh.placed(translation).map_err(|error| FrameError::Placement {
             object: o,
             name: object.name.clone(),
             translation: translation.to_array(),
             error,
-        })?;
-        self.ctx.objects[o].translation = translation;
-        Ok(super::deferral::count(&self.rekey(Rekey::moved(o))?))
+        })
     }
 }
 
 impl Context {
     /// The stored field cut of sample `s`, decoded.
-    fn sample_cut(&self, s: SampleId) -> Result<Cut, vcut_data::sections::CutDecodeError> {
+    pub(super) fn sample_cut(&self, s: SampleId) -> Result<Cut, vcut_data::sections::CutDecodeError> {
         self.objects[s.object as usize].field[s.sphere as usize].cut(s.point as usize)
     }
 
@@ -107,7 +115,9 @@ impl Context {
     /// their shading `lists` (in place, reusing each buffer), in parallel. Returns how many
     /// were merged. Without the cell cache ([`super::FrameCaches::cells`]) it goes in ranges of
     /// at most [`MERGE_BATCH`] merged vertices and [`MERGE_BATCH_INPUTS`] field inputs, so that
-    /// the cells decoded and refined at once stay few (a range reuses those it shares with the one before, and none is kept after).
+    /// the cells decoded and refined at once stay few (a range reuses those it shares with the
+    /// one before, and none is kept after). A vertex `rest` holds a product for is merged on it
+    /// ([`Context::merge_on_rest`]; a drag's step), every other one in full.
     #[allow(clippy::too_many_arguments)]
     pub(super) fn merge_all(
         &self,
@@ -117,6 +127,7 @@ impl Context {
         mut merged: Option<&mut [KeptCut]>,
         lists: &mut [ShadeList],
         cache: &mut FieldCache,
+        rest: Option<RestOf<'_>>,
         timing: &mut MoveTiming,
     ) -> Result<usize, FrameError> {
         let (n, batch) = (changed.len(), if self.caches.cells { usize::MAX } else { MERGE_BATCH });
@@ -141,6 +152,7 @@ impl Context {
                 slots,
                 &mut lists[range],
                 cache,
+                rest,
                 timing,
             )?;
             start = end;
@@ -163,21 +175,77 @@ impl Context {
         merged: Option<&mut [KeptCut]>,
         lists: &mut [ShadeList],
         cache: &mut FieldCache,
+        rest: Option<RestOf<'_>>,
         timing: &mut MoveTiming,
     ) -> Result<usize, FrameError> {
         let vertices: Vec<usize> = (0..changed.len()).filter(|&v| changed[v]).collect();
-        timing.fields += vertices.iter().map(|&v| keys[v].len()).sum::<usize>();
+        let on_rest = |v: usize| rest.and_then(|r| r.products.get(offset + v)?.as_ref().map(|p| (r.object, p)));
+        // A vertex merged on its rest product uses the moved object's inputs only.
+        let used = |v: usize| keys[v].iter().filter(move |k| on_rest(v).is_none_or(|(m, _)| k.object == m));
+        timing.fields += vertices.iter().map(|&v| used(v).count()).sum::<usize>();
+        timing.on_rest += vertices.iter().filter(|&&v| on_rest(v).is_some()).count();
         let first = offset + vertices.first().copied().unwrap_or(0);
         let me = &self.objects[o];
         let normals = &me.mesh.normals()[offset..];
         let eye = self.eye;
         let facing = |v: usize| eye.is_none_or(|e| me.seen(offset + v, e));
         let table = &self.nodes;
+        let (cells, refined) = self.refine_cells(o, first, vertices.iter().flat_map(|&v| used(v)), cache, timing)?;
+        let start = Instant::now();
+        let nodes = std::sync::atomic::AtomicUsize::new(0);
+        let slots: Vec<Option<&mut KeptCut>> = match merged {
+            Some(m) => m.iter_mut().map(Some).collect(),
+            None => (0..changed.len()).map(|_| None).collect(),
+        };
+        let result =
+            slots.into_par_iter().zip(lists.par_iter_mut()).enumerate().filter(|(v, _)| changed[*v]).try_for_each_init(
+                || (MergeScratch::default(), Vec::new(), MergedCut::default()),
+                |(scratch, below, spare), (v, (slot, list))| {
+                    let cell = |c: &CellKey| {
+                        &refined[cells.binary_search(c).unwrap_or_else(|_| unreachable!("collected above"))]
+                    };
+                    let svc = match on_rest(v) {
+                        Some((m, product)) => {
+                            self.merge_on_rest(o, offset + v, &keys[v], m, product, &cell, scratch, spare)?
+                        }
+                        None => self.merge_vertex(o, offset + v, &keys[v], &cell, scratch, spare)?,
+                    };
+                    nodes.fetch_add(spare.heights.len(), std::sync::atomic::Ordering::Relaxed);
+                    // The list while the cut is still in cache.
+                    match svc {
+                        None => list.clear(),
+                        Some(_) if !facing(v) => list.mark_stale(),
+                        Some(ends) => list.rebuild((&*spare).into(), normals[v], table, Some(&ends), below),
+                    }
+                    if let Some(slot) = slot {
+                        slot.keep(spare);
+                    }
+                    Ok(())
+                },
+            );
+        timing.merge_s += start.elapsed().as_secs_f64();
+        timing.nodes += nodes.into_inner();
+        cache.cells = cells;
+        cache.refined = refined;
+        result.map(|()| vertices.len())
+    }
+
+    /// The field cells of the inputs `used` (object `o`'s, from vertex `first` on), each
+    /// prepared once (refined for the counter merge), sorted by cell, with their prepared
+    /// groups beside them. Cells and decoded samples `cache` holds are taken from it; it is
+    /// left holding the samples decoded (the caller puts the cells back).
+    pub(super) fn refine_cells<'k>(
+        &self,
+        o: usize,
+        first: usize,
+        used: impl Iterator<Item = &'k FieldKey>,
+        cache: &mut FieldCache,
+        timing: &mut MoveTiming,
+    ) -> Result<(Vec<CellKey>, Vec<Prepared>), FrameError> {
         let old = std::mem::take(cache);
         let start = Instant::now();
         // The cells the vertices use; those the last move prepared are kept.
-        let mut cells: Vec<CellKey> =
-            vertices.iter().flat_map(|&v| keys[v].iter()).filter_map(|k| CellKey::of(k).map(|c| c.0)).collect();
+        let mut cells: Vec<CellKey> = used.filter_map(|k| CellKey::of(k).map(|c| c.0)).collect();
         cells.sort_unstable();
         cells.dedup();
         let reused = take_held(old.cells, old.refined, &cells);
@@ -213,37 +281,8 @@ impl Context {
             .collect::<Result<_, _>>()
             .map_err(|e| FrameError::cut(o, first, e))?;
         timing.refine_s += start.elapsed().as_secs_f64();
-        let start = Instant::now();
-        let nodes = std::sync::atomic::AtomicUsize::new(0);
-        let slots: Vec<Option<&mut KeptCut>> = match merged {
-            Some(m) => m.iter_mut().map(Some).collect(),
-            None => (0..changed.len()).map(|_| None).collect(),
-        };
-        let result =
-            slots.into_par_iter().zip(lists.par_iter_mut()).enumerate().filter(|(v, _)| changed[*v]).try_for_each_init(
-                || (MergeScratch::default(), Vec::new(), MergedCut::default()),
-                |(scratch, below, spare), (v, (slot, list))| {
-                    let cell = |c: &CellKey| {
-                        &refined[cells.binary_search(c).unwrap_or_else(|_| unreachable!("collected above"))]
-                    };
-                    let svc = self.merge_vertex(o, offset + v, &keys[v], &cell, scratch, spare)?;
-                    nodes.fetch_add(spare.heights.len(), std::sync::atomic::Ordering::Relaxed);
-                    // The list while the cut is still in cache.
-                    match svc {
-                        None => list.clear(),
-                        Some(_) if !facing(v) => list.mark_stale(),
-                        Some(ends) => list.rebuild((&*spare).into(), normals[v], table, Some(&ends), below),
-                    }
-                    if let Some(slot) = slot {
-                        slot.keep(spare);
-                    }
-                    Ok(())
-                },
-            );
-        timing.merge_s += start.elapsed().as_secs_f64();
-        timing.nodes += nodes.into_inner();
-        *cache = FieldCache { keys: wanted, cuts: decoded, cells, refined };
-        result.map(|()| vertices.len())
+        *cache = FieldCache { keys: wanted, cuts: decoded, cells: Vec::new(), refined: Vec::new() };
+        Ok((cells, refined))
     }
 
     /// The one merge of vertex `v` of object `o` with field inputs `keys` (the counter merge
@@ -252,7 +291,7 @@ impl Context {
     /// (kept decoded, or decoded into `scratch`) times each field cell's refinement (`cell`
     /// gives it) and each flat occluder's exact cut (prepared in `scratch`) into `out`.
     /// Returns the SVC's node ends (for its shading list), `None` for the occluded vertex.
-    fn merge_vertex<'r>(
+    pub(super) fn merge_vertex<'r>(
         &'r self,
         o: usize,
         v: usize,
@@ -289,30 +328,67 @@ impl Context {
                 .map_err(|e| err(e.into()))?;
             return Ok(Some(svc.ends()));
         }
-        flats.resize_with(planes.len(), Prepared::default);
         // Where the SVC is zero (below the horizon, where the object hides itself) the product
         // is zero whatever a flat occluder hides: its cut is not walked there.
+        self.prepare_flats(&planes, svc, flats, zeros, nodes).map_err(|e| err(e.into()))?;
+        product(svc, &lookups, &flats[..planes.len()], cell, out).map_err(|e| err(e.into()))?;
+        Ok(Some(svc.ends()))
+    }
+
+    /// Prepares into `flats` the exact cut of each flat occluder `(object, ray origin)` of
+    /// `planes`, walked only where `first` (a factor of the same product) is not zero.
+    fn prepare_flats(
+        &self,
+        planes: &[(usize, Vec3)],
+        first: &Prepared,
+        flats: &mut Vec<Prepared>,
+        zeros: &mut Vec<std::ops::Range<u32>>,
+        nodes: &mut (Vec<u8>, Vec<f32>),
+    ) -> Result<(), vcut_merge::MergeError> {
+        flats.resize_with(planes.len(), Prepared::default);
         zeros.clear();
         if !planes.is_empty() {
-            svc.zero_runs(zeros);
+            first.zero_runs(zeros);
         }
         for (&(j, at), prepared) in planes.iter().zip(flats.iter_mut()) {
             let cut = self
                 .flat_cut_at_rest(j, at, zeros, std::mem::take(nodes))
                 .unwrap_or_else(|| unreachable!("a flat key is a flat object's"));
-            self.settings.merge_algorithm.prepare_into(&[&cut], prepared).map_err(|e| err(e.into()))?;
+            self.settings.merge_algorithm.prepare_into(&[&cut], prepared)?;
             *nodes = cut.into_parts();
         }
-        let mut factors: Vec<(&Prepared, &[f32])> = Vec::with_capacity(1 + lookups.len() + planes.len());
-        factors.push((svc, &[1.0]));
-        for (c, weights) in &lookups {
-            factors.push((cell(c), &weights[..usize::from(c.len)]));
+        Ok(())
+    }
+
+    /// Vertex `v` of object `o` merged on its rest product `rest` (every factor but moved
+    /// object `m`'s, prepared when the drag began): `rest` times m's inputs among `keys`, two
+    /// factors where a full merge multiplies every field. The cut equals the full merge's up to
+    /// the rounding of the product's order (a settle merges it again in full). Returns the
+    /// SVC's node ends, `None` for the occluded vertex, as [`Context::merge_vertex`] does.
+    #[allow(clippy::too_many_arguments)]
+    pub(super) fn merge_on_rest<'r>(
+        &'r self,
+        o: usize,
+        v: usize,
+        keys: &[FieldKey],
+        m: u32,
+        rest: &'r Prepared,
+        cell: &dyn Fn(&CellKey) -> &'r Prepared,
+        scratch: &'r mut MergeScratch,
+        out: &mut MergedCut,
+    ) -> Result<Option<Cow<'r, [u32]>>, FrameError> {
+        if keys.iter().any(FieldKey::occludes_all) {
+            *out = full_zero(self.tree.height());
+            return Ok(None);
         }
-        for prepared in &flats[..planes.len()] {
-            factors.push((prepared, &[1.0]));
-        }
-        merge_prepared(&factors, out).map_err(|e| err(e.into()))?;
-        Ok(Some(svc.ends()))
+        let err = |e: CutFailure| FrameError::cut(o, v, e);
+        let MergeScratch { flats, zeros, nodes, .. } = scratch;
+        let mine = || keys.iter().filter(|k| k.object == m);
+        let lookups: Vec<(CellKey, [f32; 8])> = mine().filter_map(CellKey::of).collect();
+        let planes: Vec<(usize, Vec3)> = mine().filter_map(|k| Some((m as usize, k.flat()?))).collect();
+        self.prepare_flats(&planes, rest, flats, zeros, nodes).map_err(|e| err(e.into()))?;
+        product(rest, &lookups, &flats[..planes.len()], cell, out).map_err(|e| err(e.into()))?;
+        Ok(self.objects[o].svc_ends(v))
     }
 
     /// Vertex `v`'s cut with field inputs `keys`, merged on the spot and not kept (a vertex
@@ -367,7 +443,7 @@ impl Context {
             return Ok(0);
         }
         let MergeState { keys, lists, decoded, .. } = state;
-        let result = self.merge_all(o, keys, which, None, lists, decoded, &mut MoveTiming::default());
+        let result = self.merge_all(o, keys, which, None, lists, decoded, None, &mut MoveTiming::default());
         if result.is_err() {
             // Built on the spot by a shading instead (which shades black what fails there).
             for (list, _) in lists.iter_mut().zip(which).filter(|(_, w)| **w) {
@@ -376,6 +452,25 @@ impl Context {
         }
         result
     }
+}
+
+/// Merges into `out` the product `first` (an SVC or a rest product) × each lookup's cell
+/// (`cell` gives it) weighted by the lookup's weights × each of `flats`, in that order (the
+/// order a merged cut's rounding follows).
+fn product<'r>(
+    first: &'r Prepared,
+    lookups: &[(CellKey, [f32; 8])],
+    flats: &'r [Prepared],
+    cell: &dyn Fn(&CellKey) -> &'r Prepared,
+    out: &mut MergedCut,
+) -> Result<usize, vcut_merge::MergeError> {
+    let mut factors: Vec<(&Prepared, &[f32])> = Vec::with_capacity(1 + lookups.len() + flats.len());
+    factors.push((first, &[1.0]));
+    for (c, weights) in lookups {
+        factors.push((cell(c), &weights[..usize::from(c.len)]));
+    }
+    factors.extend(flats.iter().map(|p| (p, &[1.0][..])));
+    merge_prepared(&factors, out)
 }
 
 /// What [`Frame::rekey`] merges.
@@ -390,17 +485,19 @@ pub(super) struct Rekey {
     pub(super) all: bool,
     /// Keep the timing as the last move's.
     pub(super) record: bool,
+    /// Merge the vertices a drag prepared on their rest products ([`super::drag`]).
+    pub(super) on_rest: bool,
 }
 
 impl Rekey {
     /// A move of object `o`.
     pub(super) fn moved(o: usize) -> Rekey {
-        Rekey { changed: Changed::Object(o), eager: false, all: false, record: true }
+        Rekey { changed: Changed::Object(o), eager: false, all: false, record: true, on_rest: false }
     }
 
     /// The waiting vertices (those an eye sees, or all when `eager`).
     pub(super) fn waiting(eager: bool) -> Rekey {
-        Rekey { changed: Changed::Nothing, eager, all: false, record: false }
+        Rekey { changed: Changed::Nothing, eager, all: false, record: false, on_rest: false }
     }
 }
 
@@ -421,7 +518,7 @@ impl Frame {
             let fresh: Vec<Option<Vec<FieldKey>>> =
                 (0..n).into_par_iter().map(|v| ctx.changed_keys(k, v, state, how.changed)).collect();
             let me = &ctx.objects[k];
-            let merge: Vec<bool> =
+            let mut merge: Vec<bool> =
                 (0..n).map(|v| how.all || (fresh[v].is_some() && eye.is_none_or(|e| me.seen(v, e)))).collect();
             timing.keys_s += start.elapsed().as_secs_f64();
             // A waiting vertex keeps the keys of its merged cut (the next move compares with
@@ -435,6 +532,15 @@ impl Frame {
                     state.keys[v] = new;
                 }
             }
+            if let Some(drag) = self.drag.as_mut().filter(|_| how.on_rest) {
+                match drag.skip_hidden(ctx, k, &state.keys, &mut merge) {
+                    Ok(skipped) => timing.hidden += skipped,
+                    Err(e) => {
+                        failure = Some(e);
+                        break;
+                    }
+                }
+            }
             if !merge.contains(&true) {
                 // Nothing to merge: the object keeps its cells for a later move.
                 done.push(merge);
@@ -445,7 +551,8 @@ impl Frame {
             }
             let MergeState { keys, lists, decoded, merged, .. } = state;
             let kept = ctx.caches.merged.then_some(&mut merged[..]);
-            match ctx.merge_all(k, keys, &merge, kept, lists, decoded, &mut timing) {
+            let rest = self.drag.as_ref().filter(|_| how.on_rest).map(|d| d.rest_of(k));
+            match ctx.merge_all(k, keys, &merge, kept, lists, decoded, rest, &mut timing) {
                 Ok(count) => total += count,
                 Err(e) => {
                     // Some changed vertices may hold new cuts: key them as failed so that any

@@ -66,6 +66,10 @@
 //! keeping them, and [`Frame::merge_pending`] merges all. Images are bit for bit the eager
 //! frame's (tested). With deferral off a camera change never merges (with the merged cache on).
 //!
+//! **Drags** ([`Frame::drag`], `drag.rs`). While one object moves step after step, each vertex
+//! its field reaches merges on the product of its other factors, prepared once, and the moved
+//! field alone; [`Frame::settle`] gives back the full product bit for bit.
+//!
 //! **What a frame keeps** ([`Frame::memory`] by part). Per vertex its shading list, its field
 //! inputs (keys) and — as caches, each a trade of memory for time ([`FrameCaches`]) — its SVC
 //! decoded and its merged cut, per object the field cells its last merge refined, and the
@@ -83,6 +87,7 @@ mod caches;
 mod choice;
 mod configure;
 mod deferral;
+mod drag;
 mod kept;
 mod keys;
 mod lighting;
@@ -99,6 +104,7 @@ use crate::sun::Sun;
 #[cfg(feature = "clap")]
 pub use args::FrameArgs;
 pub use choice::LightChoice;
+pub use drag::DragStats;
 use glam::Vec3;
 use lists::{ShadeNode, SpecularNode};
 pub use object::FrameObject;
@@ -214,8 +220,15 @@ pub struct MoveTiming {
     /// product of a vertex's SVC and fields is).
     pub nodes: usize,
     /// Field factors of the re-merged vertices' products, summed (over `vertices`: the fields
-    /// that reach a merged vertex, on average).
+    /// that reach a merged vertex, on average). A vertex merged on its rest product during a
+    /// drag counts the moved object's only.
     pub fields: usize,
+    /// Vertices merged on their rest products ([`Frame::drag`]): their product took the moved
+    /// field alone.
+    pub on_rest: usize,
+    /// Vertices a drag's step left as they were: the moved object hidden from them (their rest
+    /// product zero wherever its field is below 1) where it was and where it is.
+    pub hidden: usize,
     /// Vertices whose field inputs changed but whose merge waits: they face away from the eye
     /// ([`FrameSettings::deferred_merges`]).
     pub deferred: usize,
@@ -263,6 +276,7 @@ struct Tally {
     setup_merges: u64,
     spot_merges: u64,
     last_move: MoveTiming,
+    drag: DragStats,
 }
 
 /// The scene at run time: translations, materials, lighting, and the merged cuts.
@@ -270,6 +284,8 @@ pub struct Frame {
     ctx: Context,
     states: Vec<MergeState>,
     tally: Tally,
+    /// The drag under way ([`Frame::drag`]), if one is.
+    drag: Option<drag::Drag>,
 }
 
 impl Frame {

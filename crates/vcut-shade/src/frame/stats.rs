@@ -28,12 +28,14 @@ pub struct FrameMemory {
     /// The sun by rays: every object's hierarchy and the masks of the sun's leaves each
     /// occluder blocks at each vertex ([`super::FrameSettings::sun_rays`]).
     pub rays: usize,
+    /// A drag's rest products ([`Frame::drag`]; 0 with none under way).
+    pub drag: usize,
 }
 
 impl FrameMemory {
     /// Every part with its name (the field's name: `render`'s `frame_memory_<name>_mb` keys and
     /// Python's `Frame.stats()["memory"]` read this one list).
-    pub fn parts(&self) -> [(&'static str, usize); 8] {
+    pub fn parts(&self) -> [(&'static str, usize); 9] {
         [
             ("stored", self.stored),
             ("meshes", self.meshes),
@@ -43,6 +45,7 @@ impl FrameMemory {
             ("keys", self.keys),
             ("field_cache", self.field_cache),
             ("rays", self.rays),
+            ("drag", self.drag),
         ]
     }
 
@@ -68,8 +71,10 @@ pub struct FrameStats {
     pub spot_merges: u64,
     /// Vertices whose merge waits for an eye that sees them.
     pub pending_merges: usize,
-    /// Where the last [`Frame::translate`]'s time went.
+    /// Where the last [`Frame::translate`]'s (or drag step's) time went.
     pub last_move: MoveTiming,
+    /// The drag under way, or the last one: its preparation and its settle.
+    pub drag: super::DragStats,
     /// The caches kept now: the settings' own, less those a memory budget dropped.
     pub caches: super::FrameCaches,
     /// Leaves of the light cast by rays (0 with sun rays off, or none chosen):
@@ -94,6 +99,7 @@ impl Frame {
             spot_merges: self.tally.spot_merges,
             pending_merges: self.pending_merges(),
             last_move: self.tally.last_move,
+            drag: super::DragStats { object: self.dragging(), ..self.tally.drag },
             caches: self.ctx.caches,
             sun_leaves: self.ctx.sun.as_ref().map_or(0, crate::sun::Sun::len),
             shade_bytes: self
@@ -117,6 +123,7 @@ impl Frame {
         let mut m = FrameMemory {
             rays: ctx.occluders.iter().map(vcut_rays::Occluder::bytes).sum::<usize>()
                 + ctx.sun.as_ref().map_or(0, crate::sun::Sun::bytes),
+            drag: self.drag.as_ref().map_or(0, super::drag::Drag::bytes),
             ..FrameMemory::default()
         };
         let vec = size_of::<Vec<u8>>();
