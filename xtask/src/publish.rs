@@ -1,5 +1,5 @@
 //! `cargo xtask publish`: what the docs show, generated. Copies a bench report's `table1.md`
-//! and plots (trade-off, scaling: those it has; a report of one section, e.g. from
+//! and plots (trade-off, scaling, accuracy, assembly: those it has; a report of one section, e.g. from
 //! `bench --only scaling`, brings its plots and keeps the table there) to `docs/report/` and
 //! writes the table between the `<!-- table1 -->` and `<!-- /table1 -->` markers of
 //! `README.md` and `docs/benchmarks.md`; and writes each library crate's `README.md` (what a registry page
@@ -28,8 +28,16 @@ const TABLE1: (&str, &str) = ("<!-- table1 -->", "<!-- /table1 -->");
 const WORST: (&str, &str) = ("<!-- accuracy-worst -->", "<!-- /accuracy-worst -->");
 const DOCS: [&str; 2] = ["README.md", "docs/benchmarks.md"];
 /// What a report brings to `docs/report/`, those it has.
-const PUBLISHED: [&str; 6] =
-    ["table1.md", "tradeoff_size.png", "scaling_objects.png", "scaling_vertices.png", "accuracy.md", "accuracy.png"];
+const PUBLISHED: [&str; 8] = [
+    "table1.md",
+    "tradeoff_size.png",
+    "scaling_objects.png",
+    "scaling_vertices.png",
+    "accuracy.md",
+    "accuracy.png",
+    "assembly.md",
+    "assembly.png",
+];
 
 /// `text` with the block between the markers replaced by `table`; `None` without markers.
 pub fn splice(text: &str, (begin, end): (&str, &str), table: &str) -> Option<String> {

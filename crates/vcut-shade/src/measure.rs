@@ -112,6 +112,45 @@ pub fn move_path(
     Ok(PathTiming { move_ms: median(times), merge_ms, merged: merged / n, deferred: deferred / n, steps: timings })
 }
 
+/// What a drag path measured ([`drag_path`]): its steps as a [`PathTiming`] (the first step's
+/// time without the drag's preparation) and the drag's own figures.
+pub struct DragTiming {
+    /// The steps.
+    pub path: PathTiming,
+    /// The preparation, the rest products' bytes, the vertices given one.
+    pub drag: crate::DragStats,
+}
+
+/// Drags object `o` from rest along `steps` steps of [`path_step`] ([`Frame::drag`]), shading
+/// from `eye` after each; leaves it dragged at the last step, not settled (the caller measures
+/// the frame mid-drag, then settles).
+pub fn drag_path(frame: &mut Frame, o: usize, eye: Vec3, steps: usize) -> Result<DragTiming, FrameError> {
+    let step = path_step(frame, o);
+    frame.translate(o, Vec3::ZERO)?;
+    let (mut times, mut merge_ms, mut merged, mut deferred, mut timings) = (Vec::new(), Vec::new(), 0, 0, Vec::new());
+    for i in 1..=steps {
+        let t = Instant::now();
+        merged += frame.drag(o, step * i as f32)?;
+        std::hint::black_box(frame.shade(eye));
+        let prepare_s = if i == 1 { frame.stats().drag.prepare_s } else { 0.0 };
+        times.push((t.elapsed().as_secs_f64() - prepare_s) * 1e3);
+        let last = frame.stats().last_move;
+        merge_ms.push(last.merge_s * 1e3);
+        deferred += last.deferred;
+        timings.push(last);
+    }
+    let n = steps.max(1);
+    let path =
+        PathTiming { move_ms: median(times), merge_ms, merged: merged / n, deferred: deferred / n, steps: timings };
+    Ok(DragTiming { path, drag: frame.stats().drag })
+}
+
+/// Field factors per vertex the steps merged (NaN if none merged).
+pub fn fields_per_merged_vertex(steps: &[MoveTiming]) -> f64 {
+    let (fields, vertices) = steps.iter().fold((0, 0), |(f, v), t| (f + t.fields, v + t.vertices));
+    if vertices == 0 { f64::NAN } else { fields as f64 / vertices as f64 }
+}
+
 /// A camera turn right after a move: object `o` moved one step of [`move_path`] while shading
 /// from `eye`, then the time to set the eye `behind` (merging what the move left facing away,
 /// with deferred merges) and shade from it. Median of `runs`; returns it and the vertices the

@@ -16,6 +16,8 @@ pub enum Section {
     Leaves,
     /// How every cost grows with objects and vertices.
     Scaling,
+    /// Drags in dense assemblies against the same objects apart, and the engine's piston.
+    Assembly,
     /// Every map, both scenes, each preset, at rest and moved.
     Accuracy,
     /// A precompute whole and sharded, gathered; the projection over M nodes.
@@ -24,8 +26,15 @@ pub enum Section {
 
 impl Section {
     /// Every section, in the order a full run measures them.
-    pub const ALL: [Section; 6] =
-        [Section::Tradeoff, Section::Ssdo, Section::Leaves, Section::Scaling, Section::Accuracy, Section::Distributed];
+    pub const ALL: [Section; 7] = [
+        Section::Tradeoff,
+        Section::Ssdo,
+        Section::Leaves,
+        Section::Scaling,
+        Section::Assembly,
+        Section::Accuracy,
+        Section::Distributed,
+    ];
 
     /// Its key in `report.json` and its name on the command line.
     pub fn key(self) -> &'static str {
@@ -34,6 +43,7 @@ impl Section {
             Section::Ssdo => "ssdo",
             Section::Leaves => "leaves",
             Section::Scaling => "scaling",
+            Section::Assembly => "assembly",
             Section::Accuracy => "accuracy",
             Section::Distributed => "distributed",
         }
@@ -228,7 +238,14 @@ mod tests {
             Plan::Full(vec![Section::Leaves, Section::Accuracy])
         );
         assert_eq!(plan(&["--sections", "none"]).unwrap(), Plan::Full(vec![]));
-        let rest = vec![Section::Ssdo, Section::Leaves, Section::Scaling, Section::Accuracy, Section::Distributed];
+        let rest = vec![
+            Section::Ssdo,
+            Section::Leaves,
+            Section::Scaling,
+            Section::Assembly,
+            Section::Accuracy,
+            Section::Distributed,
+        ];
         assert_eq!(plan(&["--no-tradeoff"]).unwrap(), Plan::Full(rest));
         for bad in [&["--only-ssdo", "--only-leaves"][..], &["--only", "ssdo", "--no-ssdo"], &["--only", "fast"]] {
             assert!(plan(bad).is_err(), "{bad:?}");

@@ -13,6 +13,7 @@
 
 pub mod accuracy;
 mod args;
+pub mod assembly;
 pub mod distributed;
 pub mod leaves;
 pub mod scaling;
@@ -409,6 +410,7 @@ pub fn run(args: &BenchArgs) -> Result<()> {
         ssdo: None,
         leaves: None,
         scaling: None,
+        assembly: None,
         distributed: None,
         accuracy: None,
         bench_s: 0.0,
@@ -419,6 +421,7 @@ pub fn run(args: &BenchArgs) -> Result<()> {
             Section::Ssdo => report.ssdo = Some(ssdo_section(args)?),
             Section::Leaves => report.leaves = Some(crate::bench::leaves::run(args.quick, &args.out.join("leaves"))?),
             Section::Scaling => report.scaling = Some(crate::bench::scaling::run(&sweeps, &data_dir, &args.out)?),
+            Section::Assembly => report.assembly = Some(crate::bench::assembly::run(args.quick, &data_dir, &args.out)?),
             Section::Accuracy => {
                 report.accuracy =
                     Some(crate::bench::accuracy::run(args.quick, args.no_mc, args.reuse, &data_dir, &args.out)?)
@@ -455,6 +458,7 @@ fn measure_section(
             replace_section(path, key, &crate::bench::leaves::run(args.quick, &args.out.join("leaves"))?)
         }
         Section::Scaling => replace_section(path, key, &crate::bench::scaling::run(sweeps, data_dir, &args.out)?),
+        Section::Assembly => replace_section(path, key, &crate::bench::assembly::run(args.quick, data_dir, &args.out)?),
         Section::Accuracy => replace_section(
             path,
             key,

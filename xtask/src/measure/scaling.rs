@@ -10,8 +10,6 @@
 #![allow(missing_docs)]
 
 use anyhow::{Context, Result};
-use glam::Vec3;
-use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use std::path::Path;
@@ -20,7 +18,6 @@ use vcut_data::Precomputed;
 use vcut_scene::budget::{peak_memory, reset_peak_memory, resident_memory, trim_heap};
 use vcut_scene::{Motion, Scene};
 use vcut_shade::measure::{edit_ms, move_path};
-use vcut_shade::reference::{ExactReference, relative_errors};
 use vcut_shade::{Frame, FrameCaches, FrameSettings, MergeAlgorithm};
 use vcuts::precompute::PrecomputeArgs;
 
@@ -225,26 +222,15 @@ pub fn goals(points: &[ScalingPoint]) -> ScalingGoals {
     }
 }
 
-/// The movable object nearest the centre of the movable objects (the one with the most
-/// neighbours in a grid); the first if there is only one.
-fn central_movable(frame: &Frame) -> Option<usize> {
-    let movers: Vec<(usize, Vec3)> = (0..frame.object_count())
-        .filter(|&o| frame.object(o).motion == Motion::Movable)
-        .map(|o| (o, frame.object(o).mesh.bounds().center))
-        .collect();
-    let centre = movers.iter().map(|m| m.1).sum::<Vec3>() / movers.len().max(1) as f32;
-    movers.iter().min_by(|a, b| (a.1 - centre).length().total_cmp(&(b.1 - centre).length())).map(|m| m.0)
-}
-
 /// Resident memory now (after giving freed heap back), and a new peak started.
-fn start_peak() -> Option<u64> {
+pub(crate) fn start_peak() -> Option<u64> {
     trim_heap();
     let before = resident_memory();
     reset_peak_memory().then_some(before).flatten()
 }
 
 /// The peak since [`start_peak`] over the memory before it.
-fn peak_since(before: Option<u64>) -> Option<u64> {
+pub(crate) fn peak_since(before: Option<u64>) -> Option<u64> {
     Some(peak_memory()?.saturating_sub(before?))
 }
 
@@ -272,7 +258,7 @@ pub fn measure(sweep: &str, scene: &str, preset: &str, data_dir: &Path) -> Resul
     let settings = FrameSettings::default();
     let mut frame = Frame::open(&mut data, &opened.environment, &settings, None)?;
     let frame_setup_s = t.elapsed().as_secs_f64();
-    let moved = central_movable(&frame).with_context(|| format!("{scene} has no movable object"))?;
+    let moved = super::central_movable(&frame).with_context(|| format!("{scene} has no movable object"))?;
     let vertices: usize = (0..frame.object_count()).map(|o| frame.object(o).mesh.vertex_count()).sum();
     frame.set_eye(eye)?;
     let edit = edit_ms(&mut frame, moved, eye, 5);
@@ -284,26 +270,13 @@ pub fn measure(sweep: &str, scene: &str, preset: &str, data_dir: &Path) -> Resul
     let frame_peak = peak_since(before);
     let memory = frame.memory().total();
 
-    let stride = vertices.div_ceil(3000).max(1);
-    let reference = ExactReference::new(&frame, offset);
-    let subset: Vec<(usize, usize)> = (0..frame.object_count())
-        .flat_map(|o| (0..frame.object(o).mesh.vertex_count()).map(move |v| (o, v)))
-        .step_by(stride)
-        .collect();
-    let pairs: Vec<(Vec3, Vec3)> = subset
-        .par_iter()
-        .map(|&(o, v)| {
-            let x = frame.object(o).mesh.positions()[v] + frame.object(o).translation;
-            (shaded[o][v], reference.vertex(&frame, o, v, x, eye))
-        })
-        .collect();
-    let (rel_l2_exact, _) = relative_errors(pairs.into_iter());
+    let (rel_l2_exact, subset) = super::exact_error(&frame, offset, eye, &shaded, 3000);
     let moved_name = frame.object(moved).name.to_string();
     let (objects, movable) = (
         frame.object_count(),
         (0..frame.object_count()).filter(|&o| frame.object(o).motion == Motion::Movable).count(),
     );
-    drop((frame, reference, data));
+    drop((frame, data));
 
     // The same with no cache kept.
     let before = start_peak();
@@ -339,7 +312,7 @@ pub fn measure(sweep: &str, scene: &str, preset: &str, data_dir: &Path) -> Resul
         ns_per_merged_node: eager.ns_per_merged_node(),
         edit_ms: edit,
         rel_l2_exact,
-        exact_subset: subset.len(),
+        exact_subset: subset,
         lean_frame_peak_rss_bytes: lean_peak,
         lean_frame_peak_bytes_per_vertex: lean_peak.map(|b| b as f64 / vertices as f64),
         lean_frame_bytes: lean_bytes,

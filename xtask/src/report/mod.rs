@@ -37,6 +37,8 @@ pub struct Report {
     pub leaves: Option<LeavesSection>,
     #[serde(skip_serializing_if = "Option::is_none")]
     pub scaling: Option<crate::measure::scaling::ScalingSection>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub assembly: Option<crate::bench::assembly::AssemblySection>,
     #[serde(skip_serializing_if = "Option::is_none")]
     pub distributed: Option<crate::measure::distributed::DistributedSection>,
     #[serde(skip_serializing_if = "Option::is_none")]

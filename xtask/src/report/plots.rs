@@ -1,9 +1,11 @@
 //! The bench's plots (feature `plots`): the trade-off sweeps' error against data size or move
-//! time with the Pareto fronts, the scaling section's log–log growth curves, and the accuracy
-//! section's error per map. PNG, written atomically; drawn without text where the machine has no
+//! time with the Pareto fronts, the scaling section's log–log growth curves, the accuracy
+//! section's error per map, and the assembly section's step times per scene. PNG, written atomically; drawn without text where the machine has no
 //! sans-serif font.
 
+use crate::bench::assembly::AssemblySection;
 use crate::measure::accuracy::AccuracySection;
+use crate::measure::assembly::AssemblyPoint;
 use crate::measure::scaling::{ScalingPoint, ScalingSection};
 use crate::report::Point;
 use anyhow::{Context, Result};
@@ -90,6 +92,26 @@ where
         .border_style(BLACK)
         .draw()
         .map_err(err)
+}
+
+/// A series as dots of `radius` joined by a line, labelled in the legend when `label` is given.
+fn marked_line<'a, X, Y>(
+    chart: &mut ChartContext<'a, BitMapBackend<'a>, Cartesian2d<X, Y>>,
+    xy: Vec<(f64, f64)>,
+    colour: RGBAColor,
+    radius: u32,
+    label: Option<impl Into<String>>,
+) -> Result<()>
+where
+    X: Ranged<ValueType = f64>,
+    Y: Ranged<ValueType = f64>,
+{
+    chart.draw_series(xy.iter().map(|&p| Circle::new(p, radius, colour.filled()))).map_err(err)?;
+    let line = chart.draw_series(LineSeries::new(xy, colour.stroke_width(2))).map_err(err)?;
+    if let Some(label) = label {
+        line.label(label).legend(move |(x, y)| PathElement::new([(x, y), (x + 18, y)], colour.stroke_width(2)));
+    }
+    Ok(())
 }
 
 /// Error against data size or move time (`x_key`), one colour per sweep and each point labelled
@@ -206,11 +228,7 @@ pub fn scaling(section: &ScalingSection, sweep: &str, x_label: &str, path: &Path
         }
         for (k, (label, xy)) in series.into_iter().enumerate() {
             let colour = Palette99::pick(k).to_rgba();
-            chart.draw_series(xy.iter().map(|&p| Circle::new(p, 4, colour.filled()))).map_err(err)?;
-            let line = chart.draw_series(LineSeries::new(xy, colour.stroke_width(2))).map_err(err)?;
-            if text {
-                line.label(label).legend(move |(x, y)| PathElement::new([(x, y), (x + 18, y)], colour.stroke_width(2)));
-            }
+            marked_line(&mut chart, xy, colour, 4, text.then_some(label))?;
         }
         if text {
             legend(&mut chart, SeriesLabelPosition::UpperLeft, 0.85)?;
@@ -288,15 +306,59 @@ pub fn accuracy(section: &AccuracySection, path: &Path) -> Result<()> {
                 .filter(|r| r.scene == scene && r.preset == preset)
                 .filter_map(|r| maps.iter().position(|m| *m == r.map).map(|x| (x as f64, r.rel_l2_exact * 100.0)))
                 .collect();
-            chart.draw_series(xy.iter().map(|&p| Circle::new(p, 5, colour.filled()))).map_err(err)?;
-            let line = chart.draw_series(LineSeries::new(xy, colour.stroke_width(2))).map_err(err)?;
-            if text {
-                line.label(format!("{scene}, {preset}"))
-                    .legend(move |(x, y)| PathElement::new([(x, y), (x + 18, y)], colour.stroke_width(2)));
-            }
+            marked_line(&mut chart, xy, colour, 5, text.then(|| format!("{scene}, {preset}")))?;
         }
         if text {
             legend(&mut chart, SeriesLabelPosition::UpperRight, 0.85)?;
+        }
+        Ok(())
+    })
+}
+
+/// One of the assembly plot's series: a step time of a point.
+type Value = fn(&AssemblyPoint) -> f64;
+
+/// The assembly section's eager step per scene, translated and dragged (log scale, ms), each
+/// scene named by what it stands for and its preset: `path` (PNG).
+pub fn assembly(section: &AssemblySection, path: &Path) -> Result<()> {
+    let points = &section.points;
+    if points.is_empty() {
+        return Ok(());
+    }
+    let times = points.iter().flat_map(|p| [p.translate_ms_eager, p.drag_ms_eager]).filter(|t| *t > 0.0);
+    let (y0, y1) = times.fold((f64::MAX, 0.0f64), |(lo, hi), t| (lo.min(t), hi.max(t)));
+    let n = points.len() as f64;
+    let names: Vec<String> = points.iter().map(|p| format!("{} {}", p.kind, p.preset)).collect();
+    chart_png(path, (1000, 600), |root, text| {
+        let caption = "a drag step (eager, with shading): translated against dragged";
+        let mut chart = frame(root, text, caption, 50)
+            .build_cartesian_2d(-0.5..n - 0.5, (y0 / 2.0..y1 * 4.0).log_scale())
+            .map_err(err)?;
+        if text {
+            chart
+                .configure_mesh()
+                .x_labels(points.len() * 2 + 1)
+                .x_label_formatter(&|x| {
+                    let k = x.round();
+                    if (x - k).abs() < 1e-6 && k >= 0.0 {
+                        names.get(k as usize).cloned().unwrap_or_default()
+                    } else {
+                        String::new()
+                    }
+                })
+                .y_desc("ms")
+                .draw()
+                .map_err(err)?;
+        }
+        let series: [(&str, Value); 2] =
+            [("translated", |p| p.translate_ms_eager), ("dragged (rest products)", |p| p.drag_ms_eager)];
+        for (k, (label, value)) in series.into_iter().enumerate() {
+            let colour = Palette99::pick(k).to_rgba();
+            let xy: Vec<(f64, f64)> = points.iter().enumerate().map(|(x, p)| (x as f64, value(p))).collect();
+            marked_line(&mut chart, xy, colour, 5, text.then_some(label))?;
+        }
+        if text {
+            legend(&mut chart, SeriesLabelPosition::UpperLeft, 0.85)?;
         }
         Ok(())
     })

@@ -1,0 +1,133 @@
+//! One point of `cargo xtask bench`'s `assembly` section: a scene precomputed and opened, its
+//! central movable object (or the one named) translated along the bench's path and then dragged
+//! along it ([`vcut_shade::Frame::drag`]), eager and deferred; the drag's preparation and
+//! settle; fields per merged vertex, nodes per merged vertex and ns per node of both; the
+//! frame's memory mid-drag; and the error against the exact reference at rest, mid-drag and
+//! settled, on a vertex subset.
+
+#![allow(missing_docs)]
+
+use anyhow::{Context, Result};
+use serde::{Deserialize, Serialize};
+use std::path::Path;
+use vcut_data::Precomputed;
+use vcut_scene::Scene;
+use vcut_shade::measure::{drag_path, fields_per_merged_vertex, move_path};
+use vcut_shade::{Frame, FrameSettings, MergeAlgorithm};
+
+/// Steps of each path.
+const STEPS: usize = 4;
+/// Vertices the exact reference is compared on (every k-th of the scene's).
+const EXACT_SUBSET: usize = 3000;
+
+/// One scene measured.
+#[derive(Serialize, Deserialize, Clone, Debug, Default, PartialEq)]
+pub struct AssemblyPoint {
+    /// What the scene stands for: `dense`, `spaced` (the same objects apart) or `engine`.
+    pub kind: String,
+    /// The scene as given to `precompute --scene`.
+    pub scene: String,
+    pub preset: String,
+    pub objects: usize,
+    pub vertices: usize,
+    pub dragged_object: String,
+    /// Median step of the translated path, every changed vertex merged: merge and shade (ms).
+    pub translate_ms_eager: f64,
+    /// The same step dragged (rest products; the preparation kept out of the first step).
+    pub drag_ms_eager: f64,
+    /// `drag_ms_eager` over `translate_ms_eager`, measured in one run.
+    pub drag_vs_translate: f64,
+    /// A drag's step with deferred merges (the default: the vertices facing the eye).
+    pub drag_ms_deferred: f64,
+    /// Preparing the rest products, and their vertices and bytes.
+    pub prepare_ms: f64,
+    pub prepared_vertices: usize,
+    pub drag_bytes: usize,
+    /// Settling the eager drag: its dragged vertices merged again in full.
+    pub settle_ms: f64,
+    pub settled_vertices: usize,
+    /// Vertices per step: merged when translated, merged on rest products and left as they
+    /// were (the dragged object hidden) when dragged.
+    pub merged_vertices_translate: usize,
+    pub on_rest_vertices: usize,
+    pub hidden_vertices: usize,
+    pub fields_per_vertex_translate: f64,
+    pub fields_per_vertex_drag: f64,
+    pub nodes_per_vertex_translate: f64,
+    pub nodes_per_vertex_drag: f64,
+    pub ns_per_node_translate: f64,
+    pub ns_per_node_drag: f64,
+    /// What the frame holds mid-drag (`Frame::memory`).
+    pub frame_bytes_drag: usize,
+    /// Relative L2 against the exact-direction reference at rest, mid-drag (the eager path's
+    /// last step, not settled) and settled there, over `exact_subset` vertices.
+    pub rel_l2_rest: f64,
+    pub rel_l2_drag: f64,
+    pub rel_l2_settled: f64,
+    pub exact_subset: usize,
+}
+
+/// Measures `scene` at `preset` (`kind`: what it stands for), dragging `object` (default: the
+/// central movable one), precomputed into `data_dir` unless a file there holds it at `preset`.
+pub fn measure(kind: &str, scene: &str, preset: &str, object: Option<&str>, data_dir: &Path) -> Result<AssemblyPoint> {
+    let file = data_dir.join(format!("assembly-{}-{preset}.vcuts", vcuts::precompute::scene_stem(scene)));
+    let file = vcuts::precompute::cached_or_run_at(scene, preset, &file)?;
+    let opened = Scene::open(scene)?;
+    let eye = opened.cameras.first().map(|c| c.position).context("the scene has no camera")?;
+    let mut data = Precomputed::open(&file)?;
+    let offset = data.svc_origin_offset();
+    let eager = FrameSettings { deferred_merges: false, ..FrameSettings::default() };
+    let mut frame = Frame::open(&mut data, &opened.environment, &eager, Some(eye))?;
+    let o = match object {
+        Some(name) => frame.object_index(name).with_context(|| format!("{scene}: no object {name}"))?,
+        None => super::central_movable(&frame).with_context(|| format!("{scene} has no movable object"))?,
+    };
+    let shaded = frame.shade(eye);
+    let (rel_l2_rest, exact_subset) = super::exact_error(&frame, offset, eye, &shaded, EXACT_SUBSET);
+    let translated = move_path(&mut frame, o, eye, MergeAlgorithm::Counter, STEPS)?;
+    let dragged = drag_path(&mut frame, o, eye, STEPS)?;
+    let frame_bytes_drag = frame.memory().total();
+    let shaded = frame.shade(eye);
+    let (rel_l2_drag, _) = super::exact_error(&frame, offset, eye, &shaded, EXACT_SUBSET);
+    let settled = frame.settle()?;
+    let settle_ms = frame.stats().drag.settle_s * 1e3;
+    let shaded = frame.shade(eye);
+    let (rel_l2_settled, _) = super::exact_error(&frame, offset, eye, &shaded, EXACT_SUBSET);
+    frame.reconfigure(&FrameSettings::default())?;
+    let deferred = drag_path(&mut frame, o, eye, STEPS)?;
+    frame.settle()?;
+    let (t, d) = (&translated, &dragged.path);
+    let per_step =
+        |f: fn(&vcut_shade::MoveTiming) -> usize| d.steps.iter().map(f).sum::<usize>() / d.steps.len().max(1);
+    Ok(AssemblyPoint {
+        kind: kind.into(),
+        scene: scene.into(),
+        preset: preset.into(),
+        objects: frame.object_count(),
+        vertices: (0..frame.object_count()).map(|o| frame.object(o).mesh.vertex_count()).sum(),
+        dragged_object: frame.object(o).name.to_string(),
+        translate_ms_eager: t.move_ms,
+        drag_ms_eager: d.move_ms,
+        drag_vs_translate: d.move_ms / t.move_ms,
+        drag_ms_deferred: deferred.path.move_ms,
+        prepare_ms: dragged.drag.prepare_s * 1e3,
+        prepared_vertices: dragged.drag.prepared,
+        drag_bytes: dragged.drag.bytes,
+        settle_ms,
+        settled_vertices: settled,
+        merged_vertices_translate: t.merged,
+        on_rest_vertices: per_step(|m| m.on_rest),
+        hidden_vertices: per_step(|m| m.hidden),
+        fields_per_vertex_translate: fields_per_merged_vertex(&t.steps),
+        fields_per_vertex_drag: fields_per_merged_vertex(&d.steps),
+        nodes_per_vertex_translate: t.nodes_per_merged_vertex(),
+        nodes_per_vertex_drag: d.nodes_per_merged_vertex(),
+        ns_per_node_translate: t.ns_per_merged_node(),
+        ns_per_node_drag: d.ns_per_merged_node(),
+        frame_bytes_drag,
+        rel_l2_rest,
+        rel_l2_drag,
+        rel_l2_settled,
+        exact_subset,
+    })
+}
