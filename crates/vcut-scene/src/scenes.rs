@@ -26,8 +26,8 @@ pub const SHOWROOM_DEFAULT: usize = 16;
 pub const SHOWROOM_MAX: usize = 1024;
 /// Distance between neighbouring objects of the showroom.
 pub const SHOWROOM_SPACING: f32 = 3.0;
-/// Distance between neighbouring objects of the assembly: the showroom's objects are 0.96 to
-/// 1.9 units across, so each stands within 0.35 units of a neighbour, some closer than 0.01.
+/// Distance between neighbouring objects of the assembly: a little more than the showroom's
+/// largest objects are across, so neighbours nearly touch without overlapping.
 pub const ASSEMBLY_SPACING: f32 = 1.55;
 
 /// The description of built-in scene `name`, if there is one.

@@ -43,7 +43,12 @@ pub(super) struct Drag {
     /// Per field sample of the moved object: the leaf ranges where its visibility is below 1.
     shadows: HashMap<SampleId, Vec<Range<u32>>>,
     dragged: Vec<Vec<bool>>,
-    bytes: usize,
+    /// Bytes of the rest products and their zero ranges.
+    rest_bytes: usize,
+    /// What the memory budget left beside the frame and the rest products when the drag began
+    /// (`None`: no budget); the shadow ranges are kept within it, and a sample without them
+    /// hides nothing.
+    room: Option<usize>,
 }
 
 /// One object's rest products during a drag of object `object` (vertex-indexed).
@@ -59,9 +64,10 @@ impl Drag {
         RestOf { object: self.object as u32, products: &self.rest[k] }
     }
 
-    /// Bytes the rest products hold.
+    /// Bytes the drag holds: the rest products with their zero ranges, and the shadow ranges
+    /// of the samples its steps looked at.
     pub(super) fn bytes(&self) -> usize {
-        self.bytes
+        self.rest_bytes + self.shadows.values().map(|runs| shadow_bytes(runs)).sum::<usize>()
     }
 
     /// Takes out of `merge` the vertices of object `k` (with new field inputs `keys`) from which
@@ -132,9 +138,21 @@ impl Drag {
                 Ok((id, below_one(&cut)))
             })
             .collect::<Result<_, FrameError>>()?;
-        self.shadows.extend(found);
+        for (id, runs) in found {
+            let b = shadow_bytes(&runs);
+            if self.room.is_some_and(|r| b > r) {
+                break;
+            }
+            self.room = self.room.map(|r| r - b);
+            self.shadows.insert(id, runs);
+        }
         Ok(())
     }
+}
+
+/// What one sample's shadow ranges hold in [`Drag::shadows`].
+fn shadow_bytes(runs: &[Range<u32>]) -> usize {
+    size_of::<(SampleId, Vec<Range<u32>>)>() + size_of_val(runs)
 }
 
 /// The leaf ranges where `cut` is below 1, joined.
@@ -151,6 +169,7 @@ fn below_one(cut: &vcut_cut::Cut) -> Vec<Range<u32>> {
         }
         start = end;
     }
+    runs.shrink_to_fit();
     runs
 }
 
@@ -166,7 +185,8 @@ pub struct DragStats {
     /// Vertices the moved field reached that were left to full merges: the memory budget had
     /// no room for their rest products.
     pub unprepared: usize,
-    /// Bytes the rest products hold (0 once settled).
+    /// Bytes the drag holds: its rest products, and the shadow ranges of the moved object's
+    /// samples its steps looked at (0 once settled).
     pub bytes: usize,
     /// The last settle's time (seconds).
     pub settle_s: f64,
@@ -195,6 +215,7 @@ impl Frame {
                     d.dragged[k][v] = true;
                 }
             }
+            self.tally.drag.bytes = d.bytes();
         }
         Ok(count(&merged))
     }
@@ -295,21 +316,22 @@ impl Frame {
             zeros.push(zero_runs);
         }
         let hidden = rest.iter().map(|r| vec![false; r.len()]).collect();
-        let mut drag = Drag { object: m, rest, zeros, hidden, shadows: HashMap::new(), dragged, bytes };
+        let mut drag =
+            Drag { object: m, rest, zeros, hidden, shadows: HashMap::new(), dragged, rest_bytes: bytes, room };
         // Where the object is hidden now: a step that finds it hidden too need not merge.
         for (k, state) in self.states.iter().enumerate() {
             let mut all: Vec<bool> = drag.rest[k].iter().map(Option::is_some).collect();
             drag.skip_hidden(ctx, k, &state.keys, &mut all)?;
         }
-        self.drag = Some(drag);
         self.tally.drag = super::DragStats {
             object: Some(m),
             prepare_s: start.elapsed().as_secs_f64(),
             prepared,
             unprepared,
-            bytes,
+            bytes: drag.bytes(),
             ..self.tally.drag
         };
+        self.drag = Some(drag);
         Ok(())
     }
 }
