@@ -6,7 +6,7 @@ mod frame_scene;
 use frame_scene::{EYE, data, scratch};
 use glam::Vec3;
 use vcut_envmap::EnvMap;
-use vcut_shade::{Frame, FrameSettings};
+use vcut_shade::{BackgroundFrame, Frame, FrameJob, FrameSettings};
 
 /// Parts that nearly touch on a ground: every part's field reaches the others' vertices.
 const ASSEMBLY: &str = r#"
@@ -259,4 +259,48 @@ fn receivers_the_dragged_object_is_hidden_from_are_skipped() {
     dragged.settle().unwrap();
     assert!(dragged.shade(EYE) == moved.shade(EYE));
     assert!(cuts(&mut dragged) == cuts(&mut moved));
+}
+
+#[test]
+fn a_background_frame_drops_stale_steps_and_settles_as_the_frame_itself() {
+    let dir = scratch("drag-background");
+    let mut d = data(ASSEMBLY, &[], &dir.join("a.vcuts"));
+    let settings = FrameSettings::default();
+    let mut moved = open(&mut d, &settings);
+    let a = moved.object_index("a").unwrap();
+    let steps = path(Vec3::ZERO, 10);
+    let worker = BackgroundFrame::new(open(&mut d, &settings));
+    worker.set_eye(EYE);
+    // Held here, the frame keeps the worker from starting: every step queues behind the
+    // first, each replacing the one before it.
+    let held = worker.frame();
+    let tickets: Vec<u64> = steps.iter().map(|&t| worker.post(FrameJob::Drag { object: a, translation: t })).collect();
+    assert!(worker.busy());
+    assert!(worker.try_frame().is_none(), "the worker has work: the frame is not offered");
+    drop(held);
+    worker.post(FrameJob::Settle);
+    worker.wait();
+    let stats = worker.stats();
+    assert_eq!(stats.posted, 11);
+    assert!(stats.dropped >= 8, "{stats:?}");
+    assert_eq!(stats.finished + stats.dropped, stats.posted);
+    let finished = worker.take_finished();
+    assert_eq!(finished.len() as u64, stats.finished);
+    assert!(finished.iter().all(|f| f.merged.is_ok()));
+    let last = finished.iter().rev().find(|f| matches!(f.job, FrameJob::Drag { .. })).unwrap();
+    assert_eq!(last.ticket, *tickets.last().unwrap(), "the last step always runs");
+    assert!(matches!(finished.last().unwrap().job, FrameJob::Settle));
+    // The shading after the queue ran dry is the settled frame's, bit for bit a translated one's.
+    let shading = worker.take_shading().expect("a shading after the last job");
+    assert_eq!(shading.after, Some(finished.last().unwrap().ticket));
+    moved.translate(a, *steps.last().unwrap()).unwrap();
+    assert!(shading.radiance == moved.shade(EYE), "the worker's frame differs from the translated one");
+    assert!(cuts(&mut worker.frame()) == cuts(&mut moved));
+    // A refused move comes back as the frame's error; the frame is as it was.
+    let ticket = worker.post(FrameJob::Translate { object: a, translation: Vec3::splat(1e30) });
+    worker.wait();
+    let f = worker.take_finished();
+    assert_eq!(f.len(), 1);
+    assert!(f[0].ticket == ticket && f[0].merged.is_err(), "{:?}", f[0].merged);
+    assert_eq!(worker.frame().object(a).translation, *steps.last().unwrap());
 }

@@ -8,8 +8,9 @@ use glam::Vec3;
 use numpy::{PyArray2, PyArray3};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
-use vcut_shade::FrameSettings;
+use std::sync::MutexGuard;
 use vcut_shade::reference::{MonteCarloParams, exact_direction, monte_carlo};
+use vcut_shade::{BackgroundFrame, FrameJob, FrameSettings};
 use vcuts::open::Opened;
 
 /// Opens a `.vcuts` file under its recorded environment (or `env`, a spec or an `EnvMap`), its
@@ -37,7 +38,8 @@ fn open(
     let settings = crate::settings::with(&FrameSettings::default(), settings)?;
     let opened =
         py.detach(|| vcuts::open::open_with(&path, env.as_deref(), reconstruction, &settings, None)).map_err(error)?;
-    Ok(Frame { opened })
+    let Opened { data, frame, env, env_name, view, setup_s } = opened;
+    Ok(Frame { worker: BackgroundFrame::new(frame), dropped: 0, opened: Rest { data, env, env_name, view, setup_s } })
 }
 
 /// An environment given as a spec or an `EnvMap`.
@@ -56,23 +58,66 @@ enum CameraArg<'py> {
 }
 
 /// The scene at run time, from a `.vcuts` file: move objects, edit BRDFs and lighting, shade.
+/// Moves can run on a thread of their own (`wait=False`); every other call waits for them.
 #[pyclass(module = "vcuts")]
 pub(crate) struct Frame {
-    opened: Opened,
+    /// The frame, with the worker that runs moves posted without waiting.
+    worker: BackgroundFrame,
+    /// Drag steps dropped as stale that `wait` has reported.
+    dropped: u64,
+    opened: Rest,
+}
+
+/// What `vcuts::open::Opened` holds besides the frame.
+struct Rest {
+    data: vcut_data::Precomputed,
+    env: vcut_envmap::EnvMap,
+    env_name: String,
+    view: Option<vcut_data::View>,
+    setup_s: f64,
 }
 
 impl Frame {
+    /// Runs `job` here (waiting for what was posted before) and returns what it merged, or with
+    /// `wait` false posts it to the worker and returns `None`.
+    fn run(&mut self, py: Python<'_>, job: FrameJob, wait: bool) -> PyResult<Option<usize>> {
+        if !wait {
+            self.worker.post(job);
+            return Ok(None);
+        }
+        let w = &self.worker;
+        let done = py.detach(|| {
+            let mut frame = w.frame();
+            match job {
+                FrameJob::Translate { object, translation } => frame.translate(object, translation),
+                FrameJob::Drag { object, translation } => frame.drag(object, translation),
+                FrameJob::Settle => frame.settle(),
+            }
+        });
+        done.map(Some).map_err(error)
+    }
+
+    /// The object a move names and its finite translation.
+    fn target(&self, object: &ObjectRef, translation: [f32; 3]) -> PyResult<(usize, Vec3)> {
+        Ok((self.index(object)?, finite(translation, "translation")?))
+    }
+
+    /// The frame, once the moves posted are done.
+    fn frame(&self) -> MutexGuard<'_, vcut_shade::Frame> {
+        self.worker.frame()
+    }
+
     fn index(&self, o: &ObjectRef) -> PyResult<usize> {
-        o.resolve(&self.opened.frame)
+        o.resolve(&self.frame())
     }
 
     fn resolve_camera(&self, camera: Option<CameraArg<'_>>) -> PyResult<vcut_scene::Camera> {
         match camera {
             Some(CameraArg::Dict(d)) => camera_from(&d),
             Some(CameraArg::Name(n)) => {
-                vcuts::open::camera(self.opened.view.as_ref(), Some(&n), &self.opened.frame).map_err(error)
+                vcuts::open::camera(self.opened.view.as_ref(), Some(&n), &self.frame()).map_err(error)
             }
-            None => vcuts::open::camera(self.opened.view.as_ref(), None, &self.opened.frame).map_err(error),
+            None => vcuts::open::camera(self.opened.view.as_ref(), None, &self.frame()).map_err(error),
         }
     }
 }
@@ -87,7 +132,7 @@ impl Frame {
     /// The objects' names, in order (an object is named or indexed by every method).
     #[getter]
     fn objects(&self) -> Vec<String> {
-        let f = &self.opened.frame;
+        let f = &self.frame();
         (0..f.object_count()).map(|o| f.object(o).name.to_string()).collect()
     }
 
@@ -104,50 +149,94 @@ impl Frame {
     }
 
     /// Moves `object` to `translation` from its rest position and re-merges what that changed;
-    /// returns the vertices re-merged. Moving back restores every cut bit for bit.
-    fn translate(&mut self, py: Python<'_>, object: ObjectRef, translation: [f32; 3]) -> PyResult<usize> {
-        let o = self.index(&object)?;
-        let t = finite(translation, "translation")?;
-        let frame = &mut self.opened.frame;
-        py.detach(|| frame.translate(o, t)).map_err(error)
+    /// returns the vertices re-merged. Moving back restores every cut bit for bit. With
+    /// `wait=False` the move runs on the frame's own thread and this returns `None` at once
+    /// (see `wait`).
+    #[pyo3(signature = (object, translation, wait=true))]
+    fn translate(
+        &mut self,
+        py: Python<'_>,
+        object: ObjectRef,
+        translation: [f32; 3],
+        wait: bool,
+    ) -> PyResult<Option<usize>> {
+        let (object, translation) = self.target(&object, translation)?;
+        self.run(py, FrameJob::Translate { object, translation }, wait)
     }
 
     /// Moves `object` to `translation` as one step of a drag: the first step prepares, for each
     /// vertex the object's field reaches, the product of every other factor, and each step
     /// merges that with the moved field alone. The cuts may differ from `translate`'s in their
     /// last bits until `settle()`; a `translate`, a settings change or a drag of another object
-    /// settles first. Returns the vertices re-merged.
-    fn drag(&mut self, py: Python<'_>, object: ObjectRef, translation: [f32; 3]) -> PyResult<usize> {
-        let o = self.index(&object)?;
-        let t = finite(translation, "translation")?;
-        let frame = &mut self.opened.frame;
-        py.detach(|| frame.drag(o, t)).map_err(error)
+    /// settles first. Returns the vertices re-merged. With `wait=False` the step runs on the
+    /// frame's own thread and this returns `None` at once; a step still waiting there is
+    /// replaced by the next one (stale), so a script can post steps as fast as it likes.
+    #[pyo3(signature = (object, translation, wait=true))]
+    fn drag(
+        &mut self,
+        py: Python<'_>,
+        object: ObjectRef,
+        translation: [f32; 3],
+        wait: bool,
+    ) -> PyResult<Option<usize>> {
+        let (object, translation) = self.target(&object, translation)?;
+        self.run(py, FrameJob::Drag { object, translation }, wait)
     }
 
     /// Ends a drag: the vertices it merged on their rest products merged again in full, every
-    /// cut then bit for bit `translate`'s. Returns how many (0 with no drag under way).
-    fn settle(&mut self, py: Python<'_>) -> PyResult<usize> {
-        let frame = &mut self.opened.frame;
-        py.detach(|| frame.settle()).map_err(error)
+    /// cut then bit for bit `translate`'s. Returns how many (0 with no drag under way); `None`
+    /// with `wait=False`.
+    #[pyo3(signature = (wait=true))]
+    fn settle(&mut self, py: Python<'_>, wait: bool) -> PyResult<Option<usize>> {
+        self.run(py, FrameJob::Settle, wait)
+    }
+
+    /// Waits for the moves posted with `wait=False`; returns a dict: `moves` run, `dropped`
+    /// (drag steps replaced before they ran), `merged` (vertices merged by them). Raises
+    /// `VcutsError` for the first that failed (the frame as that move's method leaves it:
+    /// a refused move changes nothing). Every other method waits for them too, but only this
+    /// reports their outcome.
+    fn wait<'py>(&mut self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let w = &self.worker;
+        py.detach(|| w.wait());
+        let finished = self.worker.take_finished();
+        let dropped = self.worker.stats().dropped - self.dropped;
+        self.dropped += dropped;
+        let d = PyDict::new(py);
+        d.set_item("moves", finished.len())?;
+        d.set_item("dropped", dropped)?;
+        let mut merged = 0;
+        for f in finished {
+            merged += f.merged.map_err(error)?;
+        }
+        d.set_item("merged", merged)?;
+        Ok(d)
+    }
+
+    /// Whether moves posted with `wait=False` are still running.
+    #[getter]
+    fn busy(&self) -> bool {
+        self.worker.busy()
     }
 
     /// The name of the object being dragged, or `None`.
     #[getter]
     fn dragging(&self) -> Option<String> {
-        let f = &self.opened.frame;
+        let f = &self.frame();
         f.dragging().map(|o| f.object(o).name.to_string())
     }
 
     /// `object`'s translation from rest.
     fn translation(&self, object: ObjectRef) -> PyResult<[f32; 3]> {
-        Ok(self.opened.frame.object(self.index(&object)?).translation.to_array())
+        let o = self.index(&object)?;
+        Ok(self.frame().object(o).translation.to_array())
     }
 
     /// Edits `object`'s BRDF with the command line's `--brdf` syntax, e.g. `"blinn-phong:alpha=70"`,
     /// `"ggx:roughness=0.2,ks=0.04"`, `"same:kd=0.8/0.2/0.2"`. Never merges.
     fn set_brdf(&mut self, object: ObjectRef, spec: &str) -> PyResult<()> {
         let o = self.index(&object)?;
-        let frame = &mut self.opened.frame;
+        let frame = &mut self.frame();
         let m = vcut_shade::brdf::parse_spec(*frame.object(o).material, spec)
             .map_err(|e| VcutsError::new_err(format!("brdf {spec}: {e}")))?;
         frame.set_material(o, m);
@@ -156,7 +245,8 @@ impl Frame {
 
     /// `object`'s BRDF parameters: a dict with `model`, `kd`, `ks`, `exponent`, `roughness`.
     fn material<'py>(&self, py: Python<'py>, object: ObjectRef) -> PyResult<Bound<'py, PyAny>> {
-        to_py(py, self.opened.frame.object(self.index(&object)?).material)
+        let o = self.index(&object)?;
+        to_py(py, self.frame().object(o).material)
     }
 
     /// Lights the frame with `env` (a spec such as `"builtin:studio"` or an `EnvMap`). Never merges.
@@ -165,8 +255,8 @@ impl Frame {
             EnvArg::Map(m) => (m.map.clone(), m.map.source().to_string()),
             EnvArg::Spec(s) => (py.detach(|| vcuts::inspect::load_envmap(&s)).map_err(error)?, s),
         };
-        let frame = &mut self.opened.frame;
-        py.detach(|| frame.set_environment(&map));
+        let w = &self.worker;
+        py.detach(|| w.frame().set_environment(&map));
         self.opened.env = map;
         self.opened.env_name = name;
         Ok(())
@@ -176,16 +266,16 @@ impl Frame {
     /// builds the shading lists now facing it; returns the vertices merged.
     fn set_eye(&mut self, py: Python<'_>, eye: [f32; 3]) -> PyResult<usize> {
         let eye = finite(eye, "eye")?;
-        let frame = &mut self.opened.frame;
-        py.detach(|| frame.set_eye(eye)).map_err(error)
+        let w = &self.worker;
+        py.detach(|| w.frame().set_eye(eye)).map_err(error)
     }
 
     /// Per-vertex outgoing radiance towards `eye`, one `(N, 3)` float32 array per object
     /// (vertices the eye cannot see are black; `shade_all` shades those too).
     fn shade<'py>(&mut self, py: Python<'py>, eye: [f32; 3]) -> PyResult<Vec<Bound<'py, PyArray2<f32>>>> {
         let eye = finite(eye, "eye")?;
-        let frame = &mut self.opened.frame;
-        let radiance = py.detach(|| frame.shade(eye));
+        let w = &self.worker;
+        let radiance = py.detach(|| w.frame().shade(eye));
         per_object(py, radiance)
     }
 
@@ -193,24 +283,27 @@ impl Frame {
     /// normal (as for exports).
     fn shade_all<'py>(&mut self, py: Python<'py>, eye: [f32; 3]) -> PyResult<Vec<Bound<'py, PyArray2<f32>>>> {
         let eye = finite(eye, "eye")?;
-        let frame = &mut self.opened.frame;
-        let radiance = py.detach(|| frame.shade_all(eye));
+        let w = &self.worker;
+        let radiance = py.detach(|| w.frame().shade_all(eye));
         per_object(py, radiance)
     }
 
     /// `object`'s vertex positions where it is now, `(N, 3)` float32.
     fn positions<'py>(&self, py: Python<'py>, object: ObjectRef) -> PyResult<Bound<'py, PyArray2<f32>>> {
-        vec3s(py, self.opened.frame.object(self.index(&object)?).positions())
+        let o = self.index(&object)?;
+        vec3s(py, self.frame().object(o).positions())
     }
 
     /// `object`'s vertex normals, `(N, 3)` float32.
     fn normals<'py>(&self, py: Python<'py>, object: ObjectRef) -> PyResult<Bound<'py, PyArray2<f32>>> {
-        vec3s(py, self.opened.frame.object(self.index(&object)?).mesh.normals().to_vec())
+        let o = self.index(&object)?;
+        vec3s(py, self.frame().object(o).mesh.normals().to_vec())
     }
 
     /// `object`'s triangles, `(M, 3)` uint32 vertex indices.
     fn indices<'py>(&self, py: Python<'py>, object: ObjectRef) -> PyResult<Bound<'py, PyArray2<u32>>> {
-        triangles(py, self.opened.frame.object(self.index(&object)?).mesh.triangles())
+        let o = self.index(&object)?;
+        triangles(py, self.frame().object(o).mesh.triangles())
     }
 
     /// The file's cameras (dicts: `name`, `position`, `target`, `up`, `fov_y_deg`).
@@ -239,8 +332,10 @@ impl Frame {
     ) -> PyResult<Bound<'py, PyArray3<f32>>> {
         size(width, height, vcuts::resources::ImageCost::Cuts)?;
         let camera = self.resolve_camera(camera)?;
-        let Opened { frame, env, .. } = &mut self.opened;
+        let (w, env) = (&self.worker, &self.opened.env);
         let img = py.detach(|| {
+            let mut frame = w.frame();
+            let frame = &mut *frame;
             let parts = frame.shade_parts(camera.position, false);
             let radiance = frame.radiance(&parts);
             vcut_shade::image::frame_image(frame, (&parts, &radiance), &camera, width, height, Some(env))
@@ -263,9 +358,9 @@ impl Frame {
         let mode = <vcuts::ssdo::ScreenMode as clap::ValueEnum>::from_str(mode, false)
             .map_err(|_| VcutsError::new_err(format!("mode {mode}: expected ssao, ssdo or ssdo-peeled")))?;
         let camera = self.resolve_camera(camera)?;
-        let Opened { frame, env, .. } = &self.opened;
+        let (w, env) = (&self.worker, &self.opened.env);
         let img = py.detach(|| {
-            let objects = vcuts::ssdo::objects(frame);
+            let objects = vcuts::ssdo::objects(&w.frame());
             let light = vcuts::ssdo::lighting(env, &objects);
             vcuts::ssdo::image(&vcuts::ssdo::frame(&objects, &light, &camera, (width, height), mode).output)
         });
@@ -276,8 +371,8 @@ impl Frame {
     /// geometry), per object as `shade` returns.
     fn exact_reference<'py>(&self, py: Python<'py>, eye: [f32; 3]) -> PyResult<Vec<Bound<'py, PyArray2<f32>>>> {
         let eye = finite(eye, "eye")?;
-        let (frame, offset) = (&self.opened.frame, self.opened.data.svc_origin_offset());
-        per_object(py, py.detach(|| exact_direction(frame, eye, offset)))
+        let (w, offset) = (&self.worker, self.opened.data.svc_origin_offset());
+        per_object(py, py.detach(|| exact_direction(&w.frame(), eye, offset)))
     }
 
     /// The Monte Carlo reference towards `eye` (every vertex sampled until its standard error
@@ -299,16 +394,16 @@ impl Frame {
             return Err(VcutsError::new_err("monte_carlo_reference: max_samples 0: must be at least 1"));
         }
         let p = MonteCarloParams { rel_error, max_samples, seed, ..MonteCarloParams::default() };
-        let Opened { frame, env, data, .. } = &self.opened;
-        let offset = data.svc_origin_offset();
-        per_object(py, py.detach(|| monte_carlo(frame, env, eye, offset, &p).0))
+        let (w, env) = (&self.worker, &self.opened.env);
+        let offset = self.opened.data.svc_origin_offset();
+        per_object(py, py.detach(|| monte_carlo(&w.frame(), env, eye, offset, &p).0))
     }
 
     /// The frame's settings, as a dict of `FrameSettings`' fields (what `open` and
     /// `reconfigure` take as keywords).
     #[getter]
     fn settings<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
-        to_py(py, self.opened.frame.settings())
+        to_py(py, self.frame().settings())
     }
 
     /// Changes the settings named as keywords (the others stay), merging only what they change
@@ -316,23 +411,23 @@ impl Frame {
     /// `VcutsError` naming it, and the frame keeps its settings.
     #[pyo3(signature = (**settings))]
     fn reconfigure(&mut self, py: Python<'_>, settings: Option<&Bound<'_, PyDict>>) -> PyResult<usize> {
-        let new = crate::settings::with(self.opened.frame.settings(), settings)?;
-        let frame = &mut self.opened.frame;
-        py.detach(|| frame.reconfigure(&new)).map_err(error)
+        let new = crate::settings::with(self.frame().settings(), settings)?;
+        let w = &self.worker;
+        py.detach(|| w.frame().reconfigure(&new)).map_err(error)
     }
 
     /// Whether a move leaves the vertices facing away from the eye for later (default on): the
     /// setting `deferred_merges` (`reconfigure(deferred_merges=...)`).
     #[getter]
     fn deferred_merges(&self) -> bool {
-        self.opened.frame.settings().deferred_merges
+        self.frame().settings().deferred_merges
     }
 
     #[setter]
     fn set_deferred_merges(&mut self, py: Python<'_>, on: bool) -> PyResult<()> {
-        let new = FrameSettings { deferred_merges: on, ..self.opened.frame.settings().clone() };
-        let frame = &mut self.opened.frame;
-        py.detach(|| frame.reconfigure(&new)).map(|_| ()).map_err(error)
+        let new = FrameSettings { deferred_merges: on, ..self.frame().settings().clone() };
+        let w = &self.worker;
+        py.detach(|| w.frame().reconfigure(&new)).map(|_| ()).map_err(error)
     }
 
     /// How finely a ground's shadow follows its edges, in leaves (1, the default, is the exact
@@ -341,7 +436,7 @@ impl Frame {
     /// of the directions). Setting it re-merges the vertices a ground shadows.
     #[getter]
     fn flat_edge_leaves(&self) -> u32 {
-        let f = &self.opened.frame;
+        let f = &self.frame();
         f.settings().flat_edge_leaves.leaves(f.tree().leaf_count())
     }
 
@@ -357,7 +452,7 @@ impl Frame {
     /// `frame_memory_mb`, …). The nested dicts of earlier versions (`last_move`, `memory`,
     /// `light`) are there too for this release (CHANGELOG).
     fn stats<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
-        let f = &self.opened.frame;
+        let f = &self.frame();
         let d = to_py(py, &vcuts::frame_report::FrameReport::of(f, true))?;
         let d = d.cast_into::<PyDict>()?;
         let stats = f.stats();
@@ -396,7 +491,7 @@ impl Frame {
     }
 
     fn __repr__(&self) -> String {
-        let f = &self.opened.frame;
+        let f = &self.frame();
         format!(
             "Frame({} objects, {} vertices, environment '{}')",
             f.object_count(),
@@ -426,11 +521,12 @@ fn _native_drag(
     steps: usize,
     eye: [f32; 3],
 ) -> PyResult<Vec<(f64, f64)>> {
-    let mut this = frame.borrow_mut();
+    let this = frame.borrow();
     let o = this.index(&object)?;
     let (step, eye) = (finite(step, "step")?, finite(eye, "eye")?);
-    let f = &mut this.opened.frame;
+    let w = &this.worker;
     py.detach(|| {
+        let mut f = w.frame();
         let start = f.object(o).translation;
         let mut out = Vec::with_capacity(steps);
         for k in 1..=steps {

@@ -49,6 +49,25 @@ def test_a_drag_settles_to_the_translation_bit_for_bit(balls) -> None:
         assert np.array_equal(a, b)
 
 
+def test_moves_posted_without_waiting_end_where_waited_ones_do(balls) -> None:
+    posted, waited = vcuts.open(balls), vcuts.open(balls)
+    eye = posted.camera()["position"]
+    for k in range(1, 6):
+        assert posted.drag("ball", (0.1 * k, 0.0, 0.05 * k), wait=False) is None
+    assert posted.settle(wait=False) is None
+    done = posted.wait()
+    assert not posted.busy
+    assert done["moves"] + done["dropped"] == 6 and done["merged"] > 0
+    waited.translate("ball", (0.5, 0.0, 0.25))
+    for a, b in zip(posted.shade(eye), waited.shade(eye)):
+        assert np.array_equal(a, b)
+    # A move the frame refuses is raised by wait(), naming it; the ball stays.
+    posted.translate("ball", (1e30, 0.0, 0.0), wait=False)
+    with pytest.raises(vcuts.VcutsError, match="ball"):
+        posted.wait()
+    assert posted.translation("ball") == [0.5, 0.0, 0.25]
+
+
 def test_a_grounds_edges_estimated_change_the_balls_and_exact_again_is_bit_for_bit(balls) -> None:
     f = vcuts.open(balls)
     eye = f.camera()["position"]

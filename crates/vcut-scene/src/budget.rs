@@ -62,12 +62,38 @@ pub fn reset_peak_memory() -> bool {
 /// Returns the heap's freed memory to the system where the allocator keeps it (glibc:
 /// `malloc_trim`), so that [`resident_memory`] and a new peak measure what is in use — before
 /// measuring one job's peak after another's in the same process.
-#[allow(unsafe_code)] // the one foreign call of the workspace; nothing else needs `unsafe`
+#[allow(unsafe_code)] // one of the workspace's two foreign calls (with `lower_thread_priority`)
 pub fn trim_heap() {
     #[cfg(all(target_os = "linux", target_env = "gnu"))]
     // SAFETY: malloc_trim only releases free pages of glibc's heap; any argument is valid.
     unsafe {
         libc::malloc_trim(0);
+    }
+}
+
+/// Lowers the calling thread's scheduling priority (Linux: nice +`by`, for this thread alone):
+/// background work run on it yields the cores to the threads that must answer at once (a
+/// window's, and a CPU rasterizer's). Returns whether the system took it.
+#[allow(unsafe_code)] // one of the workspace's two foreign calls (with `trim_heap`)
+pub fn lower_thread_priority(by: i32) -> bool {
+    #[cfg(target_os = "linux")]
+    {
+        // SAFETY: getpriority and setpriority read and set a scheduling value; `who` 0 is the
+        // calling thread on Linux (its threads have their own nice value); errno is cleared
+        // first since -1 is a valid priority.
+        unsafe {
+            *libc::__errno_location() = 0;
+            let now = libc::getpriority(libc::PRIO_PROCESS, 0);
+            if now == -1 && *libc::__errno_location() != 0 {
+                return false;
+            }
+            libc::setpriority(libc::PRIO_PROCESS, 0, (now + by).clamp(-20, 19)) == 0
+        }
+    }
+    #[cfg(not(target_os = "linux"))]
+    {
+        let _ = by;
+        false
     }
 }
 

@@ -41,8 +41,8 @@ pub mod sun;
 #[cfg(feature = "clap")]
 pub use frame::FrameArgs;
 pub use frame::{
-    CutFailure, DragStats, FIELD_REACH, FieldReach, FlatEdges, Frame, FrameCaches, FrameError, FrameMemory,
-    FrameObject, FrameSettings, FrameStats, INTERACTIVE_EDGE_SHARE, LightChoice, MergeAlgorithm, MoveTiming, Parts,
-    SettingError,
+    BackgroundFrame, BackgroundShading, BackgroundStats, CutFailure, DragStats, FIELD_REACH, FieldReach, FinishedJob,
+    FlatEdges, Frame, FrameCaches, FrameError, FrameJob, FrameMemory, FrameObject, FrameSettings, FrameStats,
+    INTERACTIVE_EDGE_SHARE, LightChoice, MergeAlgorithm, MoveTiming, Parts, SettingError,
 };
 pub use sun::SunRays;

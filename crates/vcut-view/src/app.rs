@@ -3,14 +3,16 @@
 //!
 //! Mouse: left-drag on empty space orbits, right- or middle-drag pans, the wheel zooms;
 //! left-drag on a movable object moves it over the horizontal plane through the grabbed point
-//! (with Shift: vertically). While dragging, the object is re-merged at every mouse move if
-//! the last move cost less than [`ViewOptions::live_move_ms`], otherwise once on release; the
-//! steps are a [`vcut_shade::Frame::drag`]'s, settled on release.
+//! (with Shift: vertically). The object follows the pointer at once; each mouse move posts a
+//! [`vcut_shade::Frame::drag`] step to the frame's worker thread ([`Session::post_drag`]: a
+//! step still queued is replaced, stale), the last shading shows until the new one arrives, and
+//! the release posts the settle. The window thread never merges, so it never waits for one.
 
 use crate::camera::{OrbitCamera, ray_plane};
 use crate::gpu::ViewError;
 use crate::host::{ViewportPoint, WindowApp};
 use crate::render::Viewport;
+use crate::report::{Quantiles, ScriptedDrag, WindowReport};
 use crate::session::{Mode, Session};
 use crate::window::WindowState;
 use glam::Vec3;
@@ -32,21 +34,34 @@ pub struct ViewOptions {
     pub envs: Vec<String>,
     /// Loads one of `envs`.
     pub load_env: EnvLoader,
-    /// Re-merge at every mouse move while dragging when the last move took less than this.
-    pub live_move_ms: f64,
     /// Close after this many frames (for scripted runs); `None`: until the window closes.
     pub max_frames: Option<u64>,
+    /// A drag the window performs by itself, from its first frame (measurements).
+    pub scripted_drag: Option<ScriptedDrag>,
 }
 
 /// A movable object being dragged: grabbed at `grab` (world), from translation `start`, over
-/// the horizontal plane (or, `vertical`, a vertical one); `pending` the move waiting for the
-/// release when moves are too slow to follow the mouse.
+/// the horizontal plane (or, `vertical`, a vertical one).
 struct ObjectDrag {
     o: usize,
     grab: Vec3,
     start: Vec3,
     vertical: bool,
-    pending: Option<Vec3>,
+}
+
+/// What a window run records for its [`WindowReport`].
+#[derive(Default)]
+struct Record {
+    frames: u64,
+    /// Frame times (ms) of the frames measured.
+    frame_ms: Vec<f64>,
+    /// The scripted drag's next step, and where its object started (`None` once released).
+    script: Option<(u64, Vec3)>,
+    drag_frames: u64,
+    /// Encode-to-present times (ms) of the frames measured.
+    draw_ms: Vec<f64>,
+    merge_ms: Vec<f64>,
+    lags: Vec<f64>,
 }
 
 /// What a screen-space frame was made from: the session's colour version and the viewport size.
@@ -65,11 +80,13 @@ struct App {
     actions: PanelActions,
     /// Last screen-space frame (lighting set-up + passes), ms.
     screen_ms: f64,
+    record: Record,
 }
 
-/// Opens the window and runs until it is closed.
-pub fn run_window(session: Session, options: ViewOptions) -> Result<(), ViewError> {
-    crate::host::run(App {
+/// Opens the window and runs until it is closed; returns what it measured.
+pub fn run_window(session: Session, options: ViewOptions) -> Result<WindowReport, ViewError> {
+    let script = options.scripted_drag.map(|d| (0, session.objects()[d.object].translation));
+    let app = App {
         session,
         options,
         ssdo: None,
@@ -77,18 +94,72 @@ pub fn run_window(session: Session, options: ViewOptions) -> Result<(), ViewErro
         drag: None,
         actions: PanelActions::default(),
         screen_ms: 0.0,
-    })
+        record: Record { script, ..Record::default() },
+    };
+    let app = crate::host::run(app)?;
+    Ok(app.report())
 }
 
 impl App {
-    /// A step of the mouse's drag of object `o` to `t` ([`Session::drag`]).
+    /// A step of the mouse's drag of object `o` to `t`, posted ([`Session::post_drag`]).
     fn apply_move(&mut self, o: usize, t: Vec3, status: &mut String) {
-        match self.session.drag(o, t) {
-            Ok(()) => {
-                let tm = self.session.timings;
-                *status = format!("moved: {} vertices re-merged in {:.1} ms", tm.merged_vertices, tm.merge_ms);
-            }
-            Err(e) => *status = e.to_string(),
+        if let Err(e) = self.session.post_drag(o, t) {
+            *status = e.to_string();
+        }
+    }
+
+    /// The scripted drag's step for this frame, or its release after the last.
+    fn script_step(&mut self, status: &mut String) {
+        let (Some(d), Some((i, start))) = (self.options.scripted_drag, self.record.script) else { return };
+        if self.record.frames < 2 {
+            // Past the window's set-up frames first (`App::measured`).
+            return;
+        }
+        if i < d.steps {
+            self.apply_move(d.object, d.at(start, i + 1), status);
+            self.record.script = Some((i + 1, start));
+            self.record.drag_frames += 1;
+        } else {
+            self.session.post_settle();
+            self.record.script = None;
+        }
+    }
+
+    /// Takes in what the frame's worker finished, says it on the status line and records it.
+    fn take_in(&mut self, status: &mut String) {
+        let polled = self.session.poll();
+        let tm = self.session.timings;
+        if polled.moves > 0 {
+            self.record.merge_ms.push(tm.merge_ms);
+            *status = format!("moved: {} vertices re-merged in {:.1} ms", tm.merged_vertices, tm.merge_ms);
+        }
+        self.record.lags.extend(polled.lag_ms);
+        if let Some(e) = self.session.move_error.take() {
+            *status = e.to_string();
+        }
+    }
+
+    /// Whether this frame counts in the report: a frame's time runs from the last frame's start,
+    /// so the second's holds the first's one-time set-up (the driver compiles its shaders on
+    /// first use); without a script every later frame counts, with one the drag's.
+    fn measured(&self) -> bool {
+        self.record.frames > 1 && (self.options.scripted_drag.is_none() || self.record.script.is_some())
+    }
+
+    /// What the run measured.
+    fn report(&self) -> WindowReport {
+        let r = &self.record;
+        let stats = self.session.background();
+        WindowReport {
+            frames: r.frames,
+            drag_frames: r.drag_frames,
+            frame_ms: Quantiles::of(&r.frame_ms),
+            draw_ms: Quantiles::of(&r.draw_ms),
+            steps_posted: stats.posted,
+            steps_dropped: stats.dropped,
+            merges: stats.finished,
+            merge_ms_mean: r.merge_ms.iter().sum::<f64>() / r.merge_ms.len().max(1) as f64,
+            shading_lag_ms: Quantiles::of(&r.lags),
         }
     }
 
@@ -149,7 +220,9 @@ impl WindowApp for App {
     }
 
     fn prepare(&mut self, state: &mut WindowState, status: &mut String) -> Result<bool, ViewError> {
-        self.session.update();
+        self.script_step(status);
+        self.session.update_later();
+        self.take_in(status);
         let more_reference = self.session.step_reference(Duration::from_millis(40));
         let upload_ms = state.scene.upload(&state.gpu, &self.session)?;
         if upload_ms > 0.0 {
@@ -158,10 +231,14 @@ impl WindowApp for App {
         if let Some(e) = self.session.turn_error.take() {
             *status = e;
         }
-        Ok(more_reference)
+        // While the worker runs, frames keep coming to take its results in.
+        Ok(more_reference || self.session.busy() || self.record.script.is_some())
     }
 
     fn panel(&mut self, ui: &mut egui::Ui, frame_ms: f64, status: &str) -> f32 {
+        if self.measured() {
+            self.record.frame_ms.push(frame_ms);
+        }
         self.actions = PanelActions::default();
         panel(ui, &mut self.session, &self.options, status, (frame_ms, self.screen_ms), &mut self.actions)
     }
@@ -181,6 +258,10 @@ impl WindowApp for App {
 
     fn presented(&mut self, draw_ms: f64, status: &mut String) -> bool {
         self.session.timings.draw_ms = draw_ms;
+        if self.measured() {
+            self.record.draw_ms.push(draw_ms);
+        }
+        self.record.frames += 1;
         let actions = std::mem::take(&mut self.actions);
         if let Some(name) = actions.env {
             match (self.options.load_env)(&name) {
@@ -198,18 +279,17 @@ impl WindowApp for App {
         let (origin, dir) = self.session.camera.ray(at.x, at.y, at.width, at.height);
         let Some((o, t)) = self.session.pick(origin, dir) else { return false };
         self.session.selected = Some(o);
-        let vcut_shade::FrameObject { motion, translation: start, .. } = self.session.frame().object(o);
-        if motion != Motion::Movable {
+        let object = &self.session.objects()[o];
+        if object.motion != Motion::Movable {
             return false;
         }
-        self.drag = Some(ObjectDrag { o, grab: origin + dir * t, start, vertical: shift, pending: None });
+        self.drag = Some(ObjectDrag { o, grab: origin + dir * t, start: object.translation, vertical: shift });
         true
     }
 
     fn drag(&mut self, at: ViewportPoint, status: &mut String) {
-        let live = self.session.timings.merge_ms < self.options.live_move_ms;
         let camera = self.session.camera;
-        let Some(ObjectDrag { o, grab, start, vertical, pending }) = &mut self.drag else { return };
+        let Some(ObjectDrag { o, grab, start, vertical }) = &self.drag else { return };
         let (origin, dir) = camera.ray(at.x, at.y, at.width, at.height);
         let target = if *vertical {
             let forward = camera.target - camera.eye();
@@ -220,27 +300,13 @@ impl WindowApp for App {
         };
         let Some(delta) = target else { return };
         let (t, o) = (*start + delta, *o);
-        if live {
-            *pending = None;
-            self.apply_move(o, t, status);
-        } else {
-            *pending = Some(t);
-            *status = format!(
-                "release to move (the last move took {:.0} ms, over {:.0} ms)",
-                self.session.timings.merge_ms, self.options.live_move_ms
-            );
-        }
+        self.apply_move(o, t, status);
     }
 
-    /// The drag's last step, then its settle ([`Session::settle`]).
-    fn release(&mut self, status: &mut String) {
-        if let Some(ObjectDrag { o, pending, .. }) = self.drag.take() {
-            if let Some(t) = pending {
-                self.apply_move(o, t, status);
-            }
-            if let Err(e) = self.session.settle() {
-                *status = e.to_string();
-            }
+    /// The drag's settle, posted ([`Session::post_settle`]).
+    fn release(&mut self, _status: &mut String) {
+        if self.drag.take().is_some() {
+            self.session.post_settle();
         }
     }
 }
@@ -298,67 +364,11 @@ fn panel(
             }
             ui.separator();
 
-            object_controls(ui, session, actions);
+            // An edit waits for the frame's worker: not offered while it runs.
+            let busy = session.busy();
+            ui.add_enabled_ui(!busy, |ui| object_controls(ui, session, actions));
             ui.separator();
-
-            ui.strong("environment");
-            let mut chosen = None;
-            egui::ComboBox::from_id_salt("env").selected_text(session.env_name().to_string()).show_ui(ui, |ui| {
-                for name in &options.envs {
-                    if ui.selectable_label(name == session.env_name(), name).clicked() {
-                        chosen = Some(name.clone());
-                    }
-                }
-            });
-            if let Some(name) = chosen.filter(|n| n != session.env_name()) {
-                actions.env = Some(name);
-                actions.changed = true;
-            }
-            let mut rotation = session.env_rotation_deg();
-            if ui.add(egui::Slider::new(&mut rotation, -180.0..=180.0).text("rotation °")).changed() {
-                session.set_env_rotation(rotation);
-                actions.changed = true;
-            }
-            let mut sun_rays = session.sun_rays();
-            let choice = session.frame().light_choice();
-            let label = format!(
-                "sun by rays ({} leaves, {:.1} rays/vertex)",
-                session.frame().stats().sun_leaves,
-                choice.rays_per_vertex()
-            );
-            let hover = format!(
-                "the light's brightest leaves cast at run time, the rest from the cuts; estimated error {:.2} % (all in the cuts: {:.2} %)",
-                100.0 * choice.estimate,
-                100.0 * choice.estimate_cuts
-            );
-            if ui.checkbox(&mut sun_rays, label).on_hover_text(hover).changed() {
-                if let Err(e) = session.set_sun_rays(sun_rays) {
-                    actions.error = Some(e.to_string());
-                }
-                actions.changed = true;
-            }
-            let directions = session.frame().tree().leaf_count();
-            let interactive = vcut_shade::FlatEdges::Interactive.leaves(directions);
-            let mut estimated = session.settings().flat_edge_leaves.leaves(directions) > 1;
-            let label = format!("ground edges estimated ({interactive} directions a node)");
-            let hover = "a ground's shadow estimated across its edges instead of cut to single directions: \
-                         about half a drag's time at the paper preset, +0.02 to 0.05 point of error";
-            let edges = ui.add_enabled(interactive > 1, egui::Checkbox::new(&mut estimated, label));
-            if edges.on_hover_text(hover).changed() {
-                let edges = if estimated { vcut_shade::FlatEdges::Interactive } else { vcut_shade::FlatEdges::Leaves(1) };
-                if let Err(e) = session.set_flat_edge_leaves(edges) {
-                    actions.error = Some(e.to_string());
-                }
-                actions.changed = true;
-            }
-            let mut target = 100.0 * session.light_error();
-            let slider = egui::Slider::new(&mut target, 0.02..=5.0).logarithmic(true).text("light error target %");
-            if ui.add_enabled(sun_rays, slider).changed() {
-                if let Err(e) = session.set_light_error(target / 100.0) {
-                    actions.error = Some(e.to_string());
-                }
-                actions.changed = true;
-            }
+            ui.add_enabled_ui(!busy, |ui| environment_controls(ui, session, options, actions));
             let mut auto = session.exposure.is_none();
             ui.checkbox(&mut auto, "automatic exposure");
             let mut ev = session.exposure_in_use().max(1e-8).log2();
@@ -374,6 +384,7 @@ fn panel(
             egui::Grid::new("timings").num_columns(2).show(ui, |ui| {
                 for (k, v) in [
                     ("merge (last move)", format!("{:.1} ms, {} vertices", t.merge_ms, t.merged_vertices)),
+                    ("shading lag", format!("{:.0} ms, {:.3} behind", t.shading_lag_ms, session.shading_behind())),
                     ("merged by the camera", format!("{} vertices", t.turn_merged)),
                     ("shade", format!("{:.1} ms", t.shade_ms)),
                     ("light tree", format!("{:.1} ms", t.light_ms)),
@@ -398,10 +409,67 @@ fn panel(
     response.response.rect.right()
 }
 
+fn environment_controls(ui: &mut egui::Ui, session: &mut Session, options: &ViewOptions, actions: &mut PanelActions) {
+    ui.strong("environment");
+    let mut chosen = None;
+    egui::ComboBox::from_id_salt("env").selected_text(session.env_name().to_string()).show_ui(ui, |ui| {
+        for name in &options.envs {
+            if ui.selectable_label(name == session.env_name(), name).clicked() {
+                chosen = Some(name.clone());
+            }
+        }
+    });
+    if let Some(name) = chosen.filter(|n| n != session.env_name()) {
+        actions.env = Some(name);
+        actions.changed = true;
+    }
+    let mut rotation = session.env_rotation_deg();
+    if ui.add(egui::Slider::new(&mut rotation, -180.0..=180.0).text("rotation °")).changed() {
+        session.set_env_rotation(rotation);
+        actions.changed = true;
+    }
+    let mut sun_rays = session.sun_rays();
+    let light = session.light().clone();
+    let choice = &light.choice;
+    let label = format!("sun by rays ({} leaves, {:.1} rays/vertex)", light.sun_leaves, choice.rays_per_vertex());
+    let hover = format!(
+        "the light's brightest leaves cast at run time, the rest from the cuts; estimated error {:.2} % (all in the cuts: {:.2} %)",
+        100.0 * choice.estimate,
+        100.0 * choice.estimate_cuts
+    );
+    if ui.checkbox(&mut sun_rays, label).on_hover_text(hover).changed() {
+        if let Err(e) = session.set_sun_rays(sun_rays) {
+            actions.error = Some(e.to_string());
+        }
+        actions.changed = true;
+    }
+    let directions = light.directions;
+    let interactive = vcut_shade::FlatEdges::Interactive.leaves(directions);
+    let mut estimated = session.settings().flat_edge_leaves.leaves(directions) > 1;
+    let label = format!("ground edges estimated ({interactive} directions a node)");
+    let hover = "a ground's shadow estimated across its edges instead of cut to single directions: \
+                 about half a drag's time at the paper preset, +0.02 to 0.05 point of error";
+    let edges = ui.add_enabled(interactive > 1, egui::Checkbox::new(&mut estimated, label));
+    if edges.on_hover_text(hover).changed() {
+        let edges = if estimated { vcut_shade::FlatEdges::Interactive } else { vcut_shade::FlatEdges::Leaves(1) };
+        if let Err(e) = session.set_flat_edge_leaves(edges) {
+            actions.error = Some(e.to_string());
+        }
+        actions.changed = true;
+    }
+    let mut target = 100.0 * session.light_error();
+    let slider = egui::Slider::new(&mut target, 0.02..=5.0).logarithmic(true).text("light error target %");
+    if ui.add_enabled(sun_rays, slider).changed() {
+        if let Err(e) = session.set_light_error(target / 100.0) {
+            actions.error = Some(e.to_string());
+        }
+        actions.changed = true;
+    }
+}
+
 fn object_controls(ui: &mut egui::Ui, session: &mut Session, actions: &mut PanelActions) {
     ui.strong("object");
-    let names: Vec<String> =
-        (0..session.frame().object_count()).map(|o| session.frame().object(o).name.into()).collect();
+    let names: Vec<String> = session.objects().iter().map(|o| o.name.clone()).collect();
     let mut selected = session.selected;
     egui::ComboBox::from_id_salt("object")
         .selected_text(selected.map_or("none".to_string(), |o| names[o].clone()))
@@ -412,9 +480,10 @@ fn object_controls(ui: &mut egui::Ui, session: &mut Session, actions: &mut Panel
         });
     session.selected = selected;
     let Some(o) = selected else { return };
-    let vcut_shade::FrameObject { mesh, material, motion, translation, .. } = session.frame().object(o);
-    let radius = mesh.bounds().radius;
-    let mut m: Material = *material;
+    let object = &session.objects()[o];
+    let (material, motion, translation) = (object.material, object.motion, object.translation);
+    let radius = object.mesh.bounds().radius;
+    let mut m: Material = material;
     ui.horizontal(|ui| {
         ui.label("BRDF");
         egui::ComboBox::from_id_salt("brdf").selected_text(format!("{:?}", m.model)).show_ui(ui, |ui| {
@@ -440,7 +509,7 @@ fn object_controls(ui: &mut egui::Ui, session: &mut Session, actions: &mut Panel
         }
         BrdfModel::Lambert => {}
     }
-    if m != *material {
+    if m != material {
         session.set_material(o, m);
         actions.changed = true;
     }

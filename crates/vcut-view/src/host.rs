@@ -89,8 +89,9 @@ struct Host<A> {
     viewport: Viewport,
 }
 
-/// Opens `app`'s window and runs until it is closed (or its scripted frames are drawn).
-pub(crate) fn run<A: WindowApp>(app: A) -> Result<(), ViewError> {
+/// Opens `app`'s window and runs until it is closed (or its scripted frames are drawn); gives
+/// the app back.
+pub(crate) fn run<A: WindowApp>(app: A) -> Result<A, ViewError> {
     let event_loop = EventLoop::new().map_err(|e| ViewError::NoDisplay(e.to_string()))?;
     event_loop.set_control_flow(ControlFlow::Wait);
     let mut host = Host {
@@ -109,7 +110,7 @@ pub(crate) fn run<A: WindowApp>(app: A) -> Result<(), ViewError> {
     event_loop.run_app(&mut host).map_err(|e| ViewError::Window(e.to_string()))?;
     match host.error {
         Some(e) => Err(e),
-        None => Ok(()),
+        None => Ok(host.app),
     }
 }
 

@@ -35,7 +35,7 @@ struct LeafApp {
 
 /// Opens the leaf window and runs until it is closed.
 pub fn run_leaf_window(session: LeafSession, options: LeafViewOptions) -> Result<(), ViewError> {
-    crate::host::run(LeafApp { session, options, by_time: None, changed: false })
+    crate::host::run(LeafApp { session, options, by_time: None, changed: false }).map(drop)
 }
 
 impl WindowApp for LeafApp {

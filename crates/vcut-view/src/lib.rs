@@ -35,8 +35,10 @@ mod host;
 pub mod leaf;
 pub mod leaf_app;
 pub mod render;
+pub mod report;
 pub mod screen;
 pub mod session;
+pub mod shown;
 /// The WGSL SSAO / SSDO passes, which live beside their CPU twin in `vcut-ssdo`.
 pub use vcut_ssdo::gpu as ssdo;
 mod window;
@@ -48,4 +50,4 @@ pub use headless::{leaf_screenshot, screenshot};
 pub use leaf::{LeafSession, LeafTimings};
 pub use leaf_app::{LeafViewOptions, run_leaf_window};
 pub use render::SceneRenderer;
-pub use session::{Display, Mode, Session, SessionError, Timings};
+pub use session::{Display, Mode, Polled, Session, SessionError, Timings};

@@ -127,7 +127,18 @@ pub struct Shown<'a> {
     pub viewport: Viewport,
 }
 
-/// Draws a frame: background, then meshes.
+/// How a pipeline meets the depth buffer.
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Depth {
+    /// Tested (nearer wins) and written: meshes and leaves.
+    Write,
+    /// At the far plane, where nothing nearer was drawn: the background.
+    Behind,
+    /// Over everything: the screen-space image.
+    Over,
+}
+
+/// Draws a frame: meshes, then the background behind them.
 pub struct SceneRenderer {
     format: wgpu::TextureFormat,
     uniforms: wgpu::Buffer,
@@ -234,7 +245,7 @@ impl SceneRenderer {
                         vs: &str,
                         fs: &str,
                         buffers: &[Option<wgpu::VertexBufferLayout<'_>>],
-                        depth_write: bool| {
+                        depth: Depth| {
             device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
                 label: Some(label),
                 layout: Some(layout),
@@ -247,11 +258,11 @@ impl SceneRenderer {
                 primitive: wgpu::PrimitiveState { cull_mode: None, ..Default::default() },
                 depth_stencil: Some(wgpu::DepthStencilState {
                     format: DEPTH_FORMAT,
-                    depth_write_enabled: Some(depth_write),
-                    depth_compare: Some(if depth_write {
-                        wgpu::CompareFunction::Less
-                    } else {
-                        wgpu::CompareFunction::Always
+                    depth_write_enabled: Some(depth == Depth::Write),
+                    depth_compare: Some(match depth {
+                        Depth::Write => wgpu::CompareFunction::Less,
+                        Depth::Behind => wgpu::CompareFunction::LessEqual,
+                        Depth::Over => wgpu::CompareFunction::Always,
                     }),
                     stencil: Default::default(),
                     bias: Default::default(),
@@ -267,22 +278,22 @@ impl SceneRenderer {
                 cache: None,
             })
         };
-        let background = pipeline("background", &pipeline_layout, "vs_background", "fs_background", &[], false);
-        let image = pipeline("image", &image_pipeline_layout, "vs_background", "fs_image", &[], false);
+        let background = pipeline("background", &pipeline_layout, "vs_background", "fs_background", &[], Depth::Behind);
+        let image = pipeline("image", &image_pipeline_layout, "vs_background", "fs_image", &[], Depth::Over);
         // Meshes: position, the colour added, the colour the albedo texture multiplies, uv.
         let vertex_layout = wgpu::VertexBufferLayout {
             array_stride: MESH_VERTEX_BYTES as u64,
             step_mode: wgpu::VertexStepMode::Vertex,
             attributes: &wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3, 2 => Float32x3, 3 => Float32x2],
         };
-        let mesh = pipeline("mesh", &mesh_pipeline_layout, "vs_mesh", "fs_mesh", &[Some(vertex_layout)], true);
+        let mesh = pipeline("mesh", &mesh_pipeline_layout, "vs_mesh", "fs_mesh", &[Some(vertex_layout)], Depth::Write);
         // Leaves: position, the radiance of the side along the normal, of the side against it.
         let leaf_layout = wgpu::VertexBufferLayout {
             array_stride: 36,
             step_mode: wgpu::VertexStepMode::Vertex,
             attributes: &wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3, 2 => Float32x3],
         };
-        let leaf = pipeline("leaf", &pipeline_layout, "vs_leaf", "fs_leaf", &[Some(leaf_layout)], true);
+        let leaf = pipeline("leaf", &pipeline_layout, "vs_leaf", "fs_leaf", &[Some(leaf_layout)], Depth::Write);
         let uniforms = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("uniforms"),
             size: std::mem::size_of::<Uniforms>() as u64,
@@ -424,8 +435,6 @@ impl SceneRenderer {
             pass.draw(0..3, 0..1);
             return;
         }
-        pass.set_pipeline(&self.background);
-        pass.draw(0..3, 0..1);
         pass.set_pipeline(&self.mesh);
         for MeshObject { buffers: o, albedo } in &self.objects {
             if o.index_count == 0 {
@@ -436,6 +445,10 @@ impl SceneRenderer {
             pass.set_index_buffer(o.indices.slice(..), wgpu::IndexFormat::Uint32);
             pass.draw_indexed(0..o.index_count, 0, 0..1);
         }
+        // After the meshes, at the far plane: only the pixels they left are shaded (on a CPU
+        // rasterizer the background's lookups were most of a frame's time).
+        pass.set_pipeline(&self.background);
+        pass.draw(0..3, 0..1);
     }
 
     /// Writes the uniforms and opens the scene pass over `viewport` (target cleared to black,

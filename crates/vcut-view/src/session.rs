@@ -3,14 +3,18 @@
 //! Every edit a person makes in the window is a method here, so tests drive the same code.
 
 use crate::camera::OrbitCamera;
+use crate::shown::{ShownLight, ShownObject, light_of, objects_of};
 use glam::Vec3;
 use rayon::prelude::*;
+use std::sync::MutexGuard;
 use std::time::{Duration, Instant};
 use vcut_envmap::EnvMap;
 use vcut_scene::{Material, Motion};
-use vcut_shade::image::{auto_exposure, rasterize};
 use vcut_shade::reference::ExactReference;
-use vcut_shade::{FlatEdges, Frame, FrameSettings};
+use vcut_shade::{BackgroundFrame, FlatEdges, Frame, FrameSettings};
+
+mod moves;
+pub use moves::Polled;
 
 /// What the image shows.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -79,7 +83,8 @@ pub fn heat(e: f32) -> Vec3 {
 /// The cost of the last edits, in milliseconds.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub struct Timings {
-    /// Last object move: re-merge of the vertices whose field inputs changed.
+    /// Last object move: re-merge of the vertices whose field inputs changed (on the frame's
+    /// worker thread).
     pub merge_ms: f64,
     /// Vertices re-merged by the last move.
     pub merged_vertices: usize,
@@ -91,6 +96,9 @@ pub struct Timings {
 
     /// Last shading pass (all vertices toward the eye).
     pub shade_ms: f64,
+    /// How long the last shading to arrive took after the move it follows was asked for: the
+    /// time the image's shading lagged its geometry.
+    pub shading_lag_ms: f64,
     /// Last light-tree rebuild (environment change or rotation).
     pub light_ms: f64,
     /// Last upload of vertex data to the GPU (set by the renderer's caller).
@@ -132,8 +140,17 @@ pub enum SessionError {
 }
 
 /// Everything the viewer shows.
+///
+/// The frame lives with a worker thread ([`BackgroundFrame`]). The `post_*` methods and
+/// [`Session::update_later`] hand it work and return at once; [`Session::poll`] takes in what
+/// it finished. The other edits, and [`Session::frame`], wait for it first. Drawing and picking
+/// read the session's own copy of the objects ([`Session::objects`]), never the frame, so a
+/// window stays live whatever a merge costs.
 pub struct Session {
-    frame: Frame,
+    frame: BackgroundFrame,
+    objects: Vec<ShownObject>,
+    light: ShownLight,
+    settings: FrameSettings,
     env: EnvMap,
     env_name: String,
     env_rotation_deg: f32,
@@ -147,6 +164,11 @@ pub struct Session {
     radiance: Vec<Vec<Vec3>>,
     parts: Vec<Vec<vcut_shade::Parts>>,
     shaded_eye: Option<Vec3>,
+    /// The eye the worker was last asked to shade toward (`None`: a shading is owed).
+    requested_eye: Option<Vec3>,
+    /// The last move taken in, and when it was posted: the shading after it lags by the time
+    /// since.
+    last_move: Option<(u64, Instant)>,
     auto_exposure: f32,
     reference: Option<Progressive>,
     screen: Option<(Vec<vcut_ssdo::Object>, vcut_ssdo::Lighting)>,
@@ -159,6 +181,8 @@ pub struct Session {
     /// Why the last camera turn could not merge what a move left facing away (those vertices
     /// shade black until a merge succeeds).
     pub turn_error: Option<String>,
+    /// Why a posted move failed (the object stays where the frame had it).
+    pub move_error: Option<SessionError>,
 }
 
 impl Session {
@@ -166,8 +190,12 @@ impl Session {
     /// surface, as `Precomputed::svc_origin_offset`), lit by `env` called `env_name`.
     pub fn new(frame: Frame, env: EnvMap, env_name: &str, origin_offset: f32, camera: OrbitCamera) -> Session {
         let selected = (0..frame.object_count()).find(|&o| frame.object(o).motion == Motion::Movable);
+        let (objects, light, settings) = (objects_of(&frame), light_of(&frame), frame.settings().clone());
         let mut s = Session {
-            frame,
+            frame: BackgroundFrame::new(frame),
+            objects,
+            light,
+            settings,
             env_rotation_deg: 0.0,
             env,
             env_name: env_name.into(),
@@ -179,6 +207,8 @@ impl Session {
             radiance: Vec::new(),
             parts: Vec::new(),
             shaded_eye: None,
+            requested_eye: None,
+            last_move: None,
             auto_exposure: 1.0,
             reference: None,
             screen: None,
@@ -187,14 +217,44 @@ impl Session {
             timings: Timings::default(),
             selected,
             turn_error: None,
+            move_error: None,
         };
         s.update();
         s
     }
 
-    /// The frame (merged cuts, materials, lighting).
-    pub fn frame(&self) -> &Frame {
-        &self.frame
+    /// The frame (merged cuts, materials, lighting), once the moves posted are done (waits
+    /// for them). The guard locks the frame: drop it before any other call that reads or
+    /// changes the frame (a second `frame()` while one is held waits forever).
+    pub fn frame(&self) -> MutexGuard<'_, Frame> {
+        self.frame.frame()
+    }
+
+    /// Every object as drawn: its mesh, name, material, and where the last move asked for put
+    /// it (the frame's cuts follow when the worker is done: [`ShownObject::placed`]).
+    pub fn objects(&self) -> &[ShownObject] {
+        &self.objects
+    }
+
+    /// The lighting facts the panel shows.
+    pub fn light(&self) -> &ShownLight {
+        &self.light
+    }
+
+    /// Whether the frame's worker has moves or a shading to finish.
+    pub fn busy(&self) -> bool {
+        self.frame.busy()
+    }
+
+    /// What the frame's worker has done (jobs posted, dropped as stale, run).
+    pub fn background(&self) -> vcut_shade::BackgroundStats {
+        self.frame.stats()
+    }
+
+    /// How far the shading lags the geometry now: the largest distance between where an
+    /// object is drawn and where the shown shading has it.
+    pub fn shading_behind(&self) -> f32 {
+        self.objects.iter().map(|o| o.translation.distance(o.placed)).fold(0.0, f32::max)
     }
 
     /// The SVC rays' origin offset the exact reference uses (fraction of each object's radius).
@@ -257,66 +317,19 @@ impl Session {
     }
 
     fn invalidate_shading(&mut self) {
-        self.shaded_eye = None;
+        self.requested_eye = None;
         self.reference = None;
         self.screen = None;
         self.colour_version += 1;
     }
 
-    /// Moves object `o` to `translation` from its rest position (re-merging what changed).
-    /// Static objects have no visibility field and cannot move.
-    pub fn translate(&mut self, o: usize, translation: Vec3) -> Result<(), SessionError> {
-        self.move_object(o, translation, false)
-    }
-
-    /// Moves object `o` to `translation` as a step of a drag ([`vcut_shade::Frame::drag`]):
-    /// the vertices its field reaches merge on their rest products. [`Session::settle`] ends
-    /// the drag.
-    pub fn drag(&mut self, o: usize, translation: Vec3) -> Result<(), SessionError> {
-        self.move_object(o, translation, true)
-    }
-
-    /// Ends a drag ([`vcut_shade::Frame::settle`]): the dragged vertices merged again in full.
-    pub fn settle(&mut self) -> Result<(), SessionError> {
-        let start = Instant::now();
-        let merged = self.frame.settle()?;
-        if merged > 0 {
-            self.timings.settle_ms = start.elapsed().as_secs_f64() * 1e3;
-            self.invalidate_shading();
-            self.update();
-        }
-        Ok(())
-    }
-
-    /// [`Session::translate`], or a drag's step.
-    fn move_object(&mut self, o: usize, translation: Vec3, drag: bool) -> Result<(), SessionError> {
-        if o >= self.frame.object_count() {
-            return Err(SessionError::NoObject(o));
-        }
-        let vcut_shade::FrameObject { name, motion, translation: current, .. } = self.frame.object(o);
-        if motion != Motion::Movable {
-            return Err(SessionError::Static(name.to_string()));
-        }
-        if !translation.is_finite() {
-            return Err(SessionError::NotFinite(translation.to_array()));
-        }
-        if current == translation {
-            return Ok(());
-        }
-        let start = Instant::now();
-        let merged = if drag { self.frame.drag(o, translation)? } else { self.frame.translate(o, translation)? };
-        self.timings.merge_ms = start.elapsed().as_secs_f64() * 1e3;
-        self.timings.merged_vertices = merged;
-        self.geometry_version += 1;
-        self.invalidate_shading();
-        self.update();
-        Ok(())
-    }
-
     /// Changes object `o`'s BRDF (shading only, no merge).
     pub fn set_material(&mut self, o: usize, material: Material) {
-        if o < self.frame.object_count() && *self.frame.object(o).material != material {
-            self.frame.set_material(o, material);
+        if self.objects.get(o).is_some_and(|x| x.material != material) {
+            let mut frame = self.frame.frame();
+            frame.set_material(o, material);
+            (self.objects[o].material, self.objects[o].albedo) = (material, frame.object(o).mean_albedo());
+            drop(frame);
             self.invalidate_shading();
             self.update();
         }
@@ -342,18 +355,22 @@ impl Session {
 
     /// The frame's settings ([`vcut_shade::FrameSettings`]).
     pub fn settings(&self) -> &FrameSettings {
-        self.frame.settings()
+        &self.settings
     }
 
     /// Changes the frame's settings (`Frame::reconfigure`: it merges only what they change) and
     /// re-shades; the time goes to `timings.light_ms` (a settings change is not a move).
     pub fn reconfigure(&mut self, settings: &FrameSettings) -> Result<(), SessionError> {
-        if settings == self.frame.settings() {
+        if *settings == self.settings {
             return Ok(());
         }
+        let mut frame = self.frame.frame();
         let start = Instant::now();
-        self.frame.reconfigure(settings)?;
+        let done = frame.reconfigure(settings);
         self.timings.light_ms = start.elapsed().as_secs_f64() * 1e3;
+        (self.settings, self.light) = (frame.settings().clone(), light_of(&frame));
+        drop(frame);
+        done?;
         self.invalidate_shading();
         self.update();
         Ok(())
@@ -361,7 +378,7 @@ impl Session {
 
     /// Whether the sun's leaves are cast by rays (see `vcut_shade::sun`).
     pub fn sun_rays(&self) -> bool {
-        self.frame.settings().sun_rays
+        self.settings.sun_rays
     }
 
     /// Casts the light's brightest leaves by rays at run time (`on`, the frame's default) or
@@ -379,7 +396,7 @@ impl Session {
 
     /// The target error of the light left in the cuts (`vcut_shade::SunRays::target`).
     pub fn light_error(&self) -> f64 {
-        self.frame.sun_rays().target
+        self.light.target
     }
 
     /// Sets the target error of the light left in the cuts and, with sun rays on, chooses and
@@ -389,44 +406,40 @@ impl Session {
     }
 
     fn relight(&mut self) {
+        let mut frame = self.frame.frame();
         let start = Instant::now();
-        self.frame.set_environment(&self.env);
+        frame.set_environment(&self.env);
         self.timings.light_ms = start.elapsed().as_secs_f64() * 1e3;
+        self.light = light_of(&frame);
+        drop(frame);
         self.invalidate_shading();
         self.update();
     }
 
-    /// Re-shades if the camera moved or anything was edited since the last shading.
+    /// Re-shades if the camera moved or anything was edited since the last shading, and waits
+    /// for it (and for every move posted before).
     pub fn update(&mut self) {
-        let eye = self.camera.eye();
-        if self.shaded_eye == Some(eye) {
-            return;
-        }
-        let start = Instant::now();
-        // Keeps the lists of the vertices now facing the camera (a move built only those facing
-        // the last one).
-        match self.frame.set_eye(eye) {
-            Ok(n) => (self.timings.turn_merged, self.turn_error) = (n, None),
-            Err(e) => (self.timings.turn_merged, self.turn_error) = (0, Some(e.to_string())),
-        }
-        self.parts = self.frame.shade_parts(eye, false);
-        self.radiance = self.frame.radiance(&self.parts);
-        self.timings.shade_ms = start.elapsed().as_secs_f64() * 1e3;
-        self.shaded_eye = Some(eye);
-        // As `cargo xtask render` chooses it (over the covered pixels, not the vertices: hidden
-        // and back-facing vertices would drag the average down), on a small raster.
-        let small = rasterize(&self.frame, &self.radiance, &self.camera.camera(), 160, 90, None);
-        self.auto_exposure = auto_exposure(&small);
-        self.reference = None;
-        self.colour_version += 1;
+        self.wait();
     }
 
-    /// Per-vertex radiance from the cuts (as of the last [`Session::update`]).
+    /// Asks the frame's worker to re-shade if the camera moved or anything was edited since
+    /// the last shading (building the lists of the vertices now facing the camera: a move
+    /// built only those facing the last one), and returns at once; [`Session::poll`] takes the
+    /// shading in.
+    pub fn update_later(&mut self) {
+        let eye = self.camera.eye();
+        if self.requested_eye != Some(eye) {
+            self.frame.set_eye(eye);
+            self.requested_eye = Some(eye);
+        }
+    }
+
+    /// Per-vertex radiance from the cuts (as of the last shading taken in).
     pub fn radiance(&self) -> &[Vec<Vec3>] {
         &self.radiance
     }
 
-    /// Per-vertex shading from the cuts in its two parts (as of the last [`Session::update`]):
+    /// Per-vertex shading from the cuts in its two parts (as of the last shading taken in):
     /// what [`Session::radiance`] is made of, for a per-pixel albedo.
     pub fn parts(&self) -> &[Vec<vcut_shade::Parts>] {
         &self.parts
@@ -443,13 +456,16 @@ impl Session {
         if !matches!(self.mode, Mode::Exact | Mode::Difference) {
             return false;
         }
-        self.update();
+        self.update_later();
+        self.poll();
+        // Not while the worker has the frame: a move or shading is on its way.
+        let Some(frame) = self.frame.try_frame() else { return true };
         let eye = self.camera.eye();
         if self.reference.as_ref().is_none_or(|r| r.eye != eye) {
             let values: Vec<Vec<Option<Vec3>>> = self.radiance.iter().map(|r| vec![None; r.len()]).collect();
             let total = values.iter().map(Vec::len).sum();
             self.reference = Some(Progressive {
-                exact: ExactReference::new(&self.frame, self.origin_offset),
+                exact: ExactReference::new(&frame, self.origin_offset),
                 eye,
                 values,
                 cursor: (0, 0),
@@ -458,7 +474,7 @@ impl Session {
             });
         }
         let start = Instant::now();
-        let frame = &self.frame;
+        let frame = &*frame;
         let Some(r) = self.reference.as_mut() else { return false };
         let chunk = 64 * rayon::current_num_threads().max(1);
         while r.done < r.total && start.elapsed() < budget {
@@ -553,15 +569,11 @@ impl Session {
     /// and their lighting (the sun split off and shadow-mapped, the rest pre-filtered); built
     /// on first use after any edit.
     pub fn screen_space_inputs(&mut self) -> (&[vcut_ssdo::Object], &vcut_ssdo::Lighting, vcut_ssdo::Params) {
-        let frame = &self.frame;
+        let shown = &self.objects;
         let env = &self.env;
         let (objects, light) = self.screen.get_or_insert_with(|| {
-            let objects: Vec<vcut_ssdo::Object> = (0..frame.object_count())
-                .map(|o| {
-                    let vcut_shade::FrameObject { mesh, translation, .. } = frame.object(o);
-                    vcut_ssdo::Object::from_mesh(mesh, translation, frame.object(o).mean_albedo())
-                })
-                .collect();
+            let objects: Vec<vcut_ssdo::Object> =
+                shown.iter().map(|o| vcut_ssdo::Object::from_mesh(&o.mesh, o.translation, o.albedo)).collect();
             let light = vcut_ssdo::Lighting::new(env, &objects, 16);
             (objects, light)
         });
@@ -571,8 +583,8 @@ impl Session {
 
     /// The object and distance hit first by the ray (`origin`, `dir`), at current positions.
     pub fn pick(&self, origin: Vec3, dir: Vec3) -> Option<(usize, f32)> {
-        let placed: Vec<Vec<Vec3>> = (0..self.frame.object_count()).map(|o| self.frame.object(o).positions()).collect();
-        let objects = placed.iter().enumerate().map(|(o, p)| (self.frame.object(o).mesh.triangles(), p.as_slice()));
+        let placed: Vec<Vec<Vec3>> = self.objects.iter().map(ShownObject::positions).collect();
+        let objects = self.objects.iter().zip(&placed).map(|(o, p)| (o.mesh.triangles(), p.as_slice()));
         vcut_rays::pick(objects, origin, dir)
     }
 }
@@ -587,7 +599,7 @@ impl crate::render::Meshes for Session {
     }
 
     fn triangles(&self) -> Vec<&[[u32; 3]]> {
-        (0..self.frame.object_count()).map(|o| self.frame.object(o).mesh.triangles()).collect()
+        self.objects.iter().map(|o| o.mesh.triangles()).collect()
     }
 
     /// The cuts' own shading takes a textured object's albedo per pixel (its specular share
@@ -600,9 +612,9 @@ impl crate::render::Meshes for Session {
             .into_iter()
             .enumerate()
             .map(|(o, colours)| {
-                let object = self.frame.object(o);
-                let positions = self.frame.object(o).positions();
-                match (object.textures.base_colour.as_ref(), object.mesh.uvs()) {
+                let object = &self.objects[o];
+                let positions = object.positions();
+                match (object.texture.as_ref(), object.mesh.uvs()) {
                     (Some(_), Some(uvs)) if per_pixel => {
                         let kd = Vec3::from(object.material.kd);
                         crate::render::ObjectVertices {
@@ -619,7 +631,7 @@ impl crate::render::Meshes for Session {
     }
 
     fn albedo_textures(&self) -> Vec<Option<&vcut_scene::texture::Texture>> {
-        (0..self.frame.object_count()).map(|o| self.frame.object(o).textures.base_colour.as_ref()).collect()
+        self.objects.iter().map(|o| o.texture.as_ref()).collect()
     }
 }
 

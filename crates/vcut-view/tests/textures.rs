@@ -101,7 +101,7 @@ fn a_textured_object_shows_its_texture_per_pixel_as_the_cpu_renderer_does() {
     s.update();
     let (w, h) = (256, 192);
     let shot = vcut_view::screenshot(&gpu, &mut s, w, h).unwrap();
-    let image = vcut_shade::image::rasterize_parts(s.frame(), s.parts(), &s.camera.camera(), w, h, Some(s.env()));
+    let image = vcut_shade::image::rasterize_parts(&s.frame(), s.parts(), &s.camera.camera(), w, h, Some(s.env()));
     let e = s.exposure_in_use();
     let cpu: Vec<u8> = image.rgb.iter().flat_map(|c| [tone_map(c.x, e), tone_map(c.y, e), tone_map(c.z, e)]).collect();
     let mut diffs: Vec<u8> = Vec::new();
@@ -146,11 +146,11 @@ fn a_metallic_roughness_texture_varies_the_brdf_per_vertex() {
     assert_eq!((left.len(), right.len()), (17, 17));
     let loaded = *s.frame().object(quad).material;
     for &v in &left {
-        let m = s.frame().object(quad).vertex_material(v);
+        let m = *s.frame().object(quad).vertex_material(v);
         assert!(m.kd[0] > 0.25 && (m.ks[0] - 0.04).abs() < 1e-6 && m.roughness > 0.9, "left {v}: {m:?}");
     }
     for &v in &right {
-        let m = s.frame().object(quad).vertex_material(v);
+        let m = *s.frame().object(quad).vertex_material(v);
         assert!(
             m.kd[0] < 1e-6 && m.ks[0] > 0.25 && (m.roughness - (180.0f32 / 255.0).powi(2)).abs() < 1e-4,
             "right {v}: {m:?}"
@@ -175,10 +175,10 @@ fn a_metallic_roughness_texture_varies_the_brdf_per_vertex() {
     }
     // The exact reference shades each vertex with its own material too.
     let eye = s.camera.eye();
-    let exact = vcut_shade::reference::ExactReference::new(s.frame(), s.origin_offset());
+    let exact = vcut_shade::reference::ExactReference::new(&s.frame(), s.origin_offset());
     let positions = s.frame().object(quad).positions();
     for (name, vs) in [("dielectric", &left), ("metal", &right)] {
-        let pairs = vs.iter().map(|&v| (s.radiance()[quad][v], exact.vertex(s.frame(), quad, v, positions[v], eye)));
+        let pairs = vs.iter().map(|&v| (s.radiance()[quad][v], exact.vertex(&s.frame(), quad, v, positions[v], eye)));
         let (rel, _) = vcut_shade::reference::relative_errors(pairs);
         eprintln!("{name}: cuts against the exact reference, rel. L2 {:.2} %", rel * 100.0);
         assert!(rel < 0.1, "{name}: {rel}");

@@ -42,7 +42,9 @@ fn max_change(a: &[Vec<Vec3>], b: &[Vec<Vec3>], o: usize) -> f32 {
 #[test]
 fn a_move_a_brdf_edit_and_a_rotation_each_change_the_frame_and_only_a_move_merges() {
     let mut s = session("edits");
-    let (ground, ball) = (s.frame().object_index("ground").unwrap(), s.frame().object_index("ball").unwrap());
+    let frame = s.frame();
+    let (ground, ball) = (frame.object_index("ground").unwrap(), frame.object_index("ball").unwrap());
+    drop(frame);
     assert_eq!(s.selected, Some(ball), "the movable object is selected first");
     let rest = s.radiance().to_vec();
     let merges = s.frame().stats().merges;
@@ -113,7 +115,8 @@ fn a_move_a_brdf_edit_and_a_rotation_each_change_the_frame_and_only_a_move_merge
 
     // Moving back restores the merged cuts bit for bit.
     s.set_env_rotation(0.0);
-    s.set_material(ball, *s.frame().object(ball).material);
+    let m = *s.frame().object(ball).material;
+    s.set_material(ball, m);
     s.translate(ball, Vec3::ZERO).unwrap();
     let mut m = *s.frame().object(ball).material;
     m.exponent = 15.0;
@@ -149,7 +152,7 @@ fn the_progressive_reference_converges_to_the_exact_one() {
     assert!(s.step_reference(Duration::ZERO) || s.reference_progress() == 1.0);
     while s.step_reference(Duration::from_millis(50)) {}
     assert_eq!(s.reference_progress(), 1.0);
-    let exact = exact_direction(s.frame(), s.camera.eye(), s.origin_offset());
+    let exact = exact_direction(&s.frame(), s.camera.eye(), s.origin_offset());
     let (shown, display) = s.colours();
     assert_eq!(display, Display::Radiance);
     let worst = shown.iter().flatten().zip(exact.iter().flatten()).map(|(a, b)| (*a - *b).abs().max_element());
@@ -170,7 +173,7 @@ fn the_progressive_reference_converges_to_the_exact_one() {
 
 /// The CPU renderer's PNG of the session's frame, as RGB bytes.
 fn cpu_image(s: &Session, width: u32, height: u32) -> Vec<u8> {
-    let image = rasterize(s.frame(), s.radiance(), &s.camera.camera(), width, height, Some(s.env()));
+    let image = rasterize(&s.frame(), s.radiance(), &s.camera.camera(), width, height, Some(s.env()));
     let e = s.exposure_in_use();
     image.rgb.iter().flat_map(|c| [tone_map(c.x, e), tone_map(c.y, e), tone_map(c.z, e)]).collect()
 }
@@ -222,4 +225,37 @@ fn the_gpu_screenshot_matches_the_cpu_renderer_and_follows_every_edit() {
     s.set_mode(Mode::Ssdo).unwrap();
     let ssdo = shot(&mut s);
     assert!(differs(&rotated, &ssao) > 500 && differs(&ssao, &ssdo) > 500, "SSAO and SSDO show, and differ");
+}
+
+#[test]
+fn a_posted_drag_draws_the_object_at_once_and_its_shading_follows() {
+    let mut posted = session("posted-drag");
+    let mut waited = session("waited-drag");
+    let ball = posted.frame().object_index("ball").unwrap();
+    let rest = posted.radiance().to_vec();
+    let t = Vec3::new(0.4, 0.0, 0.2);
+    posted.post_drag(ball, t).unwrap();
+    // Drawn there at once; the shading shown is still the rest's until taken in.
+    assert_eq!(posted.objects()[ball].translation, t);
+    assert_eq!(posted.objects()[ball].placed, Vec3::ZERO);
+    assert!(posted.shading_behind() > 0.4);
+    assert_eq!(posted.radiance(), rest.as_slice());
+    posted.wait();
+    assert_eq!((posted.objects()[ball].placed, posted.shading_behind()), (t, 0.0));
+    assert!(posted.timings.shading_lag_ms > 0.0 && posted.timings.merged_vertices > 0);
+    waited.drag(ball, t).unwrap();
+    assert_eq!(posted.radiance(), waited.radiance(), "posted or waited, the same frame");
+    posted.post_settle();
+    posted.wait();
+    waited.settle().unwrap();
+    assert_eq!(posted.radiance(), waited.radiance());
+    assert!(posted.frame().dragging().is_none());
+    // A move the frame refuses comes back as an error, and the ball is drawn where it was.
+    posted.post_drag(ball, Vec3::new(1e30, 0.0, 0.0)).unwrap();
+    posted.wait();
+    assert!(matches!(posted.move_error.take(), Some(SessionError::Frame(_))));
+    assert_eq!(posted.objects()[ball].translation, t);
+    // Input refused before anything is posted.
+    assert!(matches!(posted.post_drag(ball, Vec3::NAN), Err(SessionError::NotFinite(_))));
+    assert!(matches!(posted.post_drag(9, Vec3::X), Err(SessionError::NoObject(9))));
 }

@@ -83,6 +83,7 @@
 
 #[cfg(feature = "clap")]
 mod args;
+mod background;
 mod caches;
 mod choice;
 mod configure;
@@ -103,6 +104,7 @@ mod tests;
 use crate::sun::Sun;
 #[cfg(feature = "clap")]
 pub use args::FrameArgs;
+pub use background::{BackgroundFrame, BackgroundShading, BackgroundStats, FinishedJob, FrameJob};
 pub use choice::LightChoice;
 pub use drag::DragStats;
 use glam::Vec3;

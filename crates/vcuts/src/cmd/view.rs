@@ -5,6 +5,7 @@ pub use super::view_args::{ViewArgs, ViewMode, ViewOutcome};
 use crate::outcome::ms_since;
 use anyhow::{Context, Result, bail};
 use std::time::{Duration, Instant};
+use vcut_view::report::ScriptedDrag;
 use vcut_view::{Gpu, LeafSession, LeafViewOptions, Mode, OrbitCamera, Session, ViewOptions};
 
 /// The GPU a screenshot renders on, and how long it took to set up.
@@ -156,8 +157,8 @@ pub fn run(args: &ViewArgs) -> Result<ViewOutcome> {
         let gpu = gpu.context("a screenshot's GPU is set up first")?;
         return screenshot(args, &mut session, path, gpu);
     }
-    window(args, session, (&input, summary), (env, env_name))?;
-    Ok(ViewOutcome::default())
+    let report = window(args, session, (&input, summary), (env, env_name))?;
+    Ok(ViewOutcome { window: Some(report), ..ViewOutcome::default() })
 }
 
 /// One frame of `session` with no window into the PNG `path`.
@@ -189,7 +190,14 @@ fn window(
     session: Session,
     (input, summary): (&std::path::Path, Vec<(String, String)>),
     (env, env_name): (vcut_envmap::EnvMap, String),
-) -> Result<()> {
+) -> Result<super::view_args::WindowOutcome> {
+    if args.live_move_ms.is_some() {
+        log::warn!(
+            "--live-move-ms no longer changes anything: every mouse move of a drag is merged off the \
+             window's thread, a step still waiting replaced by the next"
+        );
+    }
+    let scripted_drag = scripted_drag(args, &session)?;
     let base_env = env;
     let base_name = env_name.clone();
     let reconstruction = base_env.reconstruction();
@@ -207,9 +215,44 @@ fn window(
                 if cube { Ok(map) } else { map.with_reconstruction(reconstruction).map_err(|e| e.to_string()) }
             }
         }),
-        live_move_ms: args.live_move_ms,
         max_frames: args.frames,
+        scripted_drag,
     };
-    vcut_view::run_window(session, options)?;
-    Ok(())
+    Ok(vcut_view::run_window(session, options)?.into())
+}
+
+/// `--drag NAME`: the object, dragged for three quarters of `--frames` around a circle of a
+/// quarter of its radius.
+fn scripted_drag(args: &ViewArgs, session: &Session) -> Result<Option<ScriptedDrag>> {
+    let Some(name) = &args.drag else { return Ok(None) };
+    let objects = session.objects();
+    let Some(object) = objects.iter().position(|o| o.name == *name) else {
+        let names: Vec<&str> = objects.iter().map(|o| o.name.as_str()).collect();
+        bail!("--drag {name}: no object called '{name}' (objects: {})", names.join(", "));
+    };
+    if objects[object].motion != vcut_scene::Motion::Movable {
+        bail!("--drag {name}: '{name}' is static (precomputed without a visibility field): it cannot move");
+    }
+    let steps = args.frames.unwrap_or(0) * 3 / 4;
+    Ok(Some(ScriptedDrag { object, steps, radius: 0.25 * objects[object].mesh.bounds().radius }))
+}
+impl From<vcut_view::report::WindowReport> for super::view_args::WindowOutcome {
+    fn from(r: vcut_view::report::WindowReport) -> Self {
+        Self {
+            frames: r.frames,
+            drag_frames: r.drag_frames,
+            frame_ms_p50: r.frame_ms.p50,
+            frame_ms_p95: r.frame_ms.p95,
+            frame_ms_max: r.frame_ms.max,
+            draw_ms_p50: r.draw_ms.p50,
+            draw_ms_p95: r.draw_ms.p95,
+            moves_posted: r.steps_posted,
+            moves_dropped: r.steps_dropped,
+            moves_merged: r.merges,
+            merge_ms_mean: r.merge_ms_mean,
+            shading_lag_ms_p50: r.shading_lag_ms.p50,
+            shading_lag_ms_p95: r.shading_lag_ms.p95,
+            shadings: r.shading_lag_ms.count,
+        }
+    }
 }

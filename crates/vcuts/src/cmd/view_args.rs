@@ -54,10 +54,16 @@ pub struct ViewArgs {
     /// Close the window after this many frames (scripted runs).
     #[arg(long, value_parser = crate::options::whole::<u64>("frames"), allow_hyphen_values = true)]
     pub frames: Option<u64>,
-    /// Re-merge at every mouse move while dragging if a move costs less than this (ms; finite,
-    /// at least 0).
-    #[arg(long, default_value_t = 120.0, value_parser = crate::options::real64("live-move-ms"), allow_hyphen_values = true)]
-    pub live_move_ms: f64,
+    /// No longer has an effect (a warning says so): every mouse move of a drag is merged off
+    /// the window's thread, a step still waiting replaced by the next. Still checked (ms;
+    /// finite, at least 0) so scripts that pass it keep working.
+    #[arg(long, value_parser = crate::options::real64("live-move-ms"), allow_hyphen_values = true)]
+    pub live_move_ms: Option<f64>,
+    /// Drag this object by itself (with `--frames`): one step a frame around a horizontal
+    /// circle of a quarter of its radius, for three quarters of the frames, then released. The
+    /// outcome has the frame times during the drag and how far the shading lagged.
+    #[arg(long, value_name = "NAME", requires = "frames", conflicts_with_all = ["screenshot", "leaves"])]
+    pub drag: Option<String>,
     /// The frame's settings, as `render`'s (`--no-sun-rays` starts with the panel's "sun by
     /// rays" box unticked, `--light-error` sets its slider, `--flat-edge-leaves interactive`
     /// ticks "ground edges estimated").
@@ -98,6 +104,44 @@ pub struct ViewOutcome {
     pub screenshot: Option<PathBuf>,
     /// `--leaves`: the screenshot written.
     pub png: Option<PathBuf>,
+    /// A window: what it measured ([`WindowOutcome`]).
+    #[serde(flatten)]
+    pub window: Option<WindowOutcome>,
+}
+
+/// What a window run measured (`vcut_view::report::WindowReport`); frame times over the
+/// `--drag` frames, or every frame but the first without one.
+#[derive(Debug, Clone, Default, Serialize)]
+pub struct WindowOutcome {
+    /// Frames drawn.
+    pub frames: u64,
+    /// Frames drawn during the `--drag`.
+    pub drag_frames: u64,
+    /// Frame times (ms): the median.
+    pub frame_ms_p50: f64,
+    /// Frame times (ms): the 95th percentile.
+    pub frame_ms_p95: f64,
+    /// Frame times (ms): the largest.
+    pub frame_ms_max: f64,
+    /// Of those frames, the time from taking the window's texture to presenting it (ms): the
+    /// median.
+    pub draw_ms_p50: f64,
+    /// The same: the 95th percentile.
+    pub draw_ms_p95: f64,
+    /// Moves posted to the frame's worker.
+    pub moves_posted: u64,
+    /// Of those, dropped as stale (a later drag step replaced them before they ran).
+    pub moves_dropped: u64,
+    /// Moves the worker merged (settles included).
+    pub moves_merged: u64,
+    /// Mean time of a move's merge on the worker (ms).
+    pub merge_ms_mean: f64,
+    /// How long a shading arrived after the move it follows (ms): the median.
+    pub shading_lag_ms_p50: f64,
+    /// How long a shading arrived after the move it follows (ms): the 95th percentile.
+    pub shading_lag_ms_p95: f64,
+    /// Shadings that arrived after a move.
+    pub shadings: usize,
 }
 
 /// What the viewer shows first (`--mode`).

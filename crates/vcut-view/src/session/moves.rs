@@ -1,0 +1,179 @@
+//! A session's moves: run and waited for, or posted to the frame's worker and taken in later
+//! ([`Session::poll`]), with the object drawn where it goes at once.
+
+use super::{Session, SessionError};
+use glam::Vec3;
+use vcut_scene::Motion;
+use vcut_shade::image::{auto_exposure, rasterize};
+use vcut_shade::{FinishedJob, FrameJob};
+
+/// What [`Session::poll`] took in.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct Polled {
+    /// Moves the frame's worker finished (failed ones included).
+    pub moves: usize,
+    /// Whether a new shading arrived.
+    pub shaded: bool,
+    /// With a shading that follows a move: how long after the move was asked for it arrived
+    /// (ms).
+    pub lag_ms: Option<f64>,
+}
+
+impl Session {
+    /// Moves object `o` to `translation` from its rest position (re-merging what changed), and
+    /// waits for the merge and the shading. Static objects have no visibility field and cannot
+    /// move.
+    pub fn translate(&mut self, o: usize, translation: Vec3) -> Result<(), SessionError> {
+        let job = FrameJob::Translate { object: o, translation };
+        self.check_move(o, translation)?.map_or(Ok(()), |_| self.run(job))
+    }
+
+    /// Moves object `o` to `translation` as a step of a drag ([`vcut_shade::Frame::drag`]):
+    /// the vertices its field reaches merge on their rest products. Waits for the merge and the
+    /// shading; [`Session::settle`] ends the drag.
+    pub fn drag(&mut self, o: usize, translation: Vec3) -> Result<(), SessionError> {
+        let job = FrameJob::Drag { object: o, translation };
+        self.check_move(o, translation)?.map_or(Ok(()), |_| self.run(job))
+    }
+
+    /// [`Session::drag`] without waiting: object `o` is drawn at `translation` at once, its
+    /// merge and the shading after it run on the frame's worker ([`Session::poll`] takes them
+    /// in). A step still queued behind a running one is replaced by this one.
+    pub fn post_drag(&mut self, o: usize, translation: Vec3) -> Result<(), SessionError> {
+        if self.check_move(o, translation)?.is_some() {
+            self.post(FrameJob::Drag { object: o, translation });
+        }
+        Ok(())
+    }
+
+    /// Ends a drag ([`vcut_shade::Frame::settle`]): the dragged vertices merged again in full.
+    /// Waits for it and the shading.
+    pub fn settle(&mut self) -> Result<(), SessionError> {
+        self.run(FrameJob::Settle)
+    }
+
+    /// [`Session::settle`] without waiting.
+    pub fn post_settle(&mut self) {
+        self.post(FrameJob::Settle);
+    }
+
+    /// Waits for every posted move and the shading after them, and takes them in.
+    pub fn wait(&mut self) {
+        self.update_later();
+        self.frame.wait();
+        self.poll();
+    }
+
+    /// Refuses a move of object `o` to `translation` that cannot be made; `None`: it is
+    /// where it would go.
+    fn check_move(&self, o: usize, translation: Vec3) -> Result<Option<()>, SessionError> {
+        let object = self.objects.get(o).ok_or(SessionError::NoObject(o))?;
+        if object.motion != Motion::Movable {
+            return Err(SessionError::Static(object.name.clone()));
+        }
+        if !translation.is_finite() {
+            return Err(SessionError::NotFinite(translation.to_array()));
+        }
+        Ok((object.translation != translation).then_some(()))
+    }
+
+    /// Posts `job` and draws its object where it goes.
+    fn post(&mut self, job: FrameJob) -> u64 {
+        let ticket = self.frame.post(job);
+        if let FrameJob::Drag { object, translation } | FrameJob::Translate { object, translation } = job {
+            self.objects[object].translation = translation;
+            self.geometry_version += 1;
+        }
+        self.requested_eye = None;
+        ticket
+    }
+
+    /// Posts `job`, waits for it and the shading after it, and returns its outcome.
+    fn run(&mut self, job: FrameJob) -> Result<(), SessionError> {
+        let ticket = self.post(job);
+        self.update_later();
+        self.frame.wait();
+        let finished = self.frame.take_finished();
+        let own = finished.iter().position(|f| f.ticket == ticket);
+        let mut outcome = Ok(());
+        for (i, f) in finished.into_iter().enumerate() {
+            if let Err(e) = self.take_in(f) {
+                if Some(i) == own {
+                    outcome = Err(e);
+                } else {
+                    self.move_error = Some(e);
+                }
+            }
+        }
+        self.poll();
+        outcome
+    }
+
+    /// Takes in what the frame's worker finished: the moves' outcomes, and the latest shading.
+    /// A failed move is kept in [`Session::move_error`].
+    pub fn poll(&mut self) -> Polled {
+        let finished = self.frame.take_finished();
+        let mut polled = Polled { moves: finished.len(), ..Polled::default() };
+        for f in finished {
+            if let Err(e) = self.take_in(f) {
+                self.move_error = Some(e);
+            }
+        }
+        let Some(shading) = self.frame.take_shading() else { return polled };
+        polled.shaded = true;
+        if let Some((ticket, posted)) = self.last_move
+            && shading.after == Some(ticket)
+        {
+            self.timings.shading_lag_ms = posted.elapsed().as_secs_f64() * 1e3;
+            polled.lag_ms = Some(self.timings.shading_lag_ms);
+        }
+        match shading.turn_merged {
+            Ok(n) => (self.timings.turn_merged, self.turn_error) = (n, None),
+            Err(e) => (self.timings.turn_merged, self.turn_error) = (0, Some(e.to_string())),
+        }
+        self.parts = shading.parts;
+        self.radiance = shading.radiance;
+        self.timings.shade_ms = shading.shade_s * 1e3;
+        self.shaded_eye = Some(shading.eye);
+        self.reference = None;
+        self.colour_version += 1;
+        // As `cargo xtask render` chooses it (over the covered pixels, not the vertices: hidden
+        // and back-facing vertices would drag the average down), on a small raster; kept while
+        // the worker holds the frame.
+        if let Some(frame) = self.frame.try_frame() {
+            let small = rasterize(&frame, &self.radiance, &self.camera.camera(), 160, 90, None);
+            self.auto_exposure = auto_exposure(&small);
+        }
+        polled
+    }
+
+    /// Takes in one finished move: its timings, and where the frame now has its object (a
+    /// refused move draws it back there).
+    fn take_in(&mut self, f: FinishedJob) -> Result<(), SessionError> {
+        self.last_move = Some((f.ticket, f.posted));
+        let moved = match f.job {
+            FrameJob::Drag { object, translation } | FrameJob::Translate { object, translation } => {
+                Some((object, translation))
+            }
+            FrameJob::Settle => None,
+        };
+        match (f.merged, moved) {
+            (Ok(n), Some((o, translation))) => {
+                self.timings.merge_ms = f.merge_s * 1e3;
+                self.timings.merged_vertices = n;
+                self.objects[o].placed = translation;
+            }
+            (Ok(n), None) if n > 0 => self.timings.settle_ms = f.merge_s * 1e3,
+            (Ok(_), None) => {}
+            (Err(e), moved) => {
+                if let Some((o, _)) = moved {
+                    let object = &mut self.objects[o];
+                    object.translation = object.placed;
+                    self.geometry_version += 1;
+                }
+                return Err(e.into());
+            }
+        }
+        Ok(())
+    }
+}
