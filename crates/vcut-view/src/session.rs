@@ -451,7 +451,8 @@ impl Session {
     }
 
     /// Advances the exact reference for about `budget` (only in the modes that show it).
-    /// Returns whether there is more to do.
+    /// Returns whether there is more to do; while the frame's worker has moves or a shading to
+    /// finish it does nothing and returns `true` at once ([`Session::update`] waits for them).
     pub fn step_reference(&mut self, budget: Duration) -> bool {
         if !matches!(self.mode, Mode::Exact | Mode::Difference) {
             return false;

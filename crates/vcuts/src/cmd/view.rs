@@ -164,6 +164,8 @@ pub fn run(args: &ViewArgs) -> Result<ViewOutcome> {
 /// One frame of `session` with no window into the PNG `path`.
 fn screenshot(args: &ViewArgs, session: &mut Session, path: &std::path::Path, gpu: Headless) -> Result<ViewOutcome> {
     let t = Instant::now();
+    // The frame's worker done first: the reference steps only while it holds nothing.
+    session.update();
     while session.step_reference(Duration::from_secs(3600)) {}
     let reference_s = t.elapsed().as_secs_f64();
     let Headless { gpu, setup_ms } = gpu;
