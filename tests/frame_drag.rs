@@ -6,7 +6,7 @@ mod frame_scene;
 use frame_scene::{EYE, data, scratch};
 use glam::Vec3;
 use vcut_envmap::EnvMap;
-use vcut_shade::{BackgroundFrame, Frame, FrameJob, FrameSettings};
+use vcut_shade::{BackgroundFrame, Frame, FrameError, FrameJob, FrameSettings};
 
 /// Parts that nearly touch on a ground: every part's field reaches the others' vertices.
 const ASSEMBLY: &str = r#"
@@ -303,4 +303,12 @@ fn a_background_frame_drops_stale_steps_and_settles_as_the_frame_itself() {
     assert_eq!(f.len(), 1);
     assert!(f[0].ticket == ticket && f[0].merged.is_err(), "{:?}", f[0].merged);
     assert_eq!(worker.frame().object(a).translation, *steps.last().unwrap());
+    // A job that panics (an object index past the end) is a failed job, and the worker goes on.
+    let ticket = worker.post(FrameJob::Drag { object: 99, translation: Vec3::ONE });
+    worker.wait();
+    let f = worker.take_finished();
+    assert!(f[0].ticket == ticket && matches!(f[0].merged, Err(FrameError::Panicked(_))), "{:?}", f[0].merged);
+    worker.post(FrameJob::Translate { object: a, translation: Vec3::ZERO });
+    worker.wait();
+    assert!(worker.take_finished()[0].merged.is_ok(), "the worker runs the next job");
 }

@@ -7,9 +7,13 @@
 //! merge never builds a backlog. Other jobs queue in order: a translation, a settle and a drag
 //! of another object are never dropped.
 //!
-//! **BackgroundShading follows the last job.** After the queue runs dry the worker shades toward the eye
-//! last given ([`BackgroundFrame::set_eye`]), the vertices facing it first: with deferred merges
-//! a move merges only those, so the shading that arrives is the visible one.
+//! **A shading follows every job.** After each job (before the next queued one) the worker shades
+//! toward the eye last given ([`BackgroundFrame::set_eye`]): with deferred merges a move merges
+//! only the vertices facing it, so the shading that arrives is the visible one, and a window
+//! sees each step's light as soon as it is merged.
+//!
+//! **A panic is a failed job.** A job or shading that panics (a bug in the frame) is reported
+//! as failed ([`FrameError::Panicked`]) and the worker goes on, so no caller waits forever.
 //!
 //! **Order.** Jobs run in the order posted; the frame is the one a caller doing the same moves
 //! in the same order (less the dropped steps) would have, bit for bit, since each job is the
@@ -120,6 +124,14 @@ struct Queue {
     stop: bool,
 }
 
+impl Queue {
+    /// Whether a job or a shading is queued or running: what [`BackgroundFrame::wait`] waits
+    /// out.
+    fn pending(&self) -> bool {
+        self.running || !self.jobs.is_empty() || (self.shade_owed && self.eye.is_some())
+    }
+}
+
 struct Shared {
     frame: Mutex<Frame>,
     /// The worker's threads for a job's parallel parts, at a lower priority (`pool`).
@@ -184,8 +196,7 @@ impl BackgroundFrame {
         ticket
     }
 
-    /// Sets the eye the worker shades toward after its queue runs dry, and asks for a shading
-    /// toward it (the frame's lists of vertices facing it are built then).
+    /// Sets the eye the worker shades toward after each job, and asks for a shading toward it (the frame's lists of vertices facing it are built then).
     pub fn set_eye(&self, eye: Vec3) {
         let mut q = self.shared.queue();
         q.eye = Some(eye);
@@ -195,8 +206,7 @@ impl BackgroundFrame {
 
     /// Whether a job or a shading is queued or running.
     pub fn busy(&self) -> bool {
-        let q = self.shared.queue();
-        q.running || !q.jobs.is_empty() || (q.shade_owed && q.eye.is_some())
+        self.shared.queue().pending()
     }
 
     /// The jobs finished since the last call, in order.
@@ -217,7 +227,7 @@ impl BackgroundFrame {
     /// Waits until every job posted and the shading after them are done.
     pub fn wait(&self) {
         let mut q = self.shared.queue();
-        while q.running || !q.jobs.is_empty() || (q.shade_owed && q.eye.is_some()) {
+        while q.pending() {
             q = self.shared.changed.wait(q).unwrap_or_else(PoisonError::into_inner);
         }
     }
@@ -293,6 +303,18 @@ fn install<T: Send>(shared: &Shared, f: impl FnOnce() -> T + Send) -> T {
     }
 }
 
+/// Runs `f`; a panic in it becomes [`FrameError::Panicked`] with its message.
+fn guarded<T>(f: impl FnOnce() -> T) -> Result<T, FrameError> {
+    std::panic::catch_unwind(std::panic::AssertUnwindSafe(f)).map_err(|payload| {
+        let message = payload
+            .downcast_ref::<&str>()
+            .map(|s| (*s).to_owned())
+            .or_else(|| payload.downcast_ref::<String>().cloned())
+            .unwrap_or_else(|| "a panic without a message".to_owned());
+        FrameError::Panicked(message)
+    })
+}
+
 /// The worker: runs the queued jobs one at a time, then shades when owed, until stopped.
 fn work(shared: &Shared) {
     loop {
@@ -330,7 +352,7 @@ fn work(shared: &Shared) {
             Task::Job(ticket, job, posted) => {
                 let start = Instant::now();
                 let f: &mut Frame = &mut frame;
-                let merged = install(shared, || job.run(f));
+                let merged = guarded(|| install(shared, || job.run(f))).and_then(|r| r);
                 drop(frame);
                 let finished = Instant::now();
                 let mut q = shared.queue();
@@ -349,12 +371,15 @@ fn work(shared: &Shared) {
             Task::Shade(eye, after) => {
                 let start = Instant::now();
                 let f: &mut Frame = &mut frame;
-                let (turn_merged, parts, radiance) = install(shared, || {
-                    let turn_merged = f.set_eye(eye);
-                    let parts = f.shade_parts(eye, false);
-                    let radiance = f.radiance(&parts);
-                    (turn_merged, parts, radiance)
+                let shaded = guarded(|| {
+                    install(shared, || {
+                        let turn_merged = f.set_eye(eye);
+                        let parts = f.shade_parts(eye, false);
+                        let radiance = f.radiance(&parts);
+                        (turn_merged, parts, radiance)
+                    })
                 });
+                let (turn_merged, parts, radiance) = shaded.unwrap_or_else(|e| (Err(e), Vec::new(), Vec::new()));
                 drop(frame);
                 let shade_s = start.elapsed().as_secs_f64();
                 let mut q = shared.queue();

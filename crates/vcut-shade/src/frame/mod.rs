@@ -165,6 +165,11 @@ pub enum FrameError {
         /// What the placed mesh would break.
         error: vcut_scene::MeshError,
     },
+    /// The frame's worker ([`BackgroundFrame`]) panicked running a job or a shading: a bug in
+    /// the frame, reported to the caller instead of ending its thread. The frame is as the
+    /// job left it when it panicked.
+    #[error("the frame's worker failed (a bug, please report it): {0}")]
+    Panicked(String),
     /// The direction tree has more nodes than a shading list entry can name.
     #[error("the direction tree has {nodes} nodes; a frame shades at most {max} (65,536 directions)")]
     TooManyNodes {
