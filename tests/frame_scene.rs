@@ -1,4 +1,5 @@
-//! The scene and helpers the frame's tests share (`frame.rs`, `frame_caches.rs`).
+//! The scenes and helpers the frame's tests share (`frame.rs`, `frame_caches.rs`, `frame_drag.rs`,
+//! `frame_refine.rs`).
 
 use glam::Vec3;
 use std::path::{Path, PathBuf};
@@ -22,6 +23,44 @@ resolution = 10
 translation = [0.0, 0.8, 0.0]
 moves = true
 material = { model = "blinn-phong", kd = [0.3, 0.3, 0.3], ks = [0.3, 0.3, 0.3], exponent = 15.0 }
+"#;
+
+#[allow(dead_code)]
+/// Parts that nearly touch on a ground: every part's field reaches the others' vertices.
+pub const ASSEMBLY: &str = r#"
+[[object]]
+name = "ground"
+source = "builtin:plane"
+size = 4.0
+resolution = 10
+material = { model = "lambert", kd = [0.5, 0.5, 0.5] }
+
+[[object]]
+name = "a"
+source = "builtin:sphere"
+size = 0.5
+resolution = 8
+translation = [0.0, 0.55, 0.0]
+moves = true
+material = { model = "blinn-phong", kd = [0.3, 0.3, 0.3], ks = [0.3, 0.3, 0.3], exponent = 15.0 }
+
+[[object]]
+name = "b"
+source = "builtin:box"
+size = 0.6
+resolution = 4
+translation = [0.75, 0.35, 0.1]
+moves = true
+material = { model = "lambert", kd = [0.6, 0.4, 0.3] }
+
+[[object]]
+name = "c"
+source = "builtin:sphere"
+size = 0.4
+resolution = 8
+translation = [-0.6, 0.45, 0.4]
+moves = true
+material = { model = "lambert", kd = [0.2, 0.5, 0.6] }
 "#;
 
 pub fn scratch(name: &str) -> PathBuf {
@@ -54,4 +93,17 @@ pub fn try_set(
     let mut s = frame.settings().clone();
     change(&mut s);
     frame.reconfigure(&s)
+}
+
+/// Every vertex's merged cut (heights, and values' bits), pending merges done first.
+#[allow(dead_code)]
+pub fn cuts(frame: &mut vcut_shade::Frame) -> Vec<(Vec<u8>, Vec<u32>)> {
+    frame.merge_pending().unwrap();
+    (0..frame.object_count())
+        .flat_map(|o| (0..frame.object(o).mesh.vertex_count()).map(move |v| (o, v)))
+        .map(|(o, v)| {
+            let c = frame.merged(o, v).unwrap();
+            (c.heights.clone(), c.values.iter().map(|x| x.to_bits()).collect())
+        })
+        .collect()
 }

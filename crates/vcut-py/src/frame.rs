@@ -86,14 +86,7 @@ impl Frame {
             return Ok(None);
         }
         let w = &self.worker;
-        let done = py.detach(|| {
-            let mut frame = w.frame();
-            match job {
-                FrameJob::Translate { object, translation } => frame.translate(object, translation),
-                FrameJob::Drag { object, translation } => frame.drag(object, translation),
-                FrameJob::Settle => frame.settle(),
-            }
-        });
+        let done = py.detach(|| job.run(&mut w.frame()));
         done.map(Some).map_err(error)
     }
 
@@ -189,6 +182,37 @@ impl Frame {
     #[pyo3(signature = (wait=true))]
     fn settle(&mut self, py: Python<'_>, wait: bool) -> PyResult<Option<usize>> {
         self.run(py, FrameJob::Settle, wait)
+    }
+
+    /// Refines the frame toward the exact reference while nothing moves: the field factors of
+    /// vertices near their sources are cast by rays instead of looked up (visible vertices
+    /// nearest a source first), kept while their pair stays put. `seconds`: a time budget
+    /// (`None`: to completion); `reach`: only pairs within that many of the source's bounding
+    /// radii (default: every pair a field reaches). Returns a dict (`refine_ms`,
+    /// `refine_factors_cast`, `refine_rays`, `refine_merged_vertices`, `refine_exact_pairs`,
+    /// `refine_remaining_pairs`, `refine_over_budget_pairs`, `refine_complete`). With
+    /// `wait=False` it runs on the frame's own thread and returns `None` at once; the next
+    /// move cancels it.
+    #[pyo3(signature = (seconds=None, reach=None, wait=true))]
+    fn refine<'py>(
+        &mut self,
+        py: Python<'py>,
+        seconds: Option<f64>,
+        reach: Option<f32>,
+        wait: bool,
+    ) -> PyResult<Option<Bound<'py, PyAny>>> {
+        if let Some(s) = seconds.filter(|s| s.is_nan() || *s <= 0.0) {
+            return Err(VcutsError::new_err(format!("refine: seconds = {s}: must be above 0 (None: to completion)")));
+        }
+        if let Some(r) = reach.filter(|r| r.is_nan() || *r <= 0.0) {
+            return Err(VcutsError::new_err(format!("refine: reach = {r}: must be above 0 radii (math.inf: all)")));
+        }
+        let job = FrameJob::Refine { seconds, reach: reach.unwrap_or(vcut_shade::REFINE_REACH) };
+        if self.run(py, job, wait)?.is_none() {
+            return Ok(None);
+        }
+        let stats = self.frame().last_refine().unwrap_or_default();
+        to_py(py, &vcuts::frame_report::RefineReport::of(&stats)).map(Some)
     }
 
     /// Waits for the moves posted with `wait=False`; returns a dict: `moves` run, `dropped`

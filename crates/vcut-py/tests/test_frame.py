@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 import pytest
 
@@ -66,6 +68,28 @@ def test_moves_posted_without_waiting_end_where_waited_ones_do(balls) -> None:
     with pytest.raises(vcuts.VcutsError, match="ball"):
         posted.wait()
     assert posted.translation("ball") == [0.5, 0.0, 0.25]
+
+
+def test_refine_brings_the_frame_toward_the_exact_reference(balls) -> None:
+    f = vcuts.open(balls)
+    eye = f.camera()["position"]
+    f.translate("ball", (0.2, 0.0, 0.1))
+
+    def error() -> float:
+        got = np.concatenate(f.shade(eye))
+        ref = np.concatenate(f.exact_reference(eye))
+        return float(np.linalg.norm(got - ref) / np.linalg.norm(ref))
+
+    before = error()
+    done = f.refine(reach=math.inf)
+    assert done["refine_complete"] and done["refine_factors_cast"] > 0, done
+    assert error() < before
+    assert f.stats()["refine_exact_pairs"] == done["refine_exact_pairs"]
+    # Posted, then cancelled by a move; a bad budget is refused naming it.
+    assert f.refine(wait=False) is None
+    f.translate("ball", (0.0, 0.0, 0.0))
+    with pytest.raises(vcuts.VcutsError, match="seconds"):
+        f.refine(seconds=0.0)
 
 
 def test_a_grounds_edges_estimated_change_the_balls_and_exact_again_is_bit_for_bit(balls) -> None:

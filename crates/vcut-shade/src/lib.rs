@@ -43,6 +43,7 @@ pub use frame::FrameArgs;
 pub use frame::{
     BackgroundFrame, BackgroundShading, BackgroundStats, CutFailure, DragStats, FIELD_REACH, FieldReach, FinishedJob,
     FlatEdges, Frame, FrameCaches, FrameError, FrameJob, FrameMemory, FrameObject, FrameSettings, FrameStats,
-    INTERACTIVE_EDGE_SHARE, LightChoice, MergeAlgorithm, MoveTiming, Parts, SettingError,
+    INTERACTIVE_EDGE_SHARE, LightChoice, MergeAlgorithm, MoveTiming, Parts, REFINE_REACH, RefineStats, Refinement,
+    SettingError,
 };
 pub use sun::SunRays;

@@ -38,6 +38,8 @@ pub struct ViewOptions {
     pub max_frames: Option<u64>,
     /// A drag the window performs by itself, from its first frame (measurements).
     pub scripted_drag: Option<ScriptedDrag>,
+    /// Refine the frame while nothing moves ([`Session::refine_when_idle`]).
+    pub refine: bool,
 }
 
 /// A movable object being dragged: grabbed at `grab` (world), from translation `start`, over
@@ -136,6 +138,10 @@ impl App {
         self.record.lags.extend(polled.lag_ms);
         if let Some(e) = self.session.move_error.take() {
             *status = e.to_string();
+        }
+        // Nothing held or scripted: the frame refines toward the exact reference.
+        if self.options.refine && self.drag.is_none() && self.record.script.is_none() {
+            self.session.refine_when_idle();
         }
     }
 
@@ -385,6 +391,7 @@ fn panel(
                 for (k, v) in [
                     ("merge (last move)", format!("{:.1} ms, {} vertices", t.merge_ms, t.merged_vertices)),
                     ("shading lag", format!("{:.0} ms, {:.3} behind", t.shading_lag_ms, session.shading_behind())),
+                    ("refined at rest", refine_progress(session.refined)),
                     ("merged by the camera", format!("{} vertices", t.turn_merged)),
                     ("shade", format!("{:.1} ms", t.shade_ms)),
                     ("light tree", format!("{:.1} ms", t.light_ms)),
@@ -530,5 +537,18 @@ fn object_controls(ui: &mut egui::Ui, session: &mut Session, actions: &mut Panel
         }
     } else {
         ui.label("static (no visibility field): cannot move");
+    }
+}
+
+/// How far the frame's refinement at rest is, for the panel.
+fn refine_progress(r: Option<vcut_shade::RefineStats>) -> String {
+    match r {
+        None => "not yet (since the last move)".into(),
+        Some(r) => {
+            let pairs = r.exact + r.remaining;
+            let share = if pairs == 0 { 100.0 } else { 100.0 * r.exact as f64 / pairs as f64 };
+            let budget = if r.over_budget > 0 { ", memory budget spent" } else { "" };
+            format!("{share:.0} % of {pairs} factors{budget}")
+        }
     }
 }

@@ -183,6 +183,12 @@ pub struct Session {
     pub turn_error: Option<String>,
     /// Why a posted move failed (the object stays where the frame had it).
     pub move_error: Option<SessionError>,
+    /// The last refinement slice taken in since the last move ([`Session::refine_when_idle`]):
+    /// how far the frame's refinement is (`None`: none since).
+    pub refined: Option<vcut_shade::RefineStats>,
+    /// The ticket of the last job posted that is not a refinement: a refinement posted before
+    /// it no longer says how far the frame is.
+    last_change: u64,
 }
 
 impl Session {
@@ -218,6 +224,8 @@ impl Session {
             selected,
             turn_error: None,
             move_error: None,
+            refined: None,
+            last_change: 0,
         };
         s.update();
         s

@@ -258,4 +258,18 @@ fn a_posted_drag_draws_the_object_at_once_and_its_shading_follows() {
     // Input refused before anything is posted.
     assert!(matches!(posted.post_drag(ball, Vec3::NAN), Err(SessionError::NotFinite(_))));
     assert!(matches!(posted.post_drag(9, Vec3::X), Err(SessionError::NoObject(9))));
+    // At rest the session refines in slices until done, and the shading follows; a move
+    // starts it over.
+    let before = posted.radiance().to_vec();
+    let mut slices = 0;
+    while posted.refine_when_idle() {
+        posted.wait();
+        slices += 1;
+        assert!(slices < 100, "the refinement never completes");
+    }
+    let refined = posted.refined.expect("a refinement taken in");
+    assert!(refined.complete() && slices > 0, "{refined:?}");
+    assert!(posted.radiance() != before.as_slice(), "the refinement changed no shading");
+    posted.post_drag(ball, Vec3::ZERO).unwrap();
+    assert!(posted.refined.is_none());
 }

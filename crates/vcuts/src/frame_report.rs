@@ -32,9 +32,49 @@ pub struct FrameReport {
     /// The drag under way or the last one (after a drag: `Frame::drag`).
     #[serde(flatten)]
     pub drag: Option<DragReport>,
+    /// The last refinement (after `--refine` or `Frame.refine`).
+    #[serde(flatten)]
+    pub refine: Option<RefineReport>,
     /// Its memory by part.
     #[serde(flatten)]
     pub memory: MemoryReport,
+}
+
+/// The last refinement ([`vcut_shade::RefineStats`]).
+#[derive(Debug, Clone, Serialize)]
+pub struct RefineReport {
+    /// Its time.
+    pub refine_ms: f64,
+    /// Exact field factors it cast.
+    pub refine_factors_cast: usize,
+    /// Rays they took.
+    pub refine_rays: u64,
+    /// Vertices it merged again.
+    pub refine_merged_vertices: usize,
+    /// Pairs within reach that are exact now.
+    pub refine_exact_pairs: usize,
+    /// Pairs within reach still looked up.
+    pub refine_remaining_pairs: usize,
+    /// Of those, pairs the memory budget had no room for.
+    pub refine_over_budget_pairs: usize,
+    /// Whether every pair within reach is exact.
+    pub refine_complete: bool,
+}
+
+impl RefineReport {
+    /// The report of `r`.
+    pub fn of(r: &vcut_shade::RefineStats) -> RefineReport {
+        RefineReport {
+            refine_ms: r.seconds * 1e3,
+            refine_factors_cast: r.cast,
+            refine_rays: r.rays,
+            refine_merged_vertices: r.merged,
+            refine_exact_pairs: r.exact,
+            refine_remaining_pairs: r.remaining,
+            refine_over_budget_pairs: r.over_budget,
+            refine_complete: r.complete(),
+        }
+    }
 }
 
 /// How the leaves cast by rays were chosen ([`vcut_shade::LightChoice`]).
@@ -159,6 +199,8 @@ pub struct MemoryReport {
     pub frame_memory_rays_mb: f64,
     /// A drag's rest products.
     pub frame_memory_drag_mb: f64,
+    /// The exact field factors refinement cast.
+    pub frame_memory_exact_mb: f64,
     /// The process's peak resident memory, where the system says it.
     pub peak_rss_mb: Option<f64>,
 }
@@ -190,6 +232,7 @@ impl FrameReport {
             pending_merges: stats.pending_merges,
             last_move: moved.then(|| MoveReport::of(&stats.last_move)),
             drag: DragReport::of(&stats.drag),
+            refine: frame.last_refine().as_ref().map(RefineReport::of),
             memory: MemoryReport::of(frame),
         }
     }
@@ -212,6 +255,7 @@ impl MemoryReport {
             frame_memory_keys_mb: mb(m.keys),
             frame_memory_field_cache_mb: mb(m.field_cache),
             frame_memory_drag_mb: mb(m.drag),
+            frame_memory_exact_mb: mb(m.exact),
             frame_memory_rays_mb: mb(m.rays),
             peak_rss_mb: vcut_scene::budget::peak_memory().map(|p| p as f64 / 1e6),
         }

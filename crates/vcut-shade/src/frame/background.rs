@@ -4,8 +4,10 @@
 //!
 //! **Stale work is dropped.** A drag step posted while an earlier step of the same drag is
 //! still queued replaces it (the pointer moved on; only where it is now matters), so a slow
-//! merge never builds a backlog. Other jobs queue in order: a translation, a settle and a drag
-//! of another object are never dropped.
+//! merge never builds a backlog. Any other job posted drops the refinements still queued and
+//! cancels the one running ([`Frame::refine`] stops within one batch of casts): a move never
+//! waits for a refinement. Other jobs queue in order: a translation, a settle and a drag of
+//! another object are never dropped.
 //!
 //! **A shading follows every job.** After each job (before the next queued one) the worker shades
 //! toward the eye last given ([`BackgroundFrame::set_eye`]): with deferred merges a move merges
@@ -22,6 +24,7 @@
 use super::{Frame, FrameError, Parts};
 use glam::Vec3;
 use std::collections::VecDeque;
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, Condvar, Mutex, MutexGuard, PoisonError};
 use std::thread::JoinHandle;
 use std::time::Instant;
@@ -45,15 +48,35 @@ pub enum FrameJob {
     },
     /// [`Frame::settle`]: ends a drag.
     Settle,
+    /// [`Frame::refine`] for at most `seconds` (`None`: to completion) within `reach`
+    /// ([`crate::Refinement::reach`]); cancelled by the next other job posted.
+    Refine {
+        /// The time budget.
+        seconds: Option<f64>,
+        /// The source radii within which pairs are refined.
+        reach: f32,
+    },
 }
 
 impl FrameJob {
-    /// Runs the job on `frame`; returns how many vertices it merged.
-    fn run(self, frame: &mut Frame) -> Result<usize, FrameError> {
+    /// Runs the job on `frame` here (the frame's own method); returns how many vertices it
+    /// merged.
+    pub fn run(self, frame: &mut Frame) -> Result<usize, FrameError> {
+        self.run_until(frame, None)
+    }
+
+    /// [`FrameJob::run`]; a refinement stops once `cancel` is set.
+    fn run_until(self, frame: &mut Frame, cancel: Option<&AtomicBool>) -> Result<usize, FrameError> {
         match self {
             FrameJob::Drag { object, translation } => frame.drag(object, translation),
             FrameJob::Translate { object, translation } => frame.translate(object, translation),
             FrameJob::Settle => frame.settle(),
+            FrameJob::Refine { seconds, reach } => {
+                let deadline = seconds
+                    .and_then(|s| std::time::Duration::try_from_secs_f64(s).ok())
+                    .and_then(|d| Instant::now().checked_add(d));
+                Ok(frame.refine(&crate::Refinement { reach, deadline, cancel })?.merged)
+            }
         }
     }
 }
@@ -70,6 +93,8 @@ pub struct FinishedJob {
     pub merged: Result<usize, FrameError>,
     /// Its time (seconds).
     pub merge_s: f64,
+    /// A refinement's figures ([`FrameJob::Refine`]; `None` for other jobs or a failed one).
+    pub refined: Option<crate::RefineStats>,
     /// When it was posted.
     pub posted: Instant,
     /// When it finished.
@@ -98,7 +123,8 @@ pub struct BackgroundShading {
 pub struct BackgroundStats {
     /// Jobs posted.
     pub posted: u64,
-    /// Drag steps replaced by a later step before they ran.
+    /// Drag steps replaced by a later step, and refinements dropped by another job, before
+    /// they ran.
     pub dropped: u64,
     /// Jobs run.
     pub finished: u64,
@@ -134,6 +160,8 @@ impl Queue {
 
 struct Shared {
     frame: Mutex<Frame>,
+    /// Set when a job is posted: a running refinement stops.
+    cancel: AtomicBool,
     /// The worker's threads for a job's parallel parts, at a lower priority (`pool`).
     pool: Option<rayon::ThreadPool>,
     queue: Mutex<Queue>,
@@ -159,6 +187,7 @@ impl BackgroundFrame {
     pub fn new(frame: Frame) -> BackgroundFrame {
         let shared = Arc::new(Shared {
             frame: Mutex::new(frame),
+            cancel: AtomicBool::new(false),
             pool: pool(),
             queue: Mutex::default(),
             changed: Condvar::new(),
@@ -189,6 +218,12 @@ impl BackgroundFrame {
         if q.jobs.back().is_some_and(replaces) {
             q.jobs.pop_back();
             q.stats.dropped += 1;
+        }
+        if !matches!(job, FrameJob::Refine { .. }) {
+            let before = q.jobs.len();
+            q.jobs.retain(|(_, j, _)| !matches!(j, FrameJob::Refine { .. }));
+            q.stats.dropped += (before - q.jobs.len()) as u64;
+            self.shared.cancel.store(true, Ordering::Relaxed);
         }
         q.jobs.push_back((ticket, job, Instant::now()));
         q.shade_owed = true;
@@ -333,6 +368,10 @@ fn work(shared: &Shared) {
                     break Task::Shade(eye, q.last.take());
                 }
                 if let Some((ticket, job, posted)) = q.jobs.pop_front() {
+                    if matches!(job, FrameJob::Refine { .. }) {
+                        // Under the queue's lock: only a job posted from now on cancels it.
+                        shared.cancel.store(false, Ordering::Relaxed);
+                    }
                     q.shade_owed = true;
                     q.running = true;
                     break Task::Job(ticket, job, posted);
@@ -352,7 +391,9 @@ fn work(shared: &Shared) {
             Task::Job(ticket, job, posted) => {
                 let start = Instant::now();
                 let f: &mut Frame = &mut frame;
-                let merged = guarded(|| install(shared, || job.run(f))).and_then(|r| r);
+                let merged = guarded(|| install(shared, || job.run_until(f, Some(&shared.cancel)))).and_then(|r| r);
+                let refined =
+                    if matches!(job, FrameJob::Refine { .. }) && merged.is_ok() { f.last_refine() } else { None };
                 drop(frame);
                 let finished = Instant::now();
                 let mut q = shared.queue();
@@ -361,6 +402,7 @@ fn work(shared: &Shared) {
                     job,
                     merged,
                     merge_s: (finished - start).as_secs_f64(),
+                    refined,
                     posted,
                     finished,
                 });

@@ -67,6 +67,14 @@ impl Frame {
 }
 
 impl Context {
+    /// Builds every object's hierarchy at rest ([`Context::occluders`]) if not built yet: the
+    /// sun's rays and refinement's cast against them.
+    pub(super) fn ensure_occluders(&mut self) {
+        if self.occluders.is_empty() {
+            self.occluders = sun::occluders(&placed(&self.objects));
+        }
+    }
+
     /// Chooses the leaves to cast under `rays` for the current light and translations; builds
     /// the objects' hierarchies when there is a candidate and they are not built yet. The
     /// vertices sampled take their kept merged cuts from `states` unless `stale`.
@@ -79,9 +87,7 @@ impl Context {
         if candidates.is_empty() || rays.max_leaves == 0 {
             return choice;
         }
-        if self.occluders.is_empty() {
-            self.occluders = sun::occluders(&placed(&self.objects));
-        }
+        self.ensure_occluders();
         let samples = self.samples();
         let at = Sampling {
             table: shade_nodes(&self.tree, &self.light),

@@ -197,6 +197,7 @@ fn object_data(data: &mut Precomputed, o: usize, stored: bool) -> Result<ObjectD
         ray_offset: vcut_rays::origin_offset(data.svc_origin_offset(), &s.mesh),
         svc_refined: Vec::new(),
         cones: ViewCone::of(&s.mesh),
+        exact: Vec::new(),
     };
     object.vertex_materials = object.vertex_materials();
     Ok(object)

@@ -24,8 +24,49 @@ use vcut_merge::{MergedCut, Prepared, merge_prepared};
 pub(super) struct MergeScratch {
     svc: Prepared,
     flats: Vec<Prepared>,
+    /// The vertex's exact field factors ([`super::refine`]), prepared.
+    exact: Vec<Prepared>,
     zeros: Vec<std::ops::Range<u32>>,
     nodes: (Vec<u8>, Vec<f32>),
+}
+
+/// One field factor of a product: a lookup's cell with its weights, or the `n`th exact factor
+/// prepared in [`MergeScratch`] ([`super::refine`]).
+enum Field {
+    Cell(CellKey, [f32; 8]),
+    Exact(usize),
+}
+
+impl Context {
+    /// The field factors of vertex `v` of object `o` with inputs `keys`, in their order: each
+    /// input's exact factor where it has one standing where it was cast (prepared into
+    /// `exact`), else its lookup; `None` when an input without one hides every direction.
+    /// Inputs of object `skip` always take their lookup (a drag's moved object).
+    fn fields(
+        &self,
+        o: usize,
+        v: usize,
+        keys: &[FieldKey],
+        exact: &mut Vec<Prepared>,
+    ) -> Result<Option<Vec<Field>>, vcut_merge::MergeError> {
+        let mut fields = Vec::with_capacity(keys.len());
+        let mut n = 0;
+        for k in keys {
+            match self.exact_factor(o, v, k) {
+                Some(cut) => {
+                    if exact.len() == n {
+                        exact.push(Prepared::default());
+                    }
+                    self.settings.merge_algorithm.prepare_into(&[cut], &mut exact[n])?;
+                    fields.push(Field::Exact(n));
+                    n += 1;
+                }
+                None if k.occludes_all() => return Ok(None),
+                None => fields.extend(CellKey::of(k).map(|(c, w)| Field::Cell(c, w))),
+            }
+        }
+        Ok(Some(fields))
+    }
 }
 
 /// What the last merge of an object's vertices built, for the next move (a move along a path
@@ -300,13 +341,13 @@ impl Context {
         scratch: &'r mut MergeScratch,
         out: &mut MergedCut,
     ) -> Result<Option<Cow<'r, [u32]>>, FrameError> {
-        if keys.iter().any(FieldKey::occludes_all) {
+        let err = |e: CutFailure| FrameError::cut(o, v, e);
+        let MergeScratch { svc: decoded, flats, exact, zeros, nodes } = scratch;
+        let Some(fields) = self.fields(o, v, keys, exact).map_err(|e| err(e.into()))? else {
             *out = full_zero(self.tree.height());
             return Ok(None);
-        }
+        };
         let me = &self.objects[o];
-        let err = |e: CutFailure| FrameError::cut(o, v, e);
-        let MergeScratch { svc: decoded, flats, zeros, nodes } = scratch;
         let svc = match me.svc_refined.get(v) {
             Some(cached) => cached,
             None => {
@@ -315,11 +356,10 @@ impl Context {
                 &*decoded
             }
         };
-        let lookups: Vec<(CellKey, [f32; 8])> = keys.iter().filter_map(CellKey::of).collect();
         let planes: Vec<(usize, Vec3)> = keys.iter().filter_map(|k| Some((k.object as usize, k.flat()?))).collect();
         // An SVC times one flat occluder and nothing else (an object on a ground): one walk
         // of the tree, the ground classified only where the SVC lets light through.
-        if let ([], [(j, at)], Prepared::Refined(r)) = (&lookups[..], &planes[..], svc)
+        if let ([], [(j, at)], Prepared::Refined(r)) = (&fields[..], &planes[..], svc)
             && r.members() == 1
         {
             let outline =
@@ -331,7 +371,7 @@ impl Context {
         // Where the SVC is zero (below the horizon, where the object hides itself) the product
         // is zero whatever a flat occluder hides: its cut is not walked there.
         self.prepare_flats(&planes, svc, flats, zeros, nodes).map_err(|e| err(e.into()))?;
-        product(svc, &lookups, &flats[..planes.len()], cell, out).map_err(|e| err(e.into()))?;
+        product(svc, &fields, exact, &flats[..planes.len()], cell, out).map_err(|e| err(e.into()))?;
         Ok(Some(svc.ends()))
     }
 
@@ -377,17 +417,20 @@ impl Context {
         scratch: &'r mut MergeScratch,
         out: &mut MergedCut,
     ) -> Result<Option<Cow<'r, [u32]>>, FrameError> {
-        if keys.iter().any(FieldKey::occludes_all) {
+        let err = |e: CutFailure| FrameError::cut(o, v, e);
+        let MergeScratch { flats, exact, zeros, nodes, .. } = scratch;
+        // Every input decides whether the vertex is occluded, as in the full merge; the moved
+        // object's by its lookup (its exact factor stands where it was cast, not where it
+        // moves), so its lookups are its factors here.
+        if keys.iter().any(|k| k.occludes_all() && (k.object == m || self.exact_factor(o, v, k).is_none())) {
             *out = full_zero(self.tree.height());
             return Ok(None);
         }
-        let err = |e: CutFailure| FrameError::cut(o, v, e);
-        let MergeScratch { flats, zeros, nodes, .. } = scratch;
         let mine = || keys.iter().filter(|k| k.object == m);
-        let lookups: Vec<(CellKey, [f32; 8])> = mine().filter_map(CellKey::of).collect();
+        let lookups: Vec<Field> = mine().filter_map(CellKey::of).map(|(c, w)| Field::Cell(c, w)).collect();
         let planes: Vec<(usize, Vec3)> = mine().filter_map(|k| Some((m as usize, k.flat()?))).collect();
         self.prepare_flats(&planes, rest, flats, zeros, nodes).map_err(|e| err(e.into()))?;
-        product(rest, &lookups, &flats[..planes.len()], cell, out).map_err(|e| err(e.into()))?;
+        product(rest, &lookups, exact, &flats[..planes.len()], cell, out).map_err(|e| err(e.into()))?;
         Ok(self.objects[o].svc_ends(v))
     }
 
@@ -454,20 +497,24 @@ impl Context {
     }
 }
 
-/// Merges into `out` the product `first` (an SVC or a rest product) × each lookup's cell
-/// (`cell` gives it) weighted by the lookup's weights × each of `flats`, in that order (the
-/// order a merged cut's rounding follows).
-fn product<'r>(
-    first: &'r Prepared,
-    lookups: &[(CellKey, [f32; 8])],
-    flats: &'r [Prepared],
+/// Merges into `out` the product `first` (an SVC or a rest product) × each field factor (a
+/// lookup's cell, `cell` gives it, weighted by the lookup's weights, or an exact factor of
+/// `exact`) × each of `flats`, in that order (the order a merged cut's rounding follows).
+fn product<'a, 'r: 'a>(
+    first: &'a Prepared,
+    fields: &'a [Field],
+    exact: &'a [Prepared],
+    flats: &'a [Prepared],
     cell: &dyn Fn(&CellKey) -> &'r Prepared,
     out: &mut MergedCut,
 ) -> Result<usize, vcut_merge::MergeError> {
-    let mut factors: Vec<(&Prepared, &[f32])> = Vec::with_capacity(1 + lookups.len() + flats.len());
+    let mut factors: Vec<(&'a Prepared, &'a [f32])> = Vec::with_capacity(1 + fields.len() + flats.len());
     factors.push((first, &[1.0]));
-    for (c, weights) in lookups {
-        factors.push((cell(c), &weights[..usize::from(c.len)]));
+    for field in fields {
+        factors.push(match field {
+            Field::Cell(c, weights) => (cell(c), &weights[..usize::from(c.len)]),
+            Field::Exact(n) => (&exact[*n], &[1.0][..]),
+        });
     }
     factors.extend(flats.iter().map(|p| (p, &[1.0][..])));
     merge_prepared(&factors, out)

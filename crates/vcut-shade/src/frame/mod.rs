@@ -95,6 +95,7 @@ mod lighting;
 mod lists;
 mod merge;
 mod object;
+mod refine;
 pub mod settings;
 mod shading;
 mod stats;
@@ -111,6 +112,7 @@ use glam::Vec3;
 use lists::{ShadeNode, SpecularNode};
 pub use object::FrameObject;
 use object::{MergeState, ObjectData};
+pub use refine::{REFINE_REACH, RefineStats, Refinement};
 pub use settings::{
     FIELD_REACH, FieldReach, FlatEdges, FrameCaches, FrameSettings, INTERACTIVE_EDGE_SHARE, SettingError,
     algorithm_name, algorithm_named,
@@ -284,6 +286,7 @@ struct Tally {
     spot_merges: u64,
     last_move: MoveTiming,
     drag: DragStats,
+    refine: Option<RefineStats>,
 }
 
 /// The scene at run time: translations, materials, lighting, and the merged cuts.

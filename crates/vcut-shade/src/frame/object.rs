@@ -50,6 +50,9 @@ pub(super) struct ObjectData {
     pub(super) svc_refined: Vec<Prepared>,
     /// Per vertex, a cone holding the normals of its triangles ([`ViewCone`]).
     pub(super) cones: Vec<ViewCone>,
+    /// Per vertex, its exact field factors ([`super::refine`]; empty until a refinement casts
+    /// one).
+    pub(super) exact: Vec<Vec<super::refine::ExactFactor>>,
 }
 
 /// What an object's vertices' last merge left: merged cuts, shading lists, field inputs, the

@@ -30,12 +30,14 @@ pub struct FrameMemory {
     pub rays: usize,
     /// A drag's rest products ([`Frame::drag`]; 0 with none under way).
     pub drag: usize,
+    /// The exact field factors refinement cast ([`Frame::refine`]).
+    pub exact: usize,
 }
 
 impl FrameMemory {
     /// Every part with its name (the field's name: `render`'s `frame_memory_<name>_mb` keys and
     /// Python's `Frame.stats()["memory"]` read this one list).
-    pub fn parts(&self) -> [(&'static str, usize); 9] {
+    pub fn parts(&self) -> [(&'static str, usize); 10] {
         [
             ("stored", self.stored),
             ("meshes", self.meshes),
@@ -46,6 +48,7 @@ impl FrameMemory {
             ("field_cache", self.field_cache),
             ("rays", self.rays),
             ("drag", self.drag),
+            ("exact", self.exact),
         ]
     }
 
@@ -124,6 +127,7 @@ impl Frame {
             rays: ctx.occluders.iter().map(vcut_rays::Occluder::bytes).sum::<usize>()
                 + ctx.sun.as_ref().map_or(0, crate::sun::Sun::bytes),
             drag: self.drag.as_ref().map_or(0, super::drag::Drag::bytes),
+            exact: self.exact_bytes(),
             ..FrameMemory::default()
         };
         let vec = size_of::<Vec<u8>>();

@@ -7,6 +7,10 @@ use vcut_scene::Motion;
 use vcut_shade::image::{auto_exposure, rasterize};
 use vcut_shade::{FinishedJob, FrameJob};
 
+/// How long one refinement slice of the viewer's runs before the worker shades what it
+/// refined (s): the image sharpens in steps this far apart.
+pub const REFINE_SLICE_S: f64 = 0.25;
+
 /// What [`Session::poll`] took in.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub struct Polled {
@@ -77,9 +81,25 @@ impl Session {
         Ok((object.translation != translation).then_some(()))
     }
 
+    /// Refines the frame while nothing moves: when the worker is idle and the frame is not yet
+    /// refined since the last move, posts a slice of [`vcut_shade::Frame::refine`]
+    /// ([`REFINE_SLICE_S`]; the shading after it shows its progress). The next move cancels
+    /// it. Returns whether it posted one. A drag under way is not refined (a refinement
+    /// settles it first): call this once the drag is released.
+    pub fn refine_when_idle(&mut self) -> bool {
+        if self.refined.is_some_and(|r| r.complete() || r.over_budget > 0) || self.frame.busy() {
+            return false;
+        }
+        self.post(FrameJob::Refine { seconds: Some(REFINE_SLICE_S), reach: vcut_shade::REFINE_REACH });
+        true
+    }
+
     /// Posts `job` and draws its object where it goes.
     fn post(&mut self, job: FrameJob) -> u64 {
         let ticket = self.frame.post(job);
+        if !matches!(job, FrameJob::Refine { .. }) {
+            (self.refined, self.last_change) = (None, ticket);
+        }
         if let FrameJob::Drag { object, translation } | FrameJob::Translate { object, translation } = job {
             self.objects[object].translation = translation;
             self.geometry_version += 1;
@@ -150,13 +170,20 @@ impl Session {
     /// Takes in one finished move: its timings, and where the frame now has its object (a
     /// refused move draws it back there).
     fn take_in(&mut self, f: FinishedJob) -> Result<(), SessionError> {
-        self.last_move = Some((f.ticket, f.posted));
         let moved = match f.job {
             FrameJob::Drag { object, translation } | FrameJob::Translate { object, translation } => {
                 Some((object, translation))
             }
             FrameJob::Settle => None,
+            FrameJob::Refine { .. } => {
+                // Posted before the last move (cancelled or not), it says nothing of the frame now.
+                if f.ticket > self.last_change {
+                    self.refined = f.refined.filter(|r| !r.cancelled);
+                }
+                return f.merged.map(|_| ()).map_err(Into::into);
+            }
         };
+        self.last_move = Some((f.ticket, f.posted));
         match (f.merged, moved) {
             (Ok(n), Some((o, translation))) => {
                 self.timings.merge_ms = f.merge_s * 1e3;

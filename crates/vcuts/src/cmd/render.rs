@@ -157,9 +157,36 @@ pub struct RenderArgs {
     /// screen-space mode with `raytraced` (direct light with visibility plus one bounce).
     #[arg(long, value_enum)]
     pub compare: Option<Compare>,
+    /// Refine the frame toward the exact reference before shading: the field factors of
+    /// vertices near their sources are cast by rays instead of looked up. `--refine` runs to
+    /// completion, `--refine=SECONDS` stops after that long (the visible vertices nearest a
+    /// source first). Off by default, so figures stay comparable with earlier reports.
+    #[arg(long, value_name = "SECONDS", num_args = 0..=1, require_equals = true, default_missing_value = "inf",
+          value_parser = parse_refine_budget)]
+    pub refine: Option<f64>,
+    /// With `--refine`: refine only the vertices within this many of a source's bounding radii
+    /// of its centre (above 0; default `inf`: every pair a field reaches).
+    #[arg(long, value_name = "RADII", requires = "refine", value_parser = parse_refine_reach, allow_hyphen_values = true)]
+    pub refine_reach: Option<f32>,
     /// The frame's settings: how it looks fields up, merges, caches and casts the sun.
     #[command(flatten)]
     pub frame: FrameArgs,
+}
+
+/// `--refine=SECONDS`: above 0, `inf` for no limit.
+fn parse_refine_budget(s: &str) -> Result<f64, String> {
+    match s.parse::<f64>() {
+        Ok(x) if x > 0.0 && !x.is_nan() => Ok(x),
+        _ => Err(format!("{s:?}: expected a number of seconds above 0 (or `inf`: to completion)")),
+    }
+}
+
+/// `--refine-reach RADII`: above 0, `inf` for every pair a field reaches.
+fn parse_refine_reach(s: &str) -> Result<f32, String> {
+    match s.parse::<f32>() {
+        Ok(x) if x > 0.0 && !x.is_nan() => Ok(x),
+        _ => Err(format!("{s:?}: expected a number of radii above 0 (or `inf`)")),
+    }
 }
 
 impl RenderArgs {
@@ -182,6 +209,8 @@ impl RenderArgs {
             export_ply: None,
             compare: None,
             mode: RenderMode::Cuts,
+            refine: None,
+            refine_reach: None,
             frame: FrameArgs::default(),
         }
     }
@@ -348,6 +377,13 @@ pub fn run(args: &RenderArgs) -> Result<RenderOutcome> {
     // move left are merged here.
     let t = Instant::now();
     let turned = frame.set_eye(camera.position)?;
+    let turn_ms = ms_since(t);
+    if let Some(seconds) = args.refine {
+        // A budget past what an instant holds is no limit.
+        let deadline = std::time::Duration::try_from_secs_f64(seconds).ok().and_then(|d| Instant::now().checked_add(d));
+        let reach = args.refine_reach.unwrap_or(vcut_shade::REFINE_REACH);
+        frame.refine(&vcut_shade::Refinement { reach, deadline, cancel: None })?;
+    }
     let mut out = RenderOutcome {
         setup_s,
         reconstruction: env.reconstruction().name(),
@@ -356,7 +392,7 @@ pub fn run(args: &RenderArgs) -> Result<RenderOutcome> {
         move_merge_ms: move_ms,
         move_merged_vertices: moved,
         turn_merged_vertices: (turned > 0).then_some(turned),
-        turn_ms: (turned > 0).then(|| ms_since(t)),
+        turn_ms: (turned > 0).then_some(turn_ms),
         screen: None,
         shade_ms: None,
         frame: FrameReport::of(&frame, moved > 0),

@@ -218,6 +218,7 @@ fn window(
             }
         }),
         max_frames: args.frames,
+        refine: !args.no_refine,
         scripted_drag,
     };
     Ok(vcut_view::run_window(session, options)?.into())

@@ -64,6 +64,12 @@ pub struct ViewArgs {
     /// outcome has the frame times during the drag and how far the shading lagged.
     #[arg(long, value_name = "NAME", requires = "frames", conflicts_with_all = ["screenshot", "leaves"])]
     pub drag: Option<String>,
+    /// Keep the dragging-quality frame at rest. By default, while nothing moves, the window
+    /// refines the frame toward the exact reference in slices of a quarter second (field
+    /// factors near their sources cast by rays; the panel shows how far), and the next move
+    /// cancels it.
+    #[arg(long, conflicts_with_all = ["screenshot", "leaves"])]
+    pub no_refine: bool,
     /// The frame's settings, as `render`'s (`--no-sun-rays` starts with the panel's "sun by
     /// rays" box unticked, `--light-error` sets its slider, `--flat-edge-leaves interactive`
     /// ticks "ground edges estimated").
