@@ -82,14 +82,15 @@ pub fn table(section: &AssemblySection) -> String {
     let mut md = String::from(
         "| scene | preset | vertices | dragged | translate step ms | drag step ms (deferred) | drag/translate | \
          prepare ms | settle ms | fields/vertex translate → drag | ns/node translate → drag | frame mid-drag | \
-         rel. L2 rest / mid-drag / settled |\n|---|---|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n",
+         rel. L2 rest / mid-drag / settled | refined at rest: rel. L2, ms, factors | first drag step idle / refining ms |\n\
+         |---|---|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n",
     );
     for p in &section.points {
         // A scene file is named by what it stands for (its path is the bench's own).
         let scene = if p.scene.starts_with("builtin:") { p.scene.as_str() } else { p.kind.as_str() };
         md += &format!(
             "| {} | {} | {} | {} | {:.1} | {:.1} ({:.1}) | {:.3} | {:.0} | {:.0} | {:.1} → {:.1} | {:.1} → {:.1} | {} | \
-             {:.2} % / {:.2} % / {:.2} % |\n",
+             {:.2} % / {:.2} % / {:.2} % | {} | {} |\n",
             scene,
             p.preset,
             p.vertices,
@@ -108,12 +109,26 @@ pub fn table(section: &AssemblySection) -> String {
             p.rel_l2_rest * 100.0,
             p.rel_l2_drag * 100.0,
             p.rel_l2_settled * 100.0,
+            refined(p),
+            match (p.drag_first_step_idle_ms, p.drag_first_step_refining_ms) {
+                (Some(a), Some(b)) => format!("{a:.0} / {b:.0}"),
+                _ => "—".into(),
+            },
         );
     }
     for s in &section.skipped {
         md += &format!("\nSkipped: {s}\n");
     }
     md
+}
+
+/// The refinement's cell of point `p`: its error, time and factors' memory (`—` for a point
+/// measured before refinement).
+fn refined(p: &AssemblyPoint) -> String {
+    match (p.rel_l2_refined, p.refine_ms, p.refine_bytes) {
+        (Some(e), Some(ms), Some(bytes)) => format!("{:.2} %, {ms:.0} ms, {}", e * 100.0, human(bytes as u64)),
+        _ => "—".into(),
+    }
 }
 
 /// Writes the section so far to `out/assembly.json` and `out/assembly.md`.
@@ -157,7 +172,7 @@ pub fn run(quick: bool, data_dir: &Path, out: &Path) -> Result<AssemblySection> 
         let p = measure(kind, &scene, preset, object.as_deref(), data_dir)?;
         println!(
             "assembly {kind} {preset}: {} vertices, {} dragged: translate {:.1} ms, drag {:.1} ms ({:.3}x; deferred {:.1} ms), \
-             prepare {:.0} ms, settle {:.0} ms, fields {:.1} -> {:.1}, frame {}, rel L2 rest {:.4} mid-drag {:.4} settled {:.4}",
+             prepare {:.0} ms, settle {:.0} ms, fields {:.1} -> {:.1}, frame {}, rel L2 rest {:.4} mid-drag {:.4} settled {:.4} refined {:?} in {:?} ms, first drag step idle {:?} refining {:?} ms",
             p.vertices,
             p.dragged_object,
             p.translate_ms_eager,
@@ -171,7 +186,11 @@ pub fn run(quick: bool, data_dir: &Path, out: &Path) -> Result<AssemblySection> 
             human(p.frame_bytes_drag as u64),
             p.rel_l2_rest,
             p.rel_l2_drag,
-            p.rel_l2_settled
+            p.rel_l2_settled,
+            p.rel_l2_refined,
+            p.refine_ms,
+            p.drag_first_step_idle_ms,
+            p.drag_first_step_refining_ms
         );
         section.points.push(p);
         keep(&mut section, out)?;

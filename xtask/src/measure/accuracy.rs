@@ -78,6 +78,13 @@ pub struct AccuracyRow {
     /// Microseconds per vertex of the full cast.
     #[serde(default)]
     pub cast_us_per_vertex: f64,
+    /// The same frame refined to completion at rest (`Frame::refine`, every pair a field
+    /// reaches), against the exact reference (`null` in rows of runs before refinement).
+    #[serde(default)]
+    pub rel_l2_exact_refined: Option<f64>,
+    /// That refinement's time (ms).
+    #[serde(default)]
+    pub refine_ms: Option<f64>,
 }
 
 /// One point of the target-error sweep: the frame at rest under one map with the leaves chosen
@@ -127,8 +134,8 @@ impl AccuracySection {
     pub fn table(&self) -> String {
         let pct = |x: f64| format!("{:.2}", 100.0 * x);
         let mut md = String::from(
-            "| scene | preset | map | pose | leaves cast | rel. L2 exact % | max exact % | rel. L2 MC % | cuts only: rel. L2 exact % | rays' share of edit / move % |\n\
-             |---|---|---|---|---:|---:|---:|---:|---:|---:|\n",
+            "| scene | preset | map | pose | leaves cast | rel. L2 exact % | max exact % | rel. L2 MC % | cuts only: rel. L2 exact % | rays' share of edit / move % | refined: rel. L2 exact % | refine ms |\n\
+             |---|---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|\n",
         );
         for r in &self.rows {
             md.push_str(&crate::report::md_row([
@@ -142,6 +149,8 @@ impl AccuracySection {
                 r.rel_l2_mc.map_or("—".into(), pct),
                 pct(r.rel_l2_exact_cuts_only),
                 format!("{} / {}", pct(r.rays_share_edit), pct(r.rays_share_move)),
+                r.rel_l2_exact_refined.map_or("—".into(), pct),
+                r.refine_ms.map_or("—".into(), |ms| format!("{ms:.0}")),
             ]));
         }
         let mut presets: Vec<&str> = Vec::new();
@@ -282,6 +291,11 @@ pub fn measure_map(
         let rays_per_move = path.steps.iter().map(|t| t.sun_rays as f64).sum::<f64>() / steps;
         let mv = path.move_ms;
         frame.translate(s.movable, at)?;
+        // Refined where it stands, measured, and the factors dropped again so that the rows
+        // after it measure the frame as it was.
+        let refined = frame.refine(&vcut_shade::Refinement::default()).context("refining")?;
+        let (rel_l2_exact_refined, _) = errors(&frame.shade(s.eye), &exact);
+        frame.unrefine().context("dropping the refinement")?;
         frame.reconfigure(&cuts)?;
         let (rel_l2_exact_cuts_only, _) = errors(&frame.shade(s.eye), &exact);
         let edit_cuts = edit_ms(frame, s.movable, s.eye, 11);
@@ -315,6 +329,8 @@ pub fn measure_map(
             estimate_ms: choice.estimate_s * 1e3,
             rays_per_vertex: choice.rays_per_vertex(),
             cast_us_per_vertex: choice.cast_us_per_vertex(),
+            rel_l2_exact_refined: Some(rel_l2_exact_refined),
+            refine_ms: Some(refined.seconds * 1e3),
         });
         println!(
             "{} {} {map} {pose}: {sun_leaves} leaves by rays (estimate {:.4} -> {:.4}), rel L2 exact {:.4} (cuts only {:.4}), mc {}",
@@ -400,6 +416,8 @@ pub(crate) fn test_row(scene: &str, preset: &str, map: &str, e: f64) -> Accuracy
         estimate_ms: 1.0,
         rays_per_vertex: 1.0,
         cast_us_per_vertex: 1.0,
+        rel_l2_exact_refined: None,
+        refine_ms: None,
     }
 }
 

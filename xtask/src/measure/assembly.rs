@@ -2,18 +2,20 @@
 //! central movable object (or the one named) translated along the bench's path and then dragged
 //! along it ([`vcut_shade::Frame::drag`]), eager and deferred; the drag's preparation and
 //! settle; fields per merged vertex, nodes per merged vertex and ns per node of both; the
-//! frame's memory mid-drag; and the error against the exact reference at rest, mid-drag and
-//! settled, on a vertex subset.
+//! frame's memory mid-drag; and the error against the exact reference at rest, mid-drag,
+//! settled and refined at rest, on a vertex subset; and a drag's first step posted to the
+//! frame's worker idle and during a refinement.
 
 #![allow(missing_docs)]
 
 use anyhow::{Context, Result};
+use glam::Vec3;
 use serde::{Deserialize, Serialize};
 use std::path::Path;
 use vcut_data::Precomputed;
 use vcut_scene::Scene;
 use vcut_shade::measure::{drag_path, fields_per_merged_vertex, move_path};
-use vcut_shade::{Frame, FrameSettings, MergeAlgorithm};
+use vcut_shade::{BackgroundFrame, Frame, FrameJob, FrameSettings, MergeAlgorithm};
 
 /// Steps of each path.
 const STEPS: usize = 4;
@@ -65,6 +67,43 @@ pub struct AssemblyPoint {
     pub rel_l2_drag: f64,
     pub rel_l2_settled: f64,
     pub exact_subset: usize,
+    /// The settled frame refined to completion (`Frame::refine`, every pair a field reaches):
+    /// its error on the same vertices, the refinement's time and the exact factors' bytes
+    /// (`null` in points of runs before refinement).
+    #[serde(default)]
+    pub rel_l2_refined: Option<f64>,
+    #[serde(default)]
+    pub refine_ms: Option<f64>,
+    #[serde(default)]
+    pub refine_bytes: Option<usize>,
+    /// A drag's first step (rest products prepared, merged) posted to the frame's idle worker,
+    /// and posted 100 ms into a refinement it cancels: from posting to done (ms).
+    #[serde(default)]
+    pub drag_first_step_idle_ms: Option<f64>,
+    #[serde(default)]
+    pub drag_first_step_refining_ms: Option<f64>,
+}
+
+/// [`AssemblyPoint::drag_first_step_idle_ms`] and `_refining_ms` of object `o` on `frame`
+/// (handed to a worker), the shading toward `eye`.
+fn drag_beside_refinement(frame: Frame, o: usize, eye: Vec3) -> Result<(f64, f64)> {
+    let step = frame.object(o).mesh.bounds().radius * 0.1;
+    let worker = BackgroundFrame::new(frame);
+    worker.set_eye(eye);
+    let first_step = |k: f32| -> Result<f64> {
+        let ticket = worker.post(FrameJob::Drag { object: o, translation: Vec3::new(step * k, 0.0, 0.5 * step * k) });
+        worker.wait();
+        let done = worker.take_finished().into_iter().find(|f| f.ticket == ticket).context("the step ran")?;
+        done.merged.context("the drag step")?;
+        worker.post(FrameJob::Settle);
+        worker.wait();
+        Ok((done.finished - done.posted).as_secs_f64() * 1e3)
+    };
+    let idle = first_step(1.0)?;
+    worker.post(FrameJob::Refine { seconds: None, reach: vcut_shade::REFINE_REACH });
+    std::thread::sleep(std::time::Duration::from_millis(100));
+    let refining = first_step(2.0)?;
+    Ok((idle, refining))
 }
 
 /// Measures `scene` at `preset` (`kind`: what it stands for), dragging `object` (default: the
@@ -93,9 +132,19 @@ pub fn measure(kind: &str, scene: &str, preset: &str, object: Option<&str>, data
     let settle_ms = frame.stats().drag.settle_s * 1e3;
     let shaded = frame.shade(eye);
     let (rel_l2_settled, _) = super::exact_error(&frame, offset, eye, &shaded, EXACT_SUBSET);
+    let refined = frame.refine(&vcut_shade::Refinement::default())?;
+    let shaded = frame.shade(eye);
+    let (rel_l2_refined, _) = super::exact_error(&frame, offset, eye, &shaded, EXACT_SUBSET);
+    frame.unrefine()?;
     frame.reconfigure(&FrameSettings::default())?;
     let deferred = drag_path(&mut frame, o, eye, STEPS)?;
     frame.settle()?;
+    let (objects, vertices, dragged_object) = (
+        frame.object_count(),
+        (0..frame.object_count()).map(|o| frame.object(o).mesh.vertex_count()).sum(),
+        frame.object(o).name.to_string(),
+    );
+    let (idle, refining) = drag_beside_refinement(frame, o, eye)?;
     let (t, d) = (&translated, &dragged.path);
     let per_step =
         |f: fn(&vcut_shade::MoveTiming) -> usize| d.steps.iter().map(f).sum::<usize>() / d.steps.len().max(1);
@@ -103,9 +152,9 @@ pub fn measure(kind: &str, scene: &str, preset: &str, object: Option<&str>, data
         kind: kind.into(),
         scene: scene.into(),
         preset: preset.into(),
-        objects: frame.object_count(),
-        vertices: (0..frame.object_count()).map(|o| frame.object(o).mesh.vertex_count()).sum(),
-        dragged_object: frame.object(o).name.to_string(),
+        objects,
+        vertices,
+        dragged_object,
         translate_ms_eager: t.move_ms,
         drag_ms_eager: d.move_ms,
         drag_vs_translate: d.move_ms / t.move_ms,
@@ -129,5 +178,10 @@ pub fn measure(kind: &str, scene: &str, preset: &str, object: Option<&str>, data
         rel_l2_drag,
         rel_l2_settled,
         exact_subset,
+        rel_l2_refined: Some(rel_l2_refined),
+        refine_ms: Some(refined.seconds * 1e3),
+        refine_bytes: Some(refined.bytes),
+        drag_first_step_idle_ms: Some(idle),
+        drag_first_step_refining_ms: Some(refining),
     })
 }
