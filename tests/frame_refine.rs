@@ -72,6 +72,13 @@ fn refinement_brings_the_frame_toward_the_exact_reference() {
         assert!(near < before && after <= near, "{before} -> {near} (reach 2) -> {after} (all)");
         assert!(after < 0.7 * before, "{before} -> {after}");
     }
+    // Shaded from another eye after a move, without announcing it: vertices facing it wait for
+    // their merge; a refinement merges them and still completes.
+    frame.translate(a, Vec3::ZERO).unwrap();
+    frame.shade(Vec3::new(-4.0, 3.0, -5.0));
+    assert!(frame.pending_merges() > 0);
+    assert!(frame.refine(&all()).unwrap().complete());
+    assert_eq!(frame.pending_merges(), 0);
 }
 
 #[test]

@@ -181,11 +181,13 @@ impl Frame {
         let mut room = budget.map(|b| b.saturating_sub(self.memory().total()));
         let mut full = false;
         'phases: for visible in [true, false] {
-            if !visible && self.pending_merges() > 0 {
+            // The waiting vertices are merged first (those facing the eye, then the others), so
+            // that every vertex refined has its inputs where the objects are.
+            if self.pending_merges() > 0 {
                 if stop(&mut stats) {
                     break;
                 }
-                self.rekey(Rekey::waiting(true))?;
+                self.rekey(Rekey::waiting(!visible))?;
             }
             let order = self.refine_order(visible, how.reach);
             for batch in order.chunks(BATCH_VERTICES) {
