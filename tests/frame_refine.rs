@@ -139,7 +139,9 @@ fn a_cancelled_refinement_casts_nothing_and_a_move_cancels_it() {
     let finished = worker.take_finished();
     assert_eq!(finished.len(), 1);
     assert_eq!(finished[0].ticket, moved);
-    assert_eq!(worker.stats().dropped, 1);
+    let stats = worker.stats();
+    assert_eq!((stats.refines_posted, stats.refines_dropped, stats.refines_finished), (1, 1, 0));
+    assert_eq!((stats.posted, stats.dropped, stats.finished), (1, 0, 1));
     frame.translate(a, Vec3::X * 0.1).unwrap();
     assert!(cuts(&mut worker.frame()) == cuts(&mut frame));
     // A refinement run to its end on the worker reports what it did.

@@ -227,12 +227,16 @@ impl Frame {
         let dropped = self.worker.stats().dropped - self.dropped;
         self.dropped += dropped;
         let d = PyDict::new(py);
-        d.set_item("moves", finished.len())?;
-        d.set_item("dropped", dropped)?;
-        let mut merged = 0;
+        let (mut moves, mut merged) = (0, 0);
         for f in finished {
-            merged += f.merged.map_err(error)?;
+            // A refinement posted with `refine(wait=False)` is not a move: only its failure shows.
+            let n = f.merged.map_err(error)?;
+            if !matches!(f.job, FrameJob::Refine { .. }) {
+                (moves, merged) = (moves + 1, merged + n);
+            }
         }
+        d.set_item("moves", moves)?;
+        d.set_item("dropped", dropped)?;
         d.set_item("merged", merged)?;
         Ok(d)
     }

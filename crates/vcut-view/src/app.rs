@@ -166,6 +166,8 @@ impl App {
             merges: stats.finished,
             merge_ms_mean: r.merge_ms.iter().sum::<f64>() / r.merge_ms.len().max(1) as f64,
             shading_lag_ms: Quantiles::of(&r.lags),
+            refine_slices: stats.refines_finished,
+            refined_share: self.session.refined.map(|r| r.exact as f64 / (r.exact + r.remaining).max(1) as f64),
         }
     }
 

@@ -49,6 +49,11 @@ pub struct WindowReport {
     /// Shadings that arrived after a move, and how long each lagged the move it follows
     /// (ms): median, 95th percentile and largest.
     pub shading_lag_ms: Quantiles,
+    /// Refinement slices run at rest ([`crate::Session::refine_when_idle`]).
+    pub refine_slices: u64,
+    /// The share of the frame's field factors exact at the end (`None`: no refinement taken
+    /// in since the last move).
+    pub refined_share: Option<f64>,
 }
 
 /// The median, 95th percentile and largest of some values (0 with none).

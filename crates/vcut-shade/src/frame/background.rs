@@ -121,13 +121,19 @@ pub struct BackgroundShading {
 /// What a [`BackgroundFrame`] has done.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
 pub struct BackgroundStats {
-    /// Jobs posted.
+    /// Moves posted (translations, drag steps, settles; refinements are counted apart).
     pub posted: u64,
-    /// Drag steps replaced by a later step, and refinements dropped by another job, before
-    /// they ran.
+    /// Drag steps replaced by a later step before they ran.
     pub dropped: u64,
-    /// Jobs run.
+    /// Moves run.
     pub finished: u64,
+    /// Refinements ([`FrameJob::Refine`]) posted, dropped by a move before they ran, and run
+    /// (to their end, their deadline, or cancelled by a move).
+    pub refines_posted: u64,
+    /// See `refines_posted`.
+    pub refines_dropped: u64,
+    /// See `refines_posted`.
+    pub refines_finished: u64,
     /// Shadings made.
     pub shadings: u64,
 }
@@ -147,6 +153,8 @@ struct Queue {
     finished: Vec<FinishedJob>,
     shading: Option<BackgroundShading>,
     stats: BackgroundStats,
+    /// The last ticket given.
+    tickets: u64,
     stop: bool,
 }
 
@@ -205,12 +213,20 @@ impl BackgroundFrame {
         BackgroundFrame { shared, worker: Some(worker) }
     }
 
-    /// Queues `job` and returns its ticket at once. A drag step replaces a step of the same
-    /// drag still waiting in the queue (counted in [`BackgroundStats::dropped`]).
+    /// Queues `job` and returns its ticket at once (tickets count up from 1 over every job). A
+    /// drag step replaces a step of the same drag still waiting in the queue (counted in
+    /// [`BackgroundStats::dropped`]); a move drops the refinements queued and cancels the one
+    /// running.
     pub fn post(&self, job: FrameJob) -> u64 {
         let mut q = self.shared.queue();
-        q.stats.posted += 1;
-        let ticket = q.stats.posted;
+        let refine = matches!(job, FrameJob::Refine { .. });
+        if refine {
+            q.stats.refines_posted += 1
+        } else {
+            q.stats.posted += 1
+        }
+        q.tickets += 1;
+        let ticket = q.tickets;
         let replaces = |(_, last, _): &(u64, FrameJob, Instant)| match (last, job) {
             (FrameJob::Drag { object: a, .. }, FrameJob::Drag { object: b, .. }) => *a == b,
             _ => false,
@@ -219,10 +235,10 @@ impl BackgroundFrame {
             q.jobs.pop_back();
             q.stats.dropped += 1;
         }
-        if !matches!(job, FrameJob::Refine { .. }) {
+        if !refine {
             let before = q.jobs.len();
             q.jobs.retain(|(_, j, _)| !matches!(j, FrameJob::Refine { .. }));
-            q.stats.dropped += (before - q.jobs.len()) as u64;
+            q.stats.refines_dropped += (before - q.jobs.len()) as u64;
             self.shared.cancel.store(true, Ordering::Relaxed);
         }
         q.jobs.push_back((ticket, job, Instant::now()));
@@ -406,7 +422,11 @@ fn work(shared: &Shared) {
                     posted,
                     finished,
                 });
-                q.stats.finished += 1;
+                if matches!(job, FrameJob::Refine { .. }) {
+                    q.stats.refines_finished += 1;
+                } else {
+                    q.stats.finished += 1;
+                }
                 q.last = Some(ticket);
                 q.running = false;
             }

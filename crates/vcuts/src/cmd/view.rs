@@ -256,6 +256,8 @@ impl From<vcut_view::report::WindowReport> for super::view_args::WindowOutcome {
             shading_lag_ms_p50: r.shading_lag_ms.p50,
             shading_lag_ms_p95: r.shading_lag_ms.p95,
             shadings: r.shading_lag_ms.count,
+            refine_slices: r.refine_slices,
+            refined_share: r.refined_share,
         }
     }
 }

@@ -148,6 +148,11 @@ pub struct WindowOutcome {
     pub shading_lag_ms_p95: f64,
     /// Shadings that arrived after a move.
     pub shadings: usize,
+    /// Refinement slices the window ran at rest (0 with `--no-refine`).
+    pub refine_slices: u64,
+    /// The share of the field factors exact when the window closed (`null`: no refinement
+    /// since the last move).
+    pub refined_share: Option<f64>,
 }
 
 /// What the viewer shows first (`--mode`).
