@@ -35,8 +35,8 @@ use std::time::Instant;
 use vcut_cut::Cut;
 
 /// How far from a source its factors are refined by default, in its bounding radii: every pair
-/// a field reaches. Far pairs cost few rays (their bounding cone is narrow), and refining them
-/// too roughly halves the error left by refining near pairs only (`docs/benchmarks.md`,
+/// a field reaches. Far pairs cost few rays (their bounding cone is narrow), and they still
+/// carry part of the lookups' error (what each reach costs and leaves: `docs/benchmarks.md`,
 /// "Refinement at rest").
 pub const REFINE_REACH: f32 = f32::INFINITY;
 
