@@ -165,6 +165,43 @@ fn field_error_at(data: &mut Precomputed, object: usize, occ: &Occluder, tree: &
 }
 
 #[test]
+fn a_turnable_precompute_stores_only_cuts_that_turn_and_reads_its_wedged_tree_back() {
+    let dir = scratch("precompute-turns");
+    let out = dir.join("ball.vcuts");
+    let s = scene(BALL_ABOVE_GROUND);
+    let mut params = small();
+    params.set("turn_steps", "16").unwrap();
+    run(&s, params.clone(), &out);
+    let mut data = Precomputed::open(&out).unwrap();
+    assert_eq!(data.record.params, params, "turn_steps and turn_bands are recorded");
+    let tree = data.tree().unwrap();
+    let shape = tree.turn_shape().expect("the file's tree is wedged");
+    assert_eq!(Some(shape), params.turn_shape());
+    assert_eq!((tree.wedges(), shape.band_height - shape.wedge_height), (16, 4));
+    // Every stored cut, SVC and field, turns: none uses a node spanning part of a band.
+    let turns = |cut: &Cut| cut.heights().iter().all(|&h| !shape.splits(u32::from(h)));
+    for o in 0..2 {
+        assert!(data.svc_cuts(o).unwrap().iter().all(turns), "object {o}'s SVCs");
+    }
+    let layout = data.layouts[1].unwrap();
+    for sphere in 0..layout.spheres {
+        let (cuts, _) = data.field_sphere(1, sphere).unwrap();
+        assert!(cuts.iter().all(turns), "the ball's field, sphere {sphere}");
+        // A whole turn returns each cut bit for bit.
+        for cut in cuts.iter().take(20) {
+            let back = (0..16).fold(cut.clone(), |c, _| c.turned(shape, 1).unwrap());
+            assert_eq!(&back, cut);
+        }
+    }
+    // Without turns the file records no turn keys and its tree is the ordinary one.
+    let plain = dir.join("plain.vcuts");
+    run(&s, small(), &plain);
+    let data = Precomputed::open(&plain).unwrap();
+    assert_eq!(data.tree().unwrap().turn_shape(), None);
+    assert!(!data.record.params.to_toml().contains("turn_"));
+}
+
+#[test]
 fn a_field_interpolated_at_a_point_agrees_with_rays_cast_from_it() {
     let dir = scratch("precompute-agree");
     let out = dir.join("agree.vcuts");

@@ -46,6 +46,7 @@ fuzz_target!(|data: &[u8]| {
         max_iterations: u32::from(*iterations),
         integrator: if flags & 2 == 0 { Integrator::Descent } else { Integrator::Fire },
         window: u32::from(*window),
+        wedges: 1 << ((flags >> 2) & 7),
     };
     let n = usize::from(*n) + 1;
     if let Ok(set) = DirectionSet::generate(n, &repulsion, |_, _| {}) {
@@ -55,6 +56,13 @@ fuzz_target!(|data: &[u8]| {
         assert!(areas.iter().all(|a| a.is_finite() && *a >= 0.0), "cell areas {areas:?}");
         if let Ok(tree) = DirectionTree::build(set.directions(), &areas) {
             assert!(tree.height() >= 2);
+        }
+        let bands = 1 << ((flags >> 5) & 3);
+        if let Ok(tree) = DirectionTree::build_wedged(set.directions(), &areas, set.wedges(), bands) {
+            tree.validate().expect("a wedged tree keeps its invariants");
+            let shape = tree.turn_shape().expect("a wedged tree has a turn shape");
+            let first = tree.index(shape.wedge_height, 0);
+            assert_eq!(tree.turn(first, set.wedges()), Some(first), "a full turn is the identity");
         }
     }
 });

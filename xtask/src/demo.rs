@@ -21,6 +21,8 @@ pub fn demo() -> Result<()> {
         cache_dir: "target/vcut-cache".into(),
         no_cache: false,
         env: Some("builtin:sky".into()),
+        wedges: 1,
+        bands: 0,
     })?);
     println!("\n== precompute builtin:teapot, preset fast (cached after the first run)");
     let file = precompute::cached_or_run("builtin:teapot", "fast")?;

@@ -33,6 +33,7 @@
 
 pub mod codec;
 pub mod select;
+pub mod turn;
 
 pub use codec::ValueFormat;
 
@@ -97,6 +98,18 @@ pub enum CutError {
         covered: u64,
         /// Leaves in the tree.
         leaves: u64,
+    },
+    /// A node spanning part of a band's wedges in a wedged tree: it has no turned image.
+    #[error(
+        "node {node} (height {height}) spans part of a band's wedges (a wedge's nodes are at most {wedge_height} high): it has no turned image"
+    )]
+    AboveWedges {
+        /// Node position in the cut.
+        node: usize,
+        /// Its height.
+        height: u8,
+        /// The wedges' height.
+        wedge_height: u32,
     },
     /// A NaN or infinite value.
     #[error("node {node} has a non-finite value")]

@@ -6,6 +6,7 @@
 //! From the root, every node whose error exceeds `max_error` or whose solid angle exceeds
 //! `max_solid_angle` is split; the nodes left form the cut. A node whose leaves are all zero is
 //! never split for its solid angle (it contributes nothing whatever the BRDF does across it).
+//! Every node without a turned image is split, whatever its error (the cut of a wedged tree).
 //!
 //! Fields: the paper asks for no solid-angle limit and an error threshold "below 0.25, so that
 //! only regions of equal V_n merge". Read literally (a threshold just under 0.25, the variance of
@@ -16,6 +17,7 @@
 //!
 //! Sums are taken bottom-up in f64, so a node's statistics are exact for its leaves.
 
+use crate::turn::TurnShape;
 use crate::{Cut, CutError};
 
 /// Thresholds of [`select`].
@@ -25,13 +27,16 @@ pub struct SelectParams {
     pub max_error: f64,
     /// Split nodes whose solid angle is above this (steradians; `f64::INFINITY` for none).
     pub max_solid_angle: f64,
+    /// A wedged tree's shape: split every node that has no turned image, so the cut can turn
+    /// ([`crate::turn`]; `None` for an ordinary tree).
+    pub turn: Option<TurnShape>,
 }
 
 impl SelectParams {
     /// The visibility-cut-field setting: no solid-angle limit and error threshold 0, so only
     /// leaves of equal visibility merge (see the module docs for why not 0.2499).
     pub fn field() -> Self {
-        Self { max_error: 0.0, max_solid_angle: f64::INFINITY }
+        Self { max_error: 0.0, max_solid_angle: f64::INFINITY, turn: None }
     }
 }
 
@@ -102,7 +107,11 @@ fn select_with(
         let [s0, s1, s2] = sums[k];
         let mean = if s0 > 0.0 { s1 / s0 } else { 0.0 };
         let error = if s0 > 0.0 { (s2 / s0 - mean * mean).max(0.0) } else { 0.0 };
-        if h > 0 && (error > params.max_error || (s0 > params.max_solid_angle && s2 > 0.0)) {
+        if h > 0
+            && (error > params.max_error
+                || (s0 > params.max_solid_angle && s2 > 0.0)
+                || params.turn.is_some_and(|t| t.splits(h)))
+        {
             stack.push((2 * k + 2, h - 1));
             stack.push((2 * k + 1, h - 1));
         } else {
@@ -139,12 +148,12 @@ mod tests {
         let c = select(
             &[0.0, 0.0, 0.0, 0.0, 1.0, 1.0, 1.0, 1.0],
             &a,
-            SelectParams { max_error: 1.0, max_solid_angle: 1.0 },
+            SelectParams { max_error: 1.0, max_solid_angle: 1.0, turn: None },
         )
         .unwrap();
         assert_eq!(c.heights(), &[2, 1, 1]);
         // A solid-angle limit splits even constant regions.
-        let c = select(&[1.0; 8], &a, SelectParams { max_error: 1.0, max_solid_angle: 1.0 }).unwrap();
+        let c = select(&[1.0; 8], &a, SelectParams { max_error: 1.0, max_solid_angle: 1.0, turn: None }).unwrap();
         assert_eq!(c.heights(), &[1, 1, 1, 1]);
     }
 
@@ -157,7 +166,7 @@ mod tests {
             (0..n).map(|i| 4.0 * std::f64::consts::PI / n as f64 * (1.0 + 0.1 * ((i % 3) as f64 - 1.0))).collect();
         let mut last = usize::MAX;
         for e in [0.0, 0.001, 0.01, 0.05, 0.1, 0.2, 0.3] {
-            let c = select(&values, &areas, SelectParams { max_error: e, max_solid_angle: f64::INFINITY }).unwrap();
+            let c = select(&values, &areas, SelectParams { max_error: e, ..SelectParams::field() }).unwrap();
             c.validate().unwrap();
             assert!(c.len() <= last, "error {e}: {} nodes after {last}", c.len());
             last = c.len();
@@ -172,9 +181,6 @@ mod tests {
             }
             assert!((cut_total - total).abs() < 1e-5 * total.abs().max(1.0));
         }
-        assert!(
-            select(&values, &areas, SelectParams { max_error: 0.0, max_solid_angle: f64::INFINITY }).unwrap().len()
-                > 100
-        );
+        assert!(select(&values, &areas, SelectParams::field()).unwrap().len() > 100);
     }
 }

@@ -44,3 +44,17 @@ pub use file::{FileError, Reader, SectionId, SectionKind, Writer};
 pub use params::{ParamError, PrecomputeParams};
 pub use precomputed::{Precomputed, Record, RecordError};
 pub use view::{View, ViewError};
+
+/// The direction tree of a file's directions: wedged by `turn_steps` and `turn_bands` when
+/// turns are on (see [`PrecomputeParams::turn_steps`]), the ordinary tree otherwise. The
+/// precompute and every reader build it here, so a file's cuts mean the same nodes to both.
+pub fn direction_tree(
+    dirs: &[glam::Vec3],
+    cell_areas: &[f64],
+    params: &PrecomputeParams,
+) -> Result<vcut_dirtree::DirectionTree, vcut_dirtree::TreeError> {
+    match params.turn_steps {
+        0 => vcut_dirtree::DirectionTree::build(dirs, cell_areas),
+        m => vcut_dirtree::DirectionTree::build_wedged(dirs, cell_areas, m, params.bands()),
+    }
+}

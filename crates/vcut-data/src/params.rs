@@ -9,6 +9,7 @@ use crate::RadialSpacing;
 use std::f64::consts::PI;
 use vcut_cut::codec::{ShapeCoding, ValueFormat};
 use vcut_cut::select::SelectParams;
+use vcut_cut::turn::TurnShape;
 use vcut_scene::limits::Limit;
 
 /// Everything that decides the precomputed data.
@@ -54,6 +55,15 @@ pub struct PrecomputeParams {
     pub field_max_error: f64,
     /// How field values are stored (`u1` for exact fields).
     pub field_values: ValueFormat,
+    /// Turn steps M per full turn about +Y (0: none). A set of M > 0 is symmetric under turns
+    /// by 360°/M (`vcut_sphere::symmetric`), its tree is wedged and no stored cut uses a node
+    /// above the wedges (`vcut_cut::turn`), so an object can turn by whole steps at run time.
+    /// Recorded only when set, so files made without it keep their bytes.
+    pub turn_steps: u32,
+    /// Bands of latitude a turnable set's tree splits into above its wedges (a power of two;
+    /// `vcut_dirtree`'s module docs say why), or 0 for `DirectionTree::default_bands`.
+    /// Recorded with `turn_steps`.
+    pub turn_bands: u32,
 }
 
 /// The range of `svc_max_error`.
@@ -117,7 +127,7 @@ pub enum ParamError {
 }
 
 /// Parameter names, in the order they are recorded.
-pub const KEYS: [&str; 17] = [
+pub const KEYS: [&str; 19] = [
     "preset",
     "directions",
     "direction_seed",
@@ -135,6 +145,8 @@ pub const KEYS: [&str; 17] = [
     "field_spacing",
     "field_max_error",
     "field_values",
+    "turn_steps",
+    "turn_bands",
 ];
 
 /// Preset names.
@@ -165,6 +177,8 @@ impl PrecomputeParams {
             field_spacing: RadialSpacing::Geometric,
             field_max_error: 0.0,
             field_values: ValueFormat::U1,
+            turn_steps: 0,
+            turn_bands: 0,
         }
     }
 
@@ -237,6 +251,20 @@ impl PrecomputeParams {
             "svc_values" | "field_values" => {
                 let f = ValueFormat::named(value.trim()).ok_or_else(|| bad("must be f32, f16, u16, u8 or u1"))?;
                 if key == "svc_values" { self.svc_values = f } else { self.field_values = f }
+            }
+            "turn_steps" => {
+                let m: u32 = num(value, bad)?;
+                if m != 0 && (!m.is_power_of_two() || m < 2) {
+                    return Err(bad("must be 0 (no turns) or a power of two from 2"));
+                }
+                self.turn_steps = m;
+            }
+            "turn_bands" => {
+                let b: u32 = num(value, bad)?;
+                if b != 0 && !b.is_power_of_two() {
+                    return Err(bad("must be 0 (chosen from turn_steps) or a power of two (1: no bands)"));
+                }
+                self.turn_bands = b;
             }
             "field_spheres" => self.field_spheres = whole(key, value)?,
             "field_resolution" => self.field_resolution = whole(key, value)?,
@@ -328,6 +356,26 @@ impl PrecomputeParams {
                 "one-bit values need exact fields (field_max_error = 0); use u8 with a non-zero threshold",
             ));
         }
+        if self.turn_steps > 0 && self.turn_steps > self.directions / 16 {
+            return Err(ParamError::Value {
+                key: "turn_steps".into(),
+                value: self.turn_steps.to_string(),
+                reason: format!(
+                    "at most directions / 16 = {} (each step's wedge needs 16 directions or more)",
+                    self.directions / 16
+                ),
+            });
+        }
+        if self.turn_steps > 0 && self.bands() > self.directions / self.turn_steps {
+            return Err(ParamError::Value {
+                key: "turn_bands".into(),
+                value: self.bands().to_string(),
+                reason: format!(
+                    "at most directions / turn_steps = {} (each band needs a direction in every wedge)",
+                    self.directions / self.turn_steps
+                ),
+            });
+        }
         if self.field_inner >= self.field_outer {
             return Err(ParamError::Value {
                 key: "field_inner".into(),
@@ -358,13 +406,19 @@ impl PrecomputeParams {
             "field_spacing" => format!("\"{}\"", self.field_spacing.name()),
             "field_max_error" => format!("{:?}", self.field_max_error),
             "field_values" => format!("\"{}\"", self.field_values.name()),
+            "turn_steps" => self.turn_steps.to_string(),
+            "turn_bands" => self.turn_bands.to_string(),
             _ => return None,
         })
     }
 
-    /// All parameters as TOML `key = value` lines, in [`KEYS`] order.
+    /// All parameters as TOML `key = value` lines, in [`KEYS`] order (`turn_steps` and
+    /// `turn_bands` only with turns: a file made without records what files always recorded).
     pub fn to_toml(&self) -> String {
-        KEYS.iter().map(|k| format!("{k} = {}\n", self.get(k).unwrap_or_default())).collect()
+        KEYS.iter()
+            .filter(|&&k| !k.starts_with("turn_") || self.turn_steps > 0)
+            .map(|k| format!("{k} = {}\n", self.get(k).unwrap_or_default()))
+            .collect()
     }
 
     /// Parses what [`PrecomputeParams::to_toml`] wrote (or any subset of keys over a preset:
@@ -385,12 +439,33 @@ impl PrecomputeParams {
 
     /// SVC cut selection thresholds.
     pub fn svc_select(&self) -> SelectParams {
-        SelectParams { max_error: self.svc_max_error, max_solid_angle: 4.0 * PI / self.svc_solid_angle_divisor }
+        SelectParams {
+            max_error: self.svc_max_error,
+            max_solid_angle: 4.0 * PI / self.svc_solid_angle_divisor,
+            turn: self.turn_shape(),
+        }
     }
 
     /// Field cut selection thresholds (no solid-angle limit).
     pub fn field_select(&self) -> SelectParams {
-        SelectParams { max_error: self.field_max_error, max_solid_angle: f64::INFINITY }
+        SelectParams { max_error: self.field_max_error, max_solid_angle: f64::INFINITY, turn: self.turn_shape() }
+    }
+
+    /// The bands of a turnable set's tree: `turn_bands`, or its default when 0.
+    pub fn bands(&self) -> u32 {
+        match self.turn_bands {
+            0 => vcut_dirtree::DirectionTree::default_bands(self.turn_steps),
+            b => b,
+        }
+    }
+
+    /// The wedged tree's shape with `turn_steps` (stored cuts use no node without a turned
+    /// image), else `None`.
+    pub fn turn_shape(&self) -> Option<TurnShape> {
+        (self.turn_steps > 0).then(|| {
+            let band_height = self.directions.trailing_zeros().saturating_sub(self.bands().trailing_zeros());
+            TurnShape { wedge_height: band_height.saturating_sub(self.turn_steps.trailing_zeros()), band_height }
+        })
     }
 }
 
@@ -445,5 +520,38 @@ mod tests {
         p.set("field_values", "u8").unwrap();
         p.set("field_inner", "20").unwrap();
         assert!(p.check().unwrap_err().to_string().contains("below field_outer"));
+    }
+
+    #[test]
+    fn turn_steps_are_recorded_only_when_set_and_checked_against_the_directions() {
+        let fast = PrecomputeParams::fast();
+        assert!(!fast.to_toml().contains("turn_"), "files made without turns keep their record");
+        assert_eq!(fast.turn_shape(), None);
+        let mut p = fast.clone();
+        p.set("turn_steps", "64").unwrap();
+        p.check().unwrap();
+        assert!(p.to_toml().contains("turn_steps = 64\nturn_bands = 0\n"));
+        assert_eq!(PrecomputeParams::from_toml(&p.to_toml()).unwrap(), p);
+        // 4,096 directions in 64 wedges of 8 bands: cells of 8 leaves, bands of 512.
+        assert_eq!(p.bands(), 8);
+        assert_eq!(p.turn_shape(), Some(TurnShape { wedge_height: 3, band_height: 9 }));
+        assert_eq!(p.field_select().turn, p.turn_shape());
+        assert_eq!(p.svc_select().turn, p.turn_shape());
+        for (key, value, says) in [
+            ("turn_steps", "48", "power of two"),
+            ("turn_steps", "1", "power of two from 2"),
+            ("turn_bands", "3", "power of two"),
+            ("turn_steps", "x", "not a number"),
+        ] {
+            let e = p.clone().set(key, value).unwrap_err().to_string();
+            assert!(e.contains(&format!("{key} = {value}")) && e.contains(says), "{e}");
+        }
+        p.set("turn_steps", "512").unwrap();
+        let e = p.check().unwrap_err().to_string();
+        assert!(e.contains("turn_steps = 512") && e.contains("at most directions / 16 = 256"), "{e}");
+        p.set("turn_steps", "256").unwrap();
+        p.set("turn_bands", "32").unwrap();
+        let e = p.check().unwrap_err().to_string();
+        assert!(e.contains("turn_bands = 32") && e.contains("at most directions / turn_steps = 16"), "{e}");
     }
 }

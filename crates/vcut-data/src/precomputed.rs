@@ -219,7 +219,7 @@ impl Precomputed {
     /// leaf order (a different tree would give the cuts' nodes other meanings).
     pub fn tree(&self) -> Result<DirectionTree, FileError> {
         let id = SectionId::directions();
-        let tree = DirectionTree::build(&self.directions, &self.cell_areas)
+        let tree = crate::direction_tree(&self.directions, &self.cell_areas, &self.record.params)
             .map_err(|e| self.reader.section_error(id, e.to_string()))?;
         if tree.leaf_to_input() != self.leaf_order.as_slice() {
             return Err(self.reader.section_error(id, "this build's direction tree orders the leaves differently"));

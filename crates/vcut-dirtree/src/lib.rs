@@ -9,6 +9,15 @@
 //! angle |Ω_k| (the sum of its leaves' Voronoi cells) and a bounding cone containing its leaf
 //! directions, for culling whole subtrees.
 //!
+//! A set symmetric under turns by 2π/M about +Y (`vcut_sphere::symmetric`: M blocks of K
+//! directions, block `w` the first turned by `w·2π/M`) gets a **wedged** tree
+//! ([`DirectionTree::build_wedged`]): its top levels split into bands of latitude (each a set
+//! of whole orbits), the next log2 M levels split each band by wedges, and below them every
+//! wedge of a band is split in the same order. A turn by `k·2π/M` is then a relabelling of
+//! every node within a wedge, and maps every band onto itself ([`DirectionTree::turn`]); the
+//! nodes between span part of a band's wedges and have no turned image ([`TurnShape`]).
+//! Bands keep the nodes a cut can use compact: a wedge alone runs from pole to pole.
+//!
 //! # Invariants
 //! N is a power of two ≥ 2; leaves are a permutation of the input directions; children partition
 //! their parent's leaf range; a parent's solid angle is the sum of its children's; every cone
@@ -50,11 +59,24 @@ pub enum TreeError {
         /// Directions given.
         dirs: usize,
     },
+    /// Wedges and bands that cannot divide the directions into equal power-of-two blocks.
+    #[error(
+        "{wedges} wedges in {bands} bands over {dirs} directions: need powers of two, wedges ≥ 2, wedges × bands ≤ N"
+    )]
+    Wedges {
+        /// Wedges asked for.
+        wedges: u32,
+        /// Bands asked for.
+        bands: u32,
+        /// Directions given.
+        dirs: usize,
+    },
     /// A direction or area is not finite (or an area is negative).
     #[error("direction {0} or its cell area is not finite / negative")]
     BadInput(usize),
 }
 
+pub use vcut_cut::turn::TurnShape;
 /// The level-order index of a node and its inverse (defined with the cuts, `vcut_cut`).
 pub use vcut_cut::{level_order_index, node_of_index};
 
@@ -77,11 +99,54 @@ pub struct DirectionTree {
     mean_dir: Vec<Vec3>,
     solid_angle: Vec<f64>,
     cone: Vec<Cone>,
+    shape: Option<TurnShape>,
 }
 
 impl DirectionTree {
     /// Builds the tree over `dirs` (unit vectors) with their cell solid angles.
     pub fn build(dirs: &[Vec3], cell_areas: &[f64]) -> Result<DirectionTree, TreeError> {
+        Self::check(dirs, cell_areas)?;
+        let mut order: Vec<u32> = (0..dirs.len() as u32).collect();
+        split(dirs, &mut order);
+        Ok(Self::from_order(dirs, cell_areas, order, None))
+    }
+
+    /// Builds the wedged tree of a set symmetric in `wedges` wedges of consecutive directions
+    /// (see the module docs): the representatives (wedge 0) sorted by height into `bands`
+    /// bands, each band into its wedges, each band's wedge 0 split as [`DirectionTree::build`]
+    /// splits and its other wedges in the same order.
+    pub fn build_wedged(
+        dirs: &[Vec3],
+        cell_areas: &[f64],
+        wedges: u32,
+        bands: u32,
+    ) -> Result<DirectionTree, TreeError> {
+        Self::check(dirs, cell_areas)?;
+        let n = dirs.len();
+        let bad = || TreeError::Wedges { wedges, bands, dirs: n };
+        if !wedges.is_power_of_two() || wedges < 2 || !bands.is_power_of_two() {
+            return Err(bad());
+        }
+        let k = n / wedges as usize;
+        if k < bands as usize {
+            return Err(bad());
+        }
+        let mut reps: Vec<u32> = (0..k as u32).collect();
+        reps.sort_by(|&a, &b| dirs[b as usize].y.total_cmp(&dirs[a as usize].y).then(a.cmp(&b)));
+        let mut order = Vec::with_capacity(n);
+        for band in reps.chunks_mut(k / bands as usize) {
+            split(dirs, band);
+            for w in 0..wedges {
+                order.extend(band.iter().map(|&i| w * k as u32 + i));
+            }
+        }
+        let height = n.trailing_zeros();
+        let band_height = height - bands.trailing_zeros();
+        let shape = TurnShape { wedge_height: band_height - wedges.trailing_zeros(), band_height };
+        Ok(Self::from_order(dirs, cell_areas, order, Some(shape)))
+    }
+
+    fn check(dirs: &[Vec3], cell_areas: &[f64]) -> Result<(), TreeError> {
         let n = dirs.len();
         if n < 2 || !n.is_power_of_two() || n > 1 << 30 {
             return Err(TreeError::NotPowerOfTwo(n));
@@ -92,9 +157,13 @@ impl DirectionTree {
         if let Some(i) = (0..n).find(|&i| !(dirs[i].is_finite() && cell_areas[i] >= 0.0 && cell_areas[i].is_finite())) {
             return Err(TreeError::BadInput(i));
         }
+        Ok(())
+    }
+
+    /// The tree whose leaves are `dirs` in `order`.
+    fn from_order(dirs: &[Vec3], cell_areas: &[f64], order: Vec<u32>, shape: Option<TurnShape>) -> DirectionTree {
+        let n = dirs.len();
         let height = n.trailing_zeros();
-        let mut order: Vec<u32> = (0..n as u32).collect();
-        split(dirs, &mut order);
         let mut input_to_leaf = vec![0u32; n];
         for (leaf, &input) in order.iter().enumerate() {
             input_to_leaf[input as usize] = leaf as u32;
@@ -131,7 +200,44 @@ impl DirectionTree {
                 Cone { axis, cos_half_angle: c - 1e-6 }
             })
             .collect();
-        Ok(DirectionTree { height, leaf_dirs, leaf_to_input: order, input_to_leaf, mean_dir, solid_angle, cone })
+        DirectionTree { height, leaf_dirs, leaf_to_input: order, input_to_leaf, mean_dir, solid_angle, cone, shape }
+    }
+
+    /// The bands a wedged tree of `wedges` wedges gets unless told otherwise: M/8 (at least 1),
+    /// so that a band's cells at the equator are about 2.5 times as tall as wide whatever M
+    /// (`docs/benchmarks.md` has the measurement behind it).
+    pub fn default_bands(wedges: u32) -> u32 {
+        (wedges / 8).max(1)
+    }
+
+    /// A wedged tree's bands and wedges (`None` for an ordinary tree).
+    pub fn turn_shape(&self) -> Option<TurnShape> {
+        self.shape
+    }
+
+    /// Wedges per band, M (1: an ordinary tree).
+    pub fn wedges(&self) -> u32 {
+        self.shape.map_or(1, |s| s.wedges() as u32)
+    }
+
+    /// The node that `index` becomes when the directions turn by `steps · 2π/M` about +Y:
+    /// within its band, `steps` wedges on; itself for a band or more. `None` for a node that
+    /// spans part of a band's wedges unless the turn moves it by whole multiples of its width
+    /// (no node is its image otherwise). In an ordinary tree only whole turns have images.
+    pub fn turn(&self, index: u32, steps: u32) -> Option<u32> {
+        let Some(shape) = self.shape else { return Some(index) };
+        let (h, off) = self.node(index);
+        if h >= shape.band_height {
+            return Some(index);
+        }
+        let shift = (u64::from(steps) % shape.wedges()) << shape.wedge_height;
+        if shift % (1u64 << h) != 0 {
+            return None;
+        }
+        let band = 1u64 << shape.band_height;
+        let start = u64::from(off) / band * band;
+        let moved = start + (u64::from(off) - start + shift) % band;
+        Some(self.index(h, moved as u32))
     }
 
     /// Root height H = log2 N.
@@ -243,6 +349,19 @@ impl DirectionTree {
                 if d.dot(c.axis) < c.cos_half_angle {
                     return bad(format!("cone of node {k} misses leaf direction {d}"));
                 }
+            }
+        }
+        // A wedged tree: the leaf `j` places into wedge `w` of a band is wedge 0's leaf `j`
+        // turned by `w` (input `w·K` on).
+        if let Some(shape) = self.shape {
+            let (band, wedge) = (1usize << shape.band_height, 1usize << shape.wedge_height);
+            let k = n / shape.wedges() as usize;
+            let common = |l: usize| {
+                let (start, w) = (l / band * band, l % band / wedge);
+                self.leaf_to_input[l] as usize == w * k + self.leaf_to_input[start + l % wedge] as usize
+            };
+            if let Some(leaf) = (0..n).find(|&l| !common(l)) {
+                return bad(format!("leaf {leaf} breaks the wedges' common order"));
             }
         }
         Ok(())

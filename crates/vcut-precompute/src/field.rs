@@ -208,18 +208,27 @@ pub fn point_cut(
     if occ.inside(p) {
         let n = tree.leaf_count() as u64;
         let cut = Cut::root(tree.height(), 0.0).unwrap_or_else(|e| unreachable!("{e}"));
-        return (cut, true, RayStats { resolved_without_ray: n, ..RayStats::default() });
+        return (turnable(cut, params), true, RayStats { resolved_without_ray: n, ..RayStats::default() });
     }
-    // Exact fields are built in the ray walk itself (no O(N) statistics per point).
+    // Exact fields are built in the ray walk itself (no O(N) statistics per point); their nodes
+    // are constant, so splitting those without a turned image keeps them exact.
     if params.max_error == 0.0 {
         let (cut, stats) = exact_point_cut(occ, tree, p, layout.center, layout.radius);
-        return (cut, false, stats);
+        return (turnable(cut, params), false, stats);
     }
     let stats = point_visibility(occ, tree, p, layout.center, layout.radius, values);
     let cut = selector
         .select(values, leaf_areas, params)
         .unwrap_or_else(|_| unreachable!("a tree's leaf count is a power of two"));
     (cut, false, stats)
+}
+
+/// `cut` with no node that lacks a turned image, when the tree is wedged.
+fn turnable(cut: Cut, params: SelectParams) -> Cut {
+    match params.turn {
+        Some(shape) => cut.turnable(shape),
+        None => cut,
+    }
 }
 
 /// The whole field of `mesh` (every sphere), for tests and small layouts; the precompute writes

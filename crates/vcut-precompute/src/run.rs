@@ -226,14 +226,15 @@ pub fn directions(
     params: &PrecomputeParams,
     cache_dir: Option<&Path>,
 ) -> Result<(DirectionSet, Vec<f64>, DirectionTree), PrecomputeError> {
-    let rp = RepulsionParams { seed: params.direction_seed, ..RepulsionParams::default() };
+    let rp =
+        RepulsionParams { seed: params.direction_seed, wedges: params.turn_steps.max(1), ..RepulsionParams::default() };
     let n = params.directions as usize;
     let set = match cache_dir {
         Some(dir) => DirectionSet::load_or_generate(dir, n, &rp, |_, _| {}).map(|r| r.0),
         None => DirectionSet::generate(n, &rp, |_, _| {}),
     }?;
     let areas = set.cell_areas();
-    let tree = DirectionTree::build(set.directions(), &areas)?;
+    let tree = vcut_data::direction_tree(set.directions(), &areas, params)?;
     Ok((set, areas, tree))
 }
 

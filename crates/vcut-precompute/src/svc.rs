@@ -23,7 +23,7 @@ impl Default for SvcParams {
     /// are measured); origin offset 1e-4 of the bounding radius.
     fn default() -> Self {
         Self {
-            select: SelectParams { max_error: 0.005, max_solid_angle: 4.0 * std::f64::consts::PI / 256.0 },
+            select: SelectParams { max_error: 0.005, max_solid_angle: 4.0 * std::f64::consts::PI / 256.0, turn: None },
             origin_offset: 1e-4,
         }
     }

@@ -22,8 +22,9 @@ fn fnv1a(bytes: &[u8]) -> u64 {
 pub fn file_name(n: usize, p: &RepulsionParams) -> String {
     let knobs =
         format!("{}:{}:{}:{}:{:?}:{}", p.kernel_radius, p.step, p.tolerance, p.max_iterations, p.integrator, p.window);
+    let wedges = if p.wedges > 1 { format!("-w{}", p.wedges) } else { String::new() };
     format!(
-        "directions-v{ALGORITHM_VERSION}-{}-n{n}-seed{}-{:08x}.bin",
+        "directions-v{ALGORITHM_VERSION}-{}-n{n}{wedges}-seed{}-{:08x}.bin",
         p.start.name(),
         p.seed,
         fnv1a(knobs.as_bytes()) as u32

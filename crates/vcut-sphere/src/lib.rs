@@ -9,6 +9,8 @@
 //! - [`DirectionSet::cell_areas`]: exact spherical Voronoi solid angles ([`voronoi`]).
 //! - [`DirectionSet::uniformity`]: nearest-neighbour angles against √(4π/N), the cell-area
 //!   coefficient of variation and a chi-squared test ([`stats`]).
+//! - Sets symmetric under turns by 2π/M about +Y (`RepulsionParams::wedges`, [`symmetric`]),
+//!   for objects that turn at run time: a turn by a multiple of 2π/M relabels directions.
 //! - [`DirectionSet::load_or_generate`]: an on-disk cache keyed by N, seed, parameters and
 //!   [`ALGORITHM_VERSION`], reloaded bit-identically ([`cache`]).
 //!
@@ -30,6 +32,7 @@ pub mod grid;
 pub mod repulsion;
 pub mod rng;
 pub mod stats;
+pub mod symmetric;
 pub mod voronoi;
 
 pub use cache::CacheOutcome;
@@ -65,6 +68,16 @@ pub enum SphereError {
         /// What is wrong.
         reason: &'static str,
     },
+    /// A symmetry the set cannot have.
+    #[error("{n} directions in {wedges} wedges: {reason}")]
+    BadSymmetry {
+        /// Directions.
+        n: usize,
+        /// Wedges asked for.
+        wedges: u32,
+        /// What is wrong.
+        reason: &'static str,
+    },
     /// A cache file could not be read or written.
     #[error("{}: {reason}", path.display())]
     Cache {
@@ -90,6 +103,7 @@ impl DirectionSet {
         if !(4..=MAX_DIRECTIONS).contains(&n) {
             return Err(SphereError::BadCount { n });
         }
+        check_symmetry(n, params)?;
         let (points, report) = repulsion::relax(n, params, progress);
         let dirs = points.iter().map(|p| p.as_vec3().normalize()).collect();
         let mut set = Self::from_directions(dirs, *params)?;
@@ -111,7 +125,37 @@ impl DirectionSet {
                 });
             }
         }
-        Ok(Self { dirs, params, report: RepulsionReport::default() })
+        check_symmetry(dirs.len(), &params)?;
+        let set = Self { dirs, params, report: RepulsionReport::default() };
+        if let Some(index) = set.asymmetric() {
+            return Err(SphereError::BadDirection {
+                index,
+                value: set.dirs[index].to_array(),
+                reason: "not its representative turned by a whole number of wedges",
+            });
+        }
+        Ok(set)
+    }
+
+    /// The first direction that is not its wedge-0 representative turned by its wedge (within
+    /// 1e-5), if any.
+    fn asymmetric(&self) -> Option<usize> {
+        let m = self.wedges() as usize;
+        if m <= 1 {
+            return None;
+        }
+        let k = self.dirs.len() / m;
+        let step = std::f64::consts::TAU / m as f64;
+        (k..self.dirs.len()).find(|&j| {
+            let t = ((j / k) as f64 * step).sin_cos();
+            let want = symmetric::turn(self.dirs[j % k].as_dvec3(), t);
+            want.distance(self.dirs[j].as_dvec3()) > 1e-5
+        })
+    }
+
+    /// How many wedges the set is symmetric in (1: none); see [`symmetric`].
+    pub fn wedges(&self) -> u32 {
+        self.params.wedges.max(1)
     }
 
     /// The directions.
@@ -144,9 +188,19 @@ impl DirectionSet {
         self.dirs.iter().map(|d| d.as_dvec3().normalize()).collect()
     }
 
-    /// Exact Voronoi cell solid angles of the (f32) directions, summing to 4π.
+    /// Exact Voronoi cell solid angles of the (f32) directions, summing to 4π. In a symmetric
+    /// set every orbit's cells get their mean, so turned copies weigh exactly the same.
     pub fn cell_areas(&self) -> Vec<f64> {
-        voronoi::cell_areas(&self.directions_f64())
+        let mut areas = voronoi::cell_areas(&self.directions_f64());
+        let m = self.wedges() as usize;
+        if m > 1 {
+            let k = areas.len() / m;
+            for i in 0..k {
+                let mean = (0..m).map(|w| areas[w * k + i]).sum::<f64>() / m as f64;
+                (0..m).for_each(|w| areas[w * k + i] = mean);
+            }
+        }
+        areas
     }
 
     /// Uniformity statistics.
@@ -154,6 +208,25 @@ impl DirectionSet {
         let p = self.directions_f64();
         stats::uniformity(&p, &voronoi::cell_areas(&p))
     }
+}
+
+/// Checks that `n` directions can have `params.wedges`' symmetry.
+fn check_symmetry(n: usize, params: &RepulsionParams) -> Result<(), SphereError> {
+    let wedges = params.wedges;
+    let bad = |reason| Err(SphereError::BadSymmetry { n, wedges, reason });
+    if wedges <= 1 {
+        return Ok(());
+    }
+    if !wedges.is_power_of_two() {
+        return bad("the wedges must be a power of two");
+    }
+    if !n.is_multiple_of(wedges as usize) || n / (wedges as usize) < 2 {
+        return bad("each wedge needs the same number of directions, at least 2");
+    }
+    if params.start != Start::Fibonacci {
+        return bad("a symmetric set starts from the Fibonacci lattice, not a random one");
+    }
+    Ok(())
 }
 
 #[cfg(test)]

@@ -71,6 +71,9 @@ pub struct RepulsionParams {
     pub integrator: Integrator,
     /// Iterations over which the convergence criterion judges progress.
     pub window: u32,
+    /// The set is invariant under turns by 2π/`wedges` about +Y (1: no symmetry). A power of
+    /// two dividing N, with the spherical-Fibonacci start only ([`crate::symmetric`]).
+    pub wedges: u32,
 }
 
 impl Default for RepulsionParams {
@@ -84,6 +87,7 @@ impl Default for RepulsionParams {
             max_iterations: 2000,
             integrator: Integrator::Descent,
             window: 20,
+            wedges: 1,
         }
     }
 }
@@ -102,6 +106,7 @@ impl RepulsionParams {
             max_iterations: 2000,
             integrator: Integrator::Fire,
             window: 200,
+            wedges: 1,
         }
     }
 }
@@ -121,7 +126,7 @@ pub struct RepulsionReport {
     pub levels: u32,
 }
 
-fn fibonacci(n: usize, seed: u64) -> Vec<DVec3> {
+pub(crate) fn fibonacci(n: usize, seed: u64) -> Vec<DVec3> {
     let golden = std::f64::consts::PI * (3.0 - 5f64.sqrt());
     let rot = if seed == 0 {
         glam::DQuat::IDENTITY
@@ -160,8 +165,12 @@ fn tangent_basis(p: DVec3) -> (DVec3, DVec3) {
     (u, p.cross(u))
 }
 
-/// Relaxes `n` points from the configured start. `n` must be ≥ 4.
+/// Relaxes `n` points from the configured start. `n` must be ≥ 4; with `wedges > 1` it must be a
+/// multiple of them (checked by [`crate::DirectionSet::generate`]).
 pub fn relax(n: usize, params: &RepulsionParams, mut progress: impl FnMut(u32, f64)) -> (Vec<DVec3>, RepulsionReport) {
+    if params.wedges > 1 {
+        return crate::symmetric::relax(n, params, progress);
+    }
     let mut report = RepulsionReport::default();
     let mut rng = SplitMix64::new(params.seed ^ 0x9e37_79b9_7f4a_7c15);
     let (mut points, levels) = match params.start {
@@ -174,7 +183,7 @@ pub fn relax(n: usize, params: &RepulsionParams, mut progress: impl FnMut(u32, f
         }
     };
     for level in 0..=levels {
-        let (it, rms) = relax_level(&mut points, params, &mut progress);
+        let (it, rms) = relax_level(&mut points, params, &mut progress, &mut |_| {});
         report.levels += 1;
         report.total_iterations += it;
         report.iterations = it;
@@ -277,8 +286,14 @@ impl Fire {
 ///
 /// Neighbours come from Verlet lists (all points within `r + skin`), rebuilt through the grid
 /// whenever the largest accumulated displacement could have let a pair cross the skin, so a
-/// typical iteration touches only ~20 listed neighbours per point.
-fn relax_level(points: &mut [DVec3], params: &RepulsionParams, progress: &mut impl FnMut(u32, f64)) -> (u32, f64) {
+/// typical iteration touches only ~20 listed neighbours per point. `project` is applied to the
+/// points after every update (a symmetric set's orbits are made exact again there).
+pub(crate) fn relax_level(
+    points: &mut [DVec3],
+    params: &RepulsionParams,
+    progress: &mut impl FnMut(u32, f64),
+    project: &mut dyn FnMut(&mut [DVec3]),
+) -> (u32, f64) {
     let n = points.len();
     let s = (4.0 * std::f64::consts::PI / n as f64).sqrt();
     let r = params.kernel_radius * s;
@@ -360,6 +375,7 @@ fn relax_level(points: &mut [DVec3], params: &RepulsionParams, progress: &mut im
             nn_min = nn_min.min(nn);
             nn_sum += nn;
         }
+        project(points);
         drift += 2.0 * max2.sqrt();
         it += 1;
         rms = (sum / n as f64).sqrt() / s;

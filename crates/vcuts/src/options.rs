@@ -73,6 +73,8 @@ pub const NUMBERS: &[(&str, Number)] = &[
     ("cpus-per-task", count(1.0, 4096.0, "CPUs")),
     // Directions.
     ("n", count(4.0, (1u64 << 22) as f64, "directions")),
+    ("wedges", count(1.0, (1u64 << 21) as f64, "wedges")),
+    ("bands", count(0.0, (1u64 << 21) as f64, "bands")),
     // Inspect.
     ("weld", Number::real(vcut_scene::check::WELD)),
     // Leaves.

@@ -21,6 +21,14 @@ pub struct DirectionsArgs {
     /// Start: fibonacci or random.
     #[arg(long, default_value = "fibonacci", value_parser = parse_start)]
     pub start: Start,
+    /// Make the set symmetric under turns by 360°/WEDGES about +Y (a power of two dividing N;
+    /// 1: no symmetry), as `turn_steps` does in a precompute.
+    #[arg(long, default_value_t = 1, value_parser = crate::options::whole::<u32>("wedges"))]
+    pub wedges: u32,
+    /// With --wedges: bands of latitude the tree splits into above the wedges (a power of two;
+    /// 0: WEDGES/8), as `turn_bands` does in a precompute.
+    #[arg(long, default_value_t = 0, value_parser = crate::options::whole::<u32>("bands"))]
+    pub bands: u32,
     /// Cache folder for generated sets.
     #[arg(long, default_value = "target/vcut-cache")]
     pub cache_dir: PathBuf,
@@ -42,6 +50,8 @@ pub struct DirectionsOutcome {
     pub start: &'static str,
     /// Its seed.
     pub seed: u64,
+    /// Wedges of its symmetry about +Y (1: none).
+    pub wedges: u32,
     /// The cache: `hit PATH`, `stored PATH`, `replaced PATH (why)` or `off`.
     pub cache: String,
     /// Repulsion iterations (when generated).
@@ -123,6 +133,7 @@ pub fn run(args: &DirectionsArgs) -> Result<DirectionsOutcome> {
         Start::Fibonacci => RepulsionParams { seed: args.seed, ..RepulsionParams::default() },
         Start::Random => RepulsionParams::random(args.seed),
     };
+    let params = RepulsionParams { wedges: args.wedges, ..params };
     let bar = crate::progress::Bar::spinner("repulsion");
     let progress = |it: u32, rms: f64| {
         if it.is_multiple_of(5) {
@@ -147,6 +158,7 @@ pub fn run(args: &DirectionsArgs) -> Result<DirectionsOutcome> {
         n: u.n,
         start: start.name(),
         seed: args.seed,
+        wedges: set.wedges(),
         cache: match &cache {
             Some(CacheOutcome::Hit(p)) => format!("hit {}", p.display()),
             Some(CacheOutcome::Stored(p)) => format!("stored {}", p.display()),
@@ -171,15 +183,21 @@ pub fn run(args: &DirectionsArgs) -> Result<DirectionsOutcome> {
         chi2_dof: u.chi2_dof,
         chi2_p: u.chi2_p,
         stats_s,
-        trees: args.env.as_deref().map(|env| trees(&set, env)).transpose()?,
+        trees: args.env.as_deref().map(|env| trees(&set, args.bands, env)).transpose()?,
     })
 }
 
 /// The direction tree over `set` and the light tree of the map `env` over it, timed and checked.
-fn trees(set: &DirectionSet, env: &str) -> Result<TreesOutcome> {
+fn trees(set: &DirectionSet, bands: u32, env: &str) -> Result<TreesOutcome> {
     let map = crate::inspect::load_envmap(env)?;
     let t = Instant::now();
-    let tree = DirectionTree::build(set.directions(), &set.cell_areas())?;
+    let tree = match set.wedges() {
+        1 => DirectionTree::build(set.directions(), &set.cell_areas())?,
+        m => {
+            let bands = if bands == 0 { DirectionTree::default_bands(m) } else { bands };
+            DirectionTree::build_wedged(set.directions(), &set.cell_areas(), m, bands)?
+        }
+    };
     let tree_build_s = t.elapsed().as_secs_f64();
     let t = Instant::now();
     let mut builder = LightTreeBuilder::new(&tree);

@@ -136,7 +136,9 @@ fn resolve_params(args: &PrecomputeArgs, desc: Option<&SceneDesc>) -> Result<Pre
     if args.set.iter().any(|s| s == "help") {
         let p = PrecomputeParams::paper();
         println!("parameters (paper preset values):");
-        print!("{}", p.to_toml());
+        for k in vcut_data::params::KEYS {
+            println!("{k} = {}", p.get(k).unwrap_or_default());
+        }
         std::process::exit(0);
     }
     let mut overrides: Vec<(String, String)> = Vec::new();
