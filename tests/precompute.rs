@@ -172,6 +172,7 @@ fn a_turnable_precompute_stores_only_cuts_that_turn_and_reads_its_wedged_tree_ba
     let mut params = small();
     params.set("turn_steps", "16").unwrap();
     run(&s, params.clone(), &out);
+    params.settle();
     let mut data = Precomputed::open(&out).unwrap();
     assert_eq!(data.record.params, params, "turn_steps and turn_bands are recorded");
     let tree = data.tree().unwrap();

@@ -32,6 +32,7 @@ fuzz_target!(|data: &[u8]| {
             let _ = params.set(k.trim(), v.trim());
         }
     }
+    params.settle();
     if params.check().is_ok() {
         let back = PrecomputeParams::from_toml(&params.to_toml()).expect("a checked record reads back");
         assert_eq!(back, params, "the record changed the parameters");

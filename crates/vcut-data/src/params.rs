@@ -61,8 +61,9 @@ pub struct PrecomputeParams {
     /// Recorded only when set, so files made without it keep their bytes.
     pub turn_steps: u32,
     /// Bands of latitude a turnable set's tree splits into above its wedges (a power of two;
-    /// `vcut_dirtree`'s module docs say why), or 0 for `DirectionTree::default_bands`.
-    /// Recorded with `turn_steps`.
+    /// `vcut_dirtree`'s module docs say why), or 0 for `DirectionTree::default_bands`, which
+    /// [`PrecomputeParams::settle`] puts in its place: a file records the bands it was made
+    /// with, whatever later defaults become. Recorded with `turn_steps`.
     pub turn_bands: u32,
 }
 
@@ -334,6 +335,7 @@ impl PrecomputeParams {
         for (k, v) in overrides {
             p.set(k, v)?;
         }
+        p.settle();
         p.check()?;
         Ok(p)
     }
@@ -407,7 +409,8 @@ impl PrecomputeParams {
             "field_max_error" => format!("{:?}", self.field_max_error),
             "field_values" => format!("\"{}\"", self.field_values.name()),
             "turn_steps" => self.turn_steps.to_string(),
-            "turn_bands" => self.turn_bands.to_string(),
+            // The bands the tree has, so a file records them whatever later defaults become.
+            "turn_bands" => if self.turn_steps > 0 { self.bands() } else { self.turn_bands }.to_string(),
             _ => return None,
         })
     }
@@ -433,6 +436,7 @@ impl PrecomputeParams {
             })?;
             p.set(k.trim(), v.trim().trim_matches('"'))?;
         }
+        p.settle();
         p.check()?;
         Ok(p)
     }
@@ -451,10 +455,18 @@ impl PrecomputeParams {
         SelectParams { max_error: self.field_max_error, max_solid_angle: f64::INFINITY, turn: self.turn_shape() }
     }
 
+    /// Puts the defaults that depend on other parameters in place (`turn_bands` 0 becomes the
+    /// bands it stands for), as a run's parameters are recorded.
+    pub fn settle(&mut self) {
+        if self.turn_steps > 0 {
+            self.turn_bands = self.bands();
+        }
+    }
+
     /// The bands of a turnable set's tree: `turn_bands`, or its default when 0.
     pub fn bands(&self) -> u32 {
         match self.turn_bands {
-            0 => vcut_dirtree::DirectionTree::default_bands(self.turn_steps),
+            0 => vcut_dirtree::DirectionTree::default_bands(self.directions as usize, self.turn_steps),
             b => b,
         }
     }
@@ -530,10 +542,19 @@ mod tests {
         let mut p = fast.clone();
         p.set("turn_steps", "64").unwrap();
         p.check().unwrap();
-        assert!(p.to_toml().contains("turn_steps = 64\nturn_bands = 0\n"));
+        // 4,096 directions in 64 wedges of 8 bands (M/8): cells of 8 leaves, bands of 512.
+        assert_eq!((p.turn_bands, p.bands()), (0, 8));
+        p.settle();
+        assert!(p.to_toml().contains("turn_steps = 64\nturn_bands = 8\n"), "a file records the bands it has");
         assert_eq!(PrecomputeParams::from_toml(&p.to_toml()).unwrap(), p);
-        // 4,096 directions in 64 wedges of 8 bands: cells of 8 leaves, bands of 512.
-        assert_eq!(p.bands(), 8);
+        // At 32,768 directions the default keeps cells of 32 leaves: 16 bands.
+        let mut paper = PrecomputeParams::resolve(Some("paper"), None, &[("turn_steps", "64")]).unwrap();
+        assert_eq!(paper.turn_bands, 16);
+        paper.set("turn_bands", "4").unwrap();
+        assert_eq!(
+            PrecomputeParams::resolve(Some("paper"), None, &[("turn_steps", "64"), ("turn_bands", "4")]).unwrap(),
+            paper
+        );
         assert_eq!(p.turn_shape(), Some(TurnShape { wedge_height: 3, band_height: 9 }));
         assert_eq!(p.field_select().turn, p.turn_shape());
         assert_eq!(p.svc_select().turn, p.turn_shape());

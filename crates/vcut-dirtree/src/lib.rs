@@ -203,11 +203,15 @@ impl DirectionTree {
         DirectionTree { height, leaf_dirs, leaf_to_input: order, input_to_leaf, mean_dir, solid_angle, cone, shape }
     }
 
-    /// The bands a wedged tree of `wedges` wedges gets unless told otherwise: M/8 (at least 1),
-    /// so that a band's cells at the equator are about 2.5 times as tall as wide whatever M
-    /// (`docs/benchmarks.md` has the measurement behind it).
-    pub fn default_bands(wedges: u32) -> u32 {
-        (wedges / 8).max(1)
+    /// The bands a wedged tree of `n` directions in `wedges` wedges gets unless told otherwise:
+    /// at least M/8, so that a band's cells at the equator are at most about 2.5 times as tall
+    /// as wide, and enough that a cell holds at most 32 directions (`docs/benchmarks.md` has
+    /// the measurements behind both); at most one direction of each wedge per band.
+    pub fn default_bands(n: usize, wedges: u32) -> u32 {
+        let per_wedge = (n / wedges.max(1) as usize).max(1) as u32;
+        let by_shape = wedges / 8;
+        let by_size = per_wedge / 32;
+        by_shape.max(by_size).clamp(1, per_wedge)
     }
 
     /// A wedged tree's bands and wedges (`None` for an ordinary tree).

@@ -310,3 +310,25 @@ fn a_built_in_map_travels_as_its_description() {
     let o = vcuts(&s.0, &["render", file.to_str().unwrap(), "-o", "g.png", "--reconstruction", "cubic"]);
     assert!(!o.status.success() && text(&o).contains("box or bilinear"), "{}", text(&o));
 }
+
+#[test]
+fn directions_in_wedges_report_their_symmetry_and_bad_wedges_name_the_options() {
+    let s = scratch("cli-wedges");
+    let o = vcuts(
+        &s.0,
+        &["-q", "--json", "directions", "--n", "1024", "--wedges", "16", "--no-cache", "--env", "builtin:studio"],
+    );
+    assert!(o.status.success(), "{}", text(&o));
+    let out = String::from_utf8_lossy(&o.stdout);
+    assert!(out.contains("\"wedges\":16") && out.contains("\"tree_height\":10"), "{out}");
+    let o = vcuts(&s.0, &["directions", "--n", "1024", "--wedges", "16", "--start", "random", "--no-cache"]);
+    assert_eq!(o.status.code(), Some(1));
+    assert!(text(&o).contains("--start random --wedges 16") && text(&o).contains("Fibonacci"), "{}", text(&o));
+    let o = vcuts(
+        &s.0,
+        &["directions", "--n", "1024", "--wedges", "16", "--bands", "3", "--no-cache", "--env", "builtin:studio"],
+    );
+    assert_eq!(o.status.code(), Some(1));
+    assert!(text(&o).contains("--wedges 16 --bands 3") && text(&o).contains("powers of two"), "{}", text(&o));
+    assert!(!text(&o).contains("panicked"));
+}

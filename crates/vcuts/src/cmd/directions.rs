@@ -1,7 +1,7 @@
 //! `vcuts directions`: point-repulsion directions, their uniformity, and optionally the
 //! direction tree and light tree over them.
 
-use anyhow::Result;
+use anyhow::{Context, Result};
 use serde::Serialize;
 use std::path::PathBuf;
 use std::time::Instant;
@@ -26,7 +26,7 @@ pub struct DirectionsArgs {
     #[arg(long, default_value_t = 1, value_parser = crate::options::whole::<u32>("wedges"))]
     pub wedges: u32,
     /// With --wedges: bands of latitude the tree splits into above the wedges (a power of two;
-    /// 0: WEDGES/8), as `turn_bands` does in a precompute.
+    /// 0: chosen as `turn_bands` chooses them in a precompute).
     #[arg(long, default_value_t = 0, value_parser = crate::options::whole::<u32>("bands"))]
     pub bands: u32,
     /// Cache folder for generated sets.
@@ -126,6 +126,11 @@ fn parse_start(s: &str) -> Result<Start, String> {
     }
 }
 
+/// The options that shape the set, for its errors.
+fn options(args: &DirectionsArgs) -> String {
+    format!("--n {} --start {} --wedges {}", args.n, args.start.name(), args.wedges)
+}
+
 /// Runs `directions`.
 pub fn run(args: &DirectionsArgs) -> Result<DirectionsOutcome> {
     let start = args.start;
@@ -142,9 +147,10 @@ pub fn run(args: &DirectionsArgs) -> Result<DirectionsOutcome> {
     };
     let t = Instant::now();
     let (set, cache) = if args.no_cache {
-        (DirectionSet::generate(args.n, &params, progress)?, None)
+        (DirectionSet::generate(args.n, &params, progress).with_context(|| options(args))?, None)
     } else {
-        let (s, c) = DirectionSet::load_or_generate(&args.cache_dir, args.n, &params, progress)?;
+        let (s, c) = DirectionSet::load_or_generate(&args.cache_dir, args.n, &params, progress)
+            .with_context(|| options(args))?;
         (s, Some(c))
     };
     let generate_s = t.elapsed().as_secs_f64();
@@ -194,8 +200,9 @@ fn trees(set: &DirectionSet, bands: u32, env: &str) -> Result<TreesOutcome> {
     let tree = match set.wedges() {
         1 => DirectionTree::build(set.directions(), &set.cell_areas())?,
         m => {
-            let bands = if bands == 0 { DirectionTree::default_bands(m) } else { bands };
-            DirectionTree::build_wedged(set.directions(), &set.cell_areas(), m, bands)?
+            let bands = if bands == 0 { DirectionTree::default_bands(set.len(), m) } else { bands };
+            DirectionTree::build_wedged(set.directions(), &set.cell_areas(), m, bands)
+                .with_context(|| format!("--wedges {m} --bands {bands}"))?
         }
     };
     let tree_build_s = t.elapsed().as_secs_f64();
