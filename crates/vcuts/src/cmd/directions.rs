@@ -23,11 +23,11 @@ pub struct DirectionsArgs {
     pub start: Start,
     /// Make the set symmetric under turns by 360°/WEDGES about +Y (a power of two dividing N;
     /// 1: no symmetry), as `turn_steps` does in a precompute.
-    #[arg(long, default_value_t = 1, value_parser = crate::options::whole::<u32>("wedges"))]
+    #[arg(long, default_value_t = 1, value_parser = crate::options::whole::<u32>("wedges"), allow_hyphen_values = true)]
     pub wedges: u32,
     /// With --wedges: bands of latitude the tree splits into above the wedges (a power of two;
     /// 0: chosen as `turn_bands` chooses them in a precompute).
-    #[arg(long, default_value_t = 0, value_parser = crate::options::whole::<u32>("bands"))]
+    #[arg(long, default_value_t = 0, value_parser = crate::options::whole::<u32>("bands"), allow_hyphen_values = true)]
     pub bands: u32,
     /// Cache folder for generated sets.
     #[arg(long, default_value = "target/vcut-cache")]
