@@ -1,5 +1,5 @@
 //! `cargo xtask publish`: what the docs show, generated. Copies a bench report's `table1.md`
-//! and plots (trade-off, scaling, accuracy, assembly: those it has; a report of one section, e.g. from
+//! and plots (trade-off, scaling, accuracy, assembly, turns: those it has; a report of one section, e.g. from
 //! `bench --only scaling`, brings its plots and keeps the table there) to `docs/report/` and
 //! writes the table between the `<!-- table1 -->` and `<!-- /table1 -->` markers of
 //! `README.md` and `docs/benchmarks.md`; and writes each library crate's `README.md` (what a registry page
@@ -28,7 +28,7 @@ const TABLE1: (&str, &str) = ("<!-- table1 -->", "<!-- /table1 -->");
 const WORST: (&str, &str) = ("<!-- accuracy-worst -->", "<!-- /accuracy-worst -->");
 const DOCS: [&str; 2] = ["README.md", "docs/benchmarks.md"];
 /// What a report brings to `docs/report/`, those it has.
-const PUBLISHED: [&str; 8] = [
+const PUBLISHED: [&str; 9] = [
     "table1.md",
     "tradeoff_size.png",
     "scaling_objects.png",
@@ -37,6 +37,7 @@ const PUBLISHED: [&str; 8] = [
     "accuracy.png",
     "assembly.md",
     "assembly.png",
+    "turns.md",
 ];
 
 /// `text` with the block between the markers replaced by `table`; `None` without markers.

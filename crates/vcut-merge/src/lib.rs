@@ -42,6 +42,7 @@ pub mod baseline;
 pub mod prepared;
 pub mod refined;
 pub mod top_down;
+pub mod turn;
 
 pub use prepared::{Algorithm, Prepared, merge_prepared};
 pub use refined::{Factor, Refinement, merge_refined};

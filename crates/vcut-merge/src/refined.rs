@@ -16,18 +16,18 @@ use vcut_cut::Cut;
 /// The common refinement of a group's cuts, every node with all members' values.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct Refinement {
-    root_height: u32,
-    members: usize,
+    pub(crate) root_height: u32,
+    pub(crate) members: usize,
     /// Leaf where each node ends.
-    ends: Vec<u32>,
+    pub(crate) ends: Vec<u32>,
     /// Node-major member values: node j's are `values[j·members .. (j+1)·members]` (empty when
     /// the members are binary).
-    values: Vec<f32>,
+    pub(crate) values: Vec<f32>,
     /// Binary members (every value 0 or 1, at most [`MAX_MASK_MEMBERS`] members — exact fields):
     /// node j's values as a bit mask, member i in bit i. Empty otherwise.
-    masks: Vec<u8>,
+    pub(crate) masks: Vec<u8>,
     /// Whether any member is non-zero on the node (empty for a single member: its value says).
-    nonzero: Vec<bool>,
+    pub(crate) nonzero: Vec<bool>,
 }
 
 /// Largest root height whose binary refinements are built from bitmaps over the leaves (8 KB a

@@ -176,6 +176,47 @@ impl Frame {
         self.run(py, FrameJob::Drag { object, translation }, wait)
     }
 
+    /// Turns `object` about +Y (+X toward −Z) to `degrees` from its rest orientation, about the
+    /// vertical axis through its bounding-sphere centre, and re-merges what changed. The
+    /// geometry turns exactly; the cuts by multiples of 360°/M (its SVCs blend the two around
+    /// the angle, its field samples take the nearest), M the file's
+    /// `turn_steps` (a file precomputed without it raises `VcutsError` naming it). Turning back
+    /// to 0 (or any multiple of 360) restores every cut bit for bit. Returns a dict (`merged`,
+    /// `steps`, `wedges`, `snap_error_deg`: the field samples' turn less the geometry's); with
+    /// `wait=False` the turn runs on the frame's own thread and this returns `None` at once.
+    #[pyo3(signature = (object, degrees, wait=true))]
+    fn turn<'py>(
+        &mut self,
+        py: Python<'py>,
+        object: ObjectRef,
+        degrees: f32,
+        wait: bool,
+    ) -> PyResult<Option<Bound<'py, PyDict>>> {
+        let o = self.index(&object)?;
+        if !degrees.is_finite() {
+            return Err(VcutsError::new_err(format!("turn: degrees = {degrees}: must be finite")));
+        }
+        let yaw = degrees.to_radians();
+        if !wait {
+            self.worker.post(FrameJob::Turn { object: o, yaw });
+            return Ok(None);
+        }
+        let w = &self.worker;
+        let made = py.detach(|| w.frame().turn(o, yaw)).map_err(error)?;
+        let d = PyDict::new(py);
+        d.set_item("merged", made.merged)?;
+        d.set_item("steps", made.steps)?;
+        d.set_item("wedges", made.wedges)?;
+        d.set_item("snap_error_deg", made.snap_error.to_degrees())?;
+        Ok(Some(d))
+    }
+
+    /// `object`'s yaw about +Y from rest (degrees, in [0, 360)).
+    fn yaw(&self, object: ObjectRef) -> PyResult<f32> {
+        let o = self.index(&object)?;
+        Ok(self.frame().object(o).yaw.to_degrees())
+    }
+
     /// Ends a drag: the vertices it merged on their rest products merged again in full, every
     /// cut then bit for bit `translate`'s. Returns how many (0 with no drag under way); `None`
     /// with `wait=False`.

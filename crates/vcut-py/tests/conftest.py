@@ -80,3 +80,12 @@ def plane(workdir: Path) -> Path:
     out = workdir / "plane.vcuts"
     vcuts.precompute(str(workdir / "plane.toml"), "fast", out, progress=False, cache_dir=str(workdir / "cache"), **SMALL)
     return out
+
+
+@pytest.fixture(scope="session")
+def turnable_balls(workdir: Path) -> Path:
+    """The balls with a direction set symmetric in 16 wedges about +Y: objects can turn."""
+    out = workdir / "balls-turnable.vcuts"
+    params = {**SMALL, "turn_steps": 16}
+    vcuts.precompute(str(workdir / "balls.toml"), "fast", out, progress=False, cache_dir=str(workdir / "cache"), **params)
+    return out

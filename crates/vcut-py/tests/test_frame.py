@@ -33,6 +33,31 @@ def test_move_and_back_restores_radiance_bit_for_bit(balls) -> None:
         assert np.array_equal(a, b)
 
 
+def test_a_turn_snaps_its_cuts_and_turning_back_is_bit_for_bit(turnable_balls, balls) -> None:
+    f = vcuts.open(turnable_balls)
+    f.deferred_merges = False
+    eye = f.camera()["position"]
+    before = f.shade(eye)
+    made = f.turn("ball", 37.0)
+    assert made["wedges"] == 16 and made["steps"] == 2 and made["merged"] > 0
+    assert made["snap_error_deg"] == pytest.approx(45.0 - 37.0, abs=1e-4)
+    assert f.yaw("ball") == pytest.approx(37.0, abs=1e-4)
+    # The geometry turned about the ball's vertical axis: its centre stayed.
+    assert np.allclose(f.positions("ball").mean(axis=0), [0.0, 1.0, 0.0], atol=0.05)
+    assert f.turn("ball", -360.0)["steps"] == 0
+    for a, b in zip(before, f.shade(eye)):
+        assert np.array_equal(a, b)
+    assert f.turn("ball", 90.0, wait=False) is None
+    assert f.wait()["moves"] == 1
+    with pytest.raises(vcuts.VcutsError, match="finite"):
+        f.turn("ball", math.nan)
+    with pytest.raises(vcuts.VcutsError, match="static"):
+        f.turn("ground", 10.0)
+    # A file without a symmetric set refuses, naming the option that makes one.
+    with pytest.raises(vcuts.VcutsError, match="turn_steps"):
+        vcuts.open(balls).turn("ball", 30.0)
+
+
 def test_a_drag_settles_to_the_translation_bit_for_bit(balls) -> None:
     dragged, moved = vcuts.open(balls), vcuts.open(balls)
     eye = dragged.camera()["position"]

@@ -44,6 +44,6 @@ pub use frame::{
     BackgroundFrame, BackgroundShading, BackgroundStats, CutFailure, DragStats, FIELD_REACH, FieldReach, FinishedJob,
     FlatEdges, Frame, FrameCaches, FrameError, FrameJob, FrameMemory, FrameObject, FrameSettings, FrameStats,
     INTERACTIVE_EDGE_SHARE, LightChoice, MergeAlgorithm, MoveTiming, Parts, REFINE_REACH, RefineStats, Refinement,
-    SettingError,
+    SettingError, TurnRefusal, Turned,
 };
 pub use sun::SunRays;

@@ -96,20 +96,43 @@ pub fn move_path(
     let own = frame.settings().clone();
     frame.reconfigure(&FrameSettings { merge_algorithm: algorithm, ..own.clone() })?;
     frame.translate(o, Vec3::ZERO)?;
+    let timing = timed_path(frame, eye, steps, |f, i| Ok((f.translate(o, step * i as f32)?, 0.0)))?;
+    frame.translate(o, Vec3::ZERO)?;
+    frame.reconfigure(&own)?;
+    Ok(timing)
+}
+
+/// `steps` steps of a path, each `step(frame, i)` (i from 1: the vertices it merged and the
+/// seconds of it left out of its time) then a shading from `eye`, timed.
+fn timed_path(
+    frame: &mut Frame,
+    eye: Vec3,
+    steps: usize,
+    mut step: impl FnMut(&mut Frame, usize) -> Result<(usize, f64), FrameError>,
+) -> Result<PathTiming, FrameError> {
     let (mut times, mut merge_ms, mut merged, mut deferred, mut timings) = (Vec::new(), Vec::new(), 0, 0, Vec::new());
     for i in 1..=steps {
         let t = Instant::now();
-        merged += frame.translate(o, step * i as f32)?;
+        let (n, left_out) = step(frame, i)?;
+        merged += n;
         std::hint::black_box(frame.shade(eye));
-        times.push(t.elapsed().as_secs_f64() * 1e3);
-        merge_ms.push(frame.stats().last_move.merge_s * 1e3);
-        deferred += frame.stats().last_move.deferred;
-        timings.push(frame.stats().last_move);
+        times.push((t.elapsed().as_secs_f64() - left_out) * 1e3);
+        let last = frame.stats().last_move;
+        merge_ms.push(last.merge_s * 1e3);
+        deferred += last.deferred;
+        timings.push(last);
     }
-    frame.translate(o, Vec3::ZERO)?;
-    frame.reconfigure(&own)?;
     let n = steps.max(1);
     Ok(PathTiming { move_ms: median(times), merge_ms, merged: merged / n, deferred: deferred / n, steps: timings })
+}
+
+/// Turns object `o` from rest through `steps` turns of `degrees` each ([`Frame::turn`]),
+/// shading from `eye` after each, then back to rest: the turn's [`move_path`].
+pub fn turn_path(frame: &mut Frame, o: usize, eye: Vec3, degrees: f32, steps: usize) -> Result<PathTiming, FrameError> {
+    frame.turn(o, 0.0)?;
+    let timing = timed_path(frame, eye, steps, |f, i| Ok((f.turn(o, (degrees * i as f32).to_radians())?.merged, 0.0)))?;
+    frame.turn(o, 0.0)?;
+    Ok(timing)
 }
 
 /// What a drag path measured ([`drag_path`]): its steps as a [`PathTiming`] (the first step's
@@ -127,21 +150,10 @@ pub struct DragTiming {
 pub fn drag_path(frame: &mut Frame, o: usize, eye: Vec3, steps: usize) -> Result<DragTiming, FrameError> {
     let step = path_step(frame, o);
     frame.translate(o, Vec3::ZERO)?;
-    let (mut times, mut merge_ms, mut merged, mut deferred, mut timings) = (Vec::new(), Vec::new(), 0, 0, Vec::new());
-    for i in 1..=steps {
-        let t = Instant::now();
-        merged += frame.drag(o, step * i as f32)?;
-        std::hint::black_box(frame.shade(eye));
-        let prepare_s = if i == 1 { frame.stats().drag.prepare_s } else { 0.0 };
-        times.push((t.elapsed().as_secs_f64() - prepare_s) * 1e3);
-        let last = frame.stats().last_move;
-        merge_ms.push(last.merge_s * 1e3);
-        deferred += last.deferred;
-        timings.push(last);
-    }
-    let n = steps.max(1);
-    let path =
-        PathTiming { move_ms: median(times), merge_ms, merged: merged / n, deferred: deferred / n, steps: timings };
+    let path = timed_path(frame, eye, steps, |f, i| {
+        let merged = f.drag(o, step * i as f32)?;
+        Ok((merged, if i == 1 { f.stats().drag.prepare_s } else { 0.0 }))
+    })?;
     Ok(DragTiming { path, drag: frame.stats().drag })
 }
 

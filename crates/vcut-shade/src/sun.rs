@@ -141,25 +141,51 @@ pub(crate) struct Sun {
     /// cast); an empty list where j blocks nothing from o, as most pairs of a large scene (the
     /// masks of every pair would grow with the objects squared).
     blocked: Vec<Vec<Vec<u64>>>,
-    /// The translations the masks were cast at.
-    at: Vec<Vec3>,
+    /// The translations and yaws the masks were cast at.
+    at: Vec<(Vec3, f32)>,
 }
 
 /// Every object's hierarchy at rest, for the sun's rays (built once per frame: translations
-/// move the rays, not the hierarchies).
+/// and turns move the rays, not the hierarchies; [`Placed::local`]).
 pub(crate) fn occluders(objects: &[Placed<'_>]) -> Vec<Occluder> {
-    objects.par_iter().map(|p| Occluder::new(&[p.mesh])).collect()
+    objects.par_iter().map(|p| Occluder::new(&[p.rest])).collect()
 }
 
-/// Whether any of `objects` (`occluders`: their hierarchies) blocks direction `d` from `origin`.
+/// Whether any of `objects` (`occluders`: their hierarchies at rest) blocks direction `d` from
+/// `origin`.
 pub(crate) fn blocked(objects: &[Placed<'_>], occluders: &[Occluder], origin: Vec3, d: Vec3) -> bool {
-    objects.iter().zip(occluders).any(|(p, h)| h.occluded(origin - p.translation, d, f32::INFINITY))
+    objects.iter().zip(occluders).any(|(p, h)| {
+        let (from, d) = p.local(origin, d);
+        h.occluded(from, d, f32::INFINITY)
+    })
 }
 
-/// An object as the sun sees it: mesh at rest and translation.
+/// An object as the sun sees it: its mesh as it stands turned (where its vertices are), its
+/// mesh at rest (what its hierarchy holds), its translation, and its turn: yaw about the
+/// vertical through `centre`.
 pub(crate) struct Placed<'a> {
     pub mesh: &'a Mesh,
+    pub rest: &'a Mesh,
     pub translation: Vec3,
+    pub yaw: f32,
+    pub centre: Vec3,
+}
+
+impl Placed<'_> {
+    /// The turn that takes a world direction into the object's rest frame (`None` at yaw 0).
+    fn to_rest(&self) -> Option<glam::Quat> {
+        (self.yaw != 0.0).then(|| glam::Quat::from_rotation_y(-self.yaw))
+    }
+
+    /// A ray from world point `origin` along `d`, in the frame of the object's hierarchy at
+    /// rest: less its translation, turned back about its axis (exactly the ray at yaw 0).
+    pub(crate) fn local(&self, origin: Vec3, d: Vec3) -> (Vec3, Vec3) {
+        let q = origin - self.translation;
+        match self.to_rest() {
+            Some(r) => (r * (q - self.centre) + self.centre, r * d),
+            None => (q, d),
+        }
+    }
 }
 
 impl Sun {
@@ -186,7 +212,7 @@ impl Sun {
                 .collect(),
             offsets: objects.iter().map(|p| vcut_rays::origin_offset(origin_offset, p.mesh)).collect(),
             blocked: objects.iter().map(|_| vec![Vec::new(); objects.len()]).collect(),
-            at: objects.iter().map(|p| p.translation).collect(),
+            at: objects.iter().map(|p| (p.translation, p.yaw)).collect(),
         };
         let rays = sun.cast(objects, occluders, |_, _| true);
         (sun, rays)
@@ -197,12 +223,15 @@ impl Sun {
         self.dirs.len()
     }
 
-    /// Casts again what the objects' new translations change; returns the rays cast.
+    /// Casts again what the objects' new translations and turns change; returns the rays cast.
     pub(crate) fn update(&mut self, objects: &[Placed<'_>], occluders: &[Occluder]) -> u64 {
-        let new: Vec<Vec3> = objects.iter().map(|p| p.translation).collect();
+        let new: Vec<(Vec3, f32)> = objects.iter().map(|p| (p.translation, p.yaw)).collect();
         let old = std::mem::replace(&mut self.at, new.clone());
-        // A pair's shadows change with the two objects' offset from each other.
-        self.cast(objects, occluders, |o, j| o != j && new[o] - new[j] != old[o] - old[j])
+        // A pair's shadows change with the two objects' offset from each other, and with
+        // either one's turn (an object's shadows on itself with its turn alone).
+        self.cast(objects, occluders, |o, j| {
+            (o != j && new[o].0 - new[j].0 != old[o].0 - old[j].0) || new[o].1 != old[o].1 || new[j].1 != old[j].1
+        })
     }
 
     /// Casts the masks of the pairs (receiver o, occluder j) that `stale` names.
@@ -224,18 +253,21 @@ impl Sun {
             for j in (0..count).filter(|&j| stale(o, j)) {
                 let mut masks = std::mem::take(&mut self.blocked[o][j]);
                 masks.resize(p.mesh.vertex_count(), 0);
+                // The sun's directions in j's rest frame, once for every vertex.
+                let local: Vec<Vec3> = dirs.iter().map(|&d| objects[j].local(Vec3::ZERO, d).1).collect();
                 rays += masks
                     .par_iter_mut()
                     .enumerate()
                     .map(|(v, mask)| {
                         let n = normals[v];
-                        let from = vcut_rays::origin(positions[v] + p.translation, n, offset) - objects[j].translation;
+                        let (from, _) =
+                            objects[j].local(vcut_rays::origin(positions[v] + p.translation, n, offset), Vec3::ZERO);
                         let mut cast = 0u64;
                         *mask = 0;
-                        for (s, &d) in dirs.iter().enumerate() {
+                        for (s, (&d, &l)) in dirs.iter().zip(&local).enumerate() {
                             if n.dot(d) > 0.0 {
                                 cast += 1;
-                                if occluders[j].occluded(from, d, f32::INFINITY) {
+                                if occluders[j].occluded(from, l, f32::INFINITY) {
                                     *mask |= 1 << s;
                                 }
                             }

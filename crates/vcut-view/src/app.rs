@@ -537,8 +537,32 @@ fn object_controls(ui: &mut egui::Ui, session: &mut Session, actions: &mut Panel
             }
             actions.changed = true;
         }
+        turn_control(ui, session, o, actions);
     } else {
         ui.label("static (no visibility field): cannot move");
+    }
+}
+
+/// The selected movable object's turn about +Y: a drag handle in degrees, posted as the
+/// pointer drags it (the object turns on screen at once; the cuts follow from the worker, by
+/// whole wedges of the direction set).
+fn turn_control(ui: &mut egui::Ui, session: &mut Session, o: usize, actions: &mut PanelActions) {
+    let Some(wedges) = session.turn_wedges() else {
+        ui.label("turn: precompute with --set turn_steps=64");
+        return;
+    };
+    let yaw = session.objects()[o].yaw;
+    let mut degrees = yaw.to_degrees();
+    ui.horizontal(|ui| {
+        ui.label("turn");
+        ui.add(egui::DragValue::new(&mut degrees).speed(1.0).suffix("°").range(-360.0..=360.0));
+        ui.label(format!("cuts by {:.3}° steps", 360.0 / wedges as f32));
+    });
+    if degrees != yaw.to_degrees() {
+        if let Err(e) = session.post_turn(o, degrees.to_radians()) {
+            actions.error = Some(e.to_string());
+        }
+        actions.changed = true;
     }
 }
 

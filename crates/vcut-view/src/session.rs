@@ -134,6 +134,9 @@ pub enum SessionError {
     /// A translation with a NaN or infinite component.
     #[error("translation {0:?} is not finite")]
     NotFinite([f32; 3]),
+    /// A yaw that is NaN or infinite.
+    #[error("yaw {0} is not finite")]
+    NotFiniteYaw(f32),
     /// The frame failed to re-merge.
     #[error(transparent)]
     Frame(#[from] vcut_shade::FrameError),
@@ -174,6 +177,8 @@ pub struct Session {
     screen: Option<(Vec<vcut_ssdo::Object>, vcut_ssdo::Lighting)>,
     geometry_version: u64,
     colour_version: u64,
+    /// The wedges of the frame's direction set when it is symmetric about +Y.
+    wedges: Option<u32>,
     /// The cost of the last edits.
     pub timings: Timings,
     /// The selected object.
@@ -197,6 +202,7 @@ impl Session {
     pub fn new(frame: Frame, env: EnvMap, env_name: &str, origin_offset: f32, camera: OrbitCamera) -> Session {
         let selected = (0..frame.object_count()).find(|&o| frame.object(o).motion == Motion::Movable);
         let (objects, light, settings) = (objects_of(&frame), light_of(&frame), frame.settings().clone());
+        let wedges = frame.turn_shape().map(|s| s.wedges() as u32);
         let mut s = Session {
             frame: BackgroundFrame::new(frame),
             objects,
@@ -220,6 +226,7 @@ impl Session {
             screen: None,
             geometry_version: 0,
             colour_version: 0,
+            wedges,
             timings: Timings::default(),
             selected,
             turn_error: None,
@@ -582,7 +589,7 @@ impl Session {
         let env = &self.env;
         let (objects, light) = self.screen.get_or_insert_with(|| {
             let objects: Vec<vcut_ssdo::Object> =
-                shown.iter().map(|o| vcut_ssdo::Object::from_mesh(&o.mesh, o.translation, o.albedo)).collect();
+                shown.iter().map(|o| vcut_ssdo::Object::from_mesh(&o.turned_mesh(), o.translation, o.albedo)).collect();
             let light = vcut_ssdo::Lighting::new(env, &objects, 16);
             (objects, light)
         });

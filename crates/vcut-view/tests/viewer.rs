@@ -273,3 +273,49 @@ fn a_posted_drag_draws_the_object_at_once_and_its_shading_follows() {
     posted.post_drag(ball, Vec3::ZERO).unwrap();
     assert!(posted.refined.is_none());
 }
+
+#[test]
+fn a_posted_turn_draws_the_object_turned_at_once_and_its_shading_follows() {
+    let text = BALL_ABOVE_GROUND.replace("builtin:sphere", "builtin:box");
+    let turnable = [("turn_steps", "16")];
+    let mut posted = common::session_with("posted-turn", &text, &turnable, |_| {});
+    let mut waited = common::session_with("waited-turn", &text, &turnable, |_| {});
+    assert_eq!(posted.turn_wedges(), Some(16));
+    let ball = posted.frame().object_index("ball").unwrap();
+    let (rest, drawn) = (posted.radiance().to_vec(), posted.objects()[ball].positions());
+    let yaw = 0.6f32;
+    posted.post_turn(ball, yaw).unwrap();
+    // Drawn turned at once, about its vertical axis; the shading shown is the rest's until
+    // taken in.
+    let turned = posted.objects()[ball].positions();
+    assert!(turned.iter().zip(&drawn).any(|(a, b)| a.distance(*b) > 0.05), "the box did not turn on screen");
+    let centre = |p: &[Vec3]| p.iter().sum::<Vec3>() / p.len() as f32;
+    assert!(centre(&turned).distance(centre(&drawn)) < 1e-4);
+    assert_eq!(posted.objects()[ball].placed_yaw, 0.0);
+    assert_eq!(posted.radiance(), rest.as_slice());
+    posted.wait();
+    assert_eq!(posted.objects()[ball].placed_yaw, yaw);
+    assert!(posted.radiance() != rest.as_slice(), "the turn changed no shading");
+    waited.turn(ball, yaw).unwrap();
+    assert_eq!(posted.radiance(), waited.radiance(), "posted or waited, the same frame");
+    {
+        let frame = posted.frame();
+        // What the window draws is where the frame has the box.
+        for (a, b) in turned.iter().zip(frame.object(ball).positions()) {
+            assert!(a.distance(b) < 1e-5, "{a} drawn, {b} in the frame");
+        }
+    }
+    // Input refused before anything is posted.
+    assert!(matches!(posted.post_turn(ball, f32::NAN), Err(SessionError::NotFiniteYaw(_))));
+    let ground = posted.frame().object_index("ground").unwrap();
+    assert!(matches!(posted.post_turn(ground, 0.3), Err(SessionError::Static(_))));
+    // A file without a symmetric set: the frame refuses, and the ball is drawn back.
+    let mut old = session("turn-refused");
+    assert_eq!(old.turn_wedges(), None);
+    let drawn = old.objects()[ball].positions();
+    old.post_turn(ball, 0.3).unwrap();
+    old.wait();
+    assert!(matches!(old.move_error.take(), Some(SessionError::Frame(vcut_shade::FrameError::Turn { .. }))));
+    assert_eq!(old.objects()[ball].yaw, 0.0);
+    assert!(old.objects()[ball].positions() == drawn);
+}

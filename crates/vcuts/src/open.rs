@@ -11,7 +11,7 @@ use vcut_envmap::EnvMap;
 use vcut_scene::{Camera, Scene};
 use vcut_shade::{Frame, FrameSettings};
 
-use crate::values::{BrdfEdit, Move};
+use crate::values::{BrdfEdit, Move, TurnTo};
 
 /// A `.vcuts` file opened for rendering.
 pub struct Opened {
@@ -114,23 +114,63 @@ pub fn object_names(frame: &Frame) -> String {
     (0..frame.object_count()).map(|o| frame.object(o).name).collect::<Vec<_>>().join(", ")
 }
 
-/// Applies `--brdf NAME=SPEC` and `--move NAME=DX,DY,DZ` edits; returns the moves' merge
-/// milliseconds and the vertices they re-merged.
-pub fn apply_edits(frame: &mut Frame, brdfs: &[BrdfEdit], moves: &[Move]) -> Result<(f64, usize)> {
+/// What [`apply_edits`] did: the moves' and turns' time and merges, and each turn's snap.
+#[derive(Debug, Clone, Default)]
+pub struct Edits {
+    /// The moves and turns (ms).
+    pub move_ms: f64,
+    /// Vertices they re-merged.
+    pub moved: usize,
+    /// Each turn, as made.
+    pub turns: Vec<TurnReport>,
+}
+
+/// One object turn of `--turn`, as the frame made it.
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct TurnReport {
+    /// The object.
+    pub object: String,
+    /// The yaw asked for (degrees).
+    pub degrees: f32,
+    /// The whole wedges its field samples turned by (the yaw snapped to the nearest multiple of
+    /// 360°/`wedges`; its SVCs blend the two around it).
+    pub steps: u32,
+    /// The wedges of the file's symmetric direction set (`turn_steps`).
+    pub wedges: u32,
+    /// The field samples' turn less the geometry's (degrees; at most 180°/`wedges` either way).
+    pub snap_error_deg: f32,
+}
+
+/// Applies the BRDF edits, then the moves, then the turns (a translation applies after the
+/// turn whatever the order), each error naming its option and value.
+pub fn apply_edits(frame: &mut Frame, brdfs: &[BrdfEdit], moves: &[Move], turns: &[TurnTo]) -> Result<Edits> {
     for b in brdfs {
         let o = object(frame, &b.object).with_context(|| format!("--brdf {b}"))?;
         let m = b.apply(*frame.object(o).material).with_context(|| format!("--brdf {b}"))?;
         frame.set_material(o, m);
     }
-    let mut move_ms = 0.0;
-    let mut moved = 0;
+    let mut edits = Edits::default();
     for m in moves {
         let o = object(frame, &m.object).with_context(|| format!("--move {m}"))?;
         let t = Instant::now();
-        moved += frame.translate(o, m.translation).with_context(|| format!("--move {m}"))?;
-        move_ms += t.elapsed().as_secs_f64() * 1e3;
+        edits.moved += frame.translate(o, m.translation).with_context(|| format!("--move {m}"))?;
+        edits.move_ms += t.elapsed().as_secs_f64() * 1e3;
     }
-    Ok((move_ms, moved))
+    for turn in turns {
+        let o = object(frame, &turn.object).with_context(|| format!("--turn {turn}"))?;
+        let t = Instant::now();
+        let made = frame.turn(o, turn.degrees.to_radians()).with_context(|| format!("--turn {turn}"))?;
+        edits.move_ms += t.elapsed().as_secs_f64() * 1e3;
+        edits.moved += made.merged;
+        edits.turns.push(TurnReport {
+            object: turn.object.clone(),
+            degrees: turn.degrees,
+            steps: made.steps,
+            wedges: made.wedges,
+            snap_error_deg: made.snap_error.to_degrees(),
+        });
+    }
+    Ok(edits)
 }
 
 /// The camera called `name` of `view`, else its first, else one framing every object.

@@ -97,6 +97,7 @@ pub const OTHER_VALUES: &[(&str, &str)] = &[
     ("flat-edge-leaves", "a power of two (1: exact), or `interactive`"),
     ("field-reach", "or `outermost`"),
     ("move", "NAME=DX,DY,DZ: finite, and a place where f32 keeps the object's shape (to 2^-12 of its radius)"),
+    ("turn", "NAME=DEGREES: finite; the file needs a symmetric direction set (`turn_steps`)"),
     ("brdf", "NAME=MODEL[:KEY=VALUE,...]: kd, ks in [0, 1]; exponent ≥ 0; roughness in (0, 1]"),
     ("size", "WIDTHxHEIGHT, each a whole number in [1, 16384] pixels"),
     ("sun", "ELEVATION,AZIMUTH: two finite numbers of degrees"),

@@ -1,6 +1,6 @@
 //! Values the commands take, parsed at the edge into types (clap value parsers through
-//! `FromStr`), so a bad one is clap's error naming the option: moves, BRDF edits, image sizes,
-//! colours and number pairs.
+//! `FromStr`), so a bad one is clap's error naming the option: moves, turns, BRDF edits, image
+//! sizes, colours and number pairs.
 
 use glam::Vec3;
 use vcut_scene::Material;
@@ -45,6 +45,36 @@ impl std::fmt::Display for Move {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         let t = self.translation;
         write!(f, "{}={},{},{}", self.object, t.x, t.y, t.z)
+    }
+}
+
+/// `NAME=DEGREES`: turn object NAME about +Y (+X toward −Z) by this many degrees from its rest
+/// orientation (finite; `vcut_shade::Frame::turn`, which refuses a file without a symmetric
+/// direction set, naming `turn_steps`).
+#[derive(Debug, Clone, PartialEq)]
+pub struct TurnTo {
+    /// The object's name.
+    pub object: String,
+    /// Its yaw from rest (degrees).
+    pub degrees: f32,
+}
+
+impl std::str::FromStr for TurnTo {
+    type Err = String;
+
+    fn from_str(s: &str) -> Result<TurnTo, String> {
+        let (name, v) = s.split_once('=').ok_or_else(|| format!("{s:?}: expected NAME=DEGREES"))?;
+        let [degrees] = numbers::<1>(v).map_err(|e| format!("{s:?}: {e}"))?;
+        if name.is_empty() {
+            return Err(format!("{s:?}: expected an object's name before `=`"));
+        }
+        Ok(TurnTo { object: name.into(), degrees })
+    }
+}
+
+impl std::fmt::Display for TurnTo {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "{}={}", self.object, self.degrees)
     }
 }
 
@@ -187,6 +217,12 @@ mod tests {
         assert_eq!(m.to_string().parse::<Move>().unwrap(), m);
         for bad in ["teapot", "teapot=1,2", "teapot=nan,0,0", "teapot=inf,0,0", "teapot=1e39,0,0", "=1,2,3", "t=1,,3"] {
             assert!(bad.parse::<Move>().is_err(), "{bad}");
+        }
+        let t: TurnTo = "teapot=-37.5".parse().unwrap();
+        assert_eq!((t.object.as_str(), t.degrees), ("teapot", -37.5));
+        assert_eq!(t.to_string().parse::<TurnTo>().unwrap(), t);
+        for bad in ["teapot", "teapot=", "teapot=nan", "teapot=inf", "teapot=1,2", "=30", "teapot=1e39"] {
+            assert!(bad.parse::<TurnTo>().is_err(), "{bad}");
         }
         let b: BrdfEdit = "teapot=blinn-phong:alpha=70".parse().unwrap();
         assert_eq!(b.apply(Material::default()).unwrap().exponent, 70.0);

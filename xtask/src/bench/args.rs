@@ -22,11 +22,14 @@ pub enum Section {
     Accuracy,
     /// A precompute whole and sharded, gathered; the projection over M nodes.
     Distributed,
+    /// Objects turning through a symmetric direction set: a turn step beside a translation
+    /// step, and the error after turns.
+    Turns,
 }
 
 impl Section {
     /// Every section, in the order a full run measures them.
-    pub const ALL: [Section; 7] = [
+    pub const ALL: [Section; 8] = [
         Section::Tradeoff,
         Section::Ssdo,
         Section::Leaves,
@@ -34,6 +37,7 @@ impl Section {
         Section::Assembly,
         Section::Accuracy,
         Section::Distributed,
+        Section::Turns,
     ];
 
     /// Its key in `report.json` and its name on the command line.
@@ -46,6 +50,7 @@ impl Section {
             Section::Assembly => "assembly",
             Section::Accuracy => "accuracy",
             Section::Distributed => "distributed",
+            Section::Turns => "turns",
         }
     }
 }
@@ -245,6 +250,7 @@ mod tests {
             Section::Assembly,
             Section::Accuracy,
             Section::Distributed,
+            Section::Turns,
         ];
         assert_eq!(plan(&["--no-tradeoff"]).unwrap(), Plan::Full(rest));
         for bad in [&["--only-ssdo", "--only-leaves"][..], &["--only", "ssdo", "--no-ssdo"], &["--only", "fast"]] {

@@ -19,6 +19,7 @@ pub mod leaves;
 pub mod scaling;
 pub mod ssdo;
 pub mod tradeoff;
+pub mod turns;
 
 use crate::report::{
     Directions, Machine, PrecomputeFigures, RandomStart, Report, SceneFigures, Tradeoff, replace_section, write_atomic,
@@ -413,6 +414,7 @@ pub fn run(args: &BenchArgs) -> Result<()> {
         assembly: None,
         distributed: None,
         accuracy: None,
+        turns: None,
         bench_s: 0.0,
     };
     for section in sections {
@@ -429,6 +431,7 @@ pub fn run(args: &BenchArgs) -> Result<()> {
             Section::Distributed => {
                 report.distributed = Some(crate::bench::distributed::run(args.quick, &data_dir, &args.out)?)
             }
+            Section::Turns => report.turns = Some(crate::bench::turns::run(args.quick, &data_dir, &args.out)?),
         }
     }
     report.bench_s = started.elapsed().as_secs_f64();
@@ -467,6 +470,7 @@ fn measure_section(
         Section::Distributed => {
             replace_section(path, key, &crate::bench::distributed::run(args.quick, data_dir, &args.out)?)
         }
+        Section::Turns => replace_section(path, key, &crate::bench::turns::run(args.quick, data_dir, &args.out)?),
     }
 }
 

@@ -12,8 +12,6 @@ use anyhow::{Context, Result};
 use glam::Vec3;
 use serde::{Deserialize, Serialize};
 use std::path::Path;
-use vcut_data::Precomputed;
-use vcut_scene::Scene;
 use vcut_shade::measure::{drag_path, fields_per_merged_vertex, move_path};
 use vcut_shade::{BackgroundFrame, Frame, FrameJob, FrameSettings, MergeAlgorithm};
 
@@ -111,12 +109,7 @@ fn drag_beside_refinement(frame: Frame, o: usize, eye: Vec3) -> Result<(f64, f64
 pub fn measure(kind: &str, scene: &str, preset: &str, object: Option<&str>, data_dir: &Path) -> Result<AssemblyPoint> {
     let file = data_dir.join(format!("assembly-{}-{preset}.vcuts", vcuts::precompute::scene_stem(scene)));
     let file = vcuts::precompute::cached_or_run_at(scene, preset, &file)?;
-    let opened = Scene::open(scene)?;
-    let eye = opened.cameras.first().map(|c| c.position).context("the scene has no camera")?;
-    let mut data = Precomputed::open(&file)?;
-    let offset = data.svc_origin_offset();
-    let eager = FrameSettings { deferred_merges: false, ..FrameSettings::default() };
-    let mut frame = Frame::open(&mut data, &opened.environment, &eager, Some(eye))?;
+    let super::OpenedFrame { mut frame, eye, offset } = super::open_frame(scene, &file, true)?;
     let o = match object {
         Some(name) => frame.object_index(name).with_context(|| format!("{scene}: no object {name}"))?,
         None => super::central_movable(&frame).with_context(|| format!("{scene} has no movable object"))?,

@@ -1,19 +1,45 @@
 //! What the bench measures beyond a scene's Table 1 row, each a section of `report.json`: the
 //! accuracy under every map (`accuracy`), how every cost grows with objects and vertices
-//! (`scaling`), drags in dense assemblies against the same objects apart (`assembly`), a precompute whole and sharded (`distributed`), and the machine itself
-//! (`machine`).
+//! (`scaling`), drags in dense assemblies against the same objects apart (`assembly`), a
+//! precompute whole and sharded (`distributed`), objects turning (`turns`), and the machine
+//! itself (`machine`).
 
 pub mod accuracy;
 pub mod assembly;
 pub mod distributed;
 pub mod machine;
 pub mod scaling;
+pub mod turns;
 
 use glam::Vec3;
 use rayon::prelude::*;
 use vcut_scene::Motion;
 use vcut_shade::Frame;
 use vcut_shade::reference::{ExactReference, relative_errors};
+
+/// A scene's frame opened from its precomputed file, facing its first camera.
+pub struct OpenedFrame {
+    /// The frame, every vertex merged.
+    pub frame: Frame,
+    /// The scene's first camera's position.
+    pub eye: Vec3,
+    /// The SVCs' ray offset (what the exact reference starts its rays with).
+    pub offset: f32,
+}
+
+/// Opens `file` (`scene` precomputed) under the default settings, or with eager merges (every
+/// changed vertex merged at once, so that a step's time is the whole move's), facing `scene`'s
+/// first camera.
+pub fn open_frame(scene: &str, file: &std::path::Path, eager: bool) -> anyhow::Result<OpenedFrame> {
+    use anyhow::Context;
+    let opened = vcut_scene::Scene::open(scene)?;
+    let eye = opened.cameras.first().map(|c| c.position).context("the scene has no camera")?;
+    let mut data = vcut_data::Precomputed::open(file)?;
+    let offset = data.svc_origin_offset();
+    let settings = vcut_shade::FrameSettings { deferred_merges: !eager, ..vcut_shade::FrameSettings::default() };
+    let frame = Frame::open(&mut data, &opened.environment, &settings, Some(eye))?;
+    Ok(OpenedFrame { frame, eye, offset })
+}
 
 /// The movable object nearest the movable objects' centre (by bounding-box centres at rest).
 pub fn central_movable(frame: &Frame) -> Option<usize> {

@@ -43,6 +43,8 @@ pub struct Report {
     pub distributed: Option<crate::measure::distributed::DistributedSection>,
     #[serde(skip_serializing_if = "Option::is_none")]
     pub accuracy: Option<crate::measure::accuracy::AccuracySection>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub turns: Option<crate::bench::turns::TurnsSection>,
     pub bench_s: f64,
 }
 

@@ -6,8 +6,8 @@
 //! still queued replaces it (the pointer moved on; only where it is now matters), so a slow
 //! merge never builds a backlog. Any other job posted drops the refinements still queued and
 //! cancels the one running ([`Frame::refine`] stops within one batch of casts): a move never
-//! waits for a refinement. Other jobs queue in order: a translation, a settle and a drag of
-//! another object are never dropped.
+//! waits for a refinement. Other jobs queue in order: a translation, a turn, a settle and a
+//! drag of another object are never dropped.
 //!
 //! **A shading follows every job.** After each job (before the next queued one) the worker shades
 //! toward the eye last given ([`BackgroundFrame::set_eye`]): with deferred merges a move merges
@@ -46,6 +46,13 @@ pub enum FrameJob {
         /// Its translation from rest.
         translation: Vec3,
     },
+    /// [`Frame::turn`]: turns `object` to `yaw` radians about +Y from rest.
+    Turn {
+        /// The object.
+        object: usize,
+        /// Its yaw from rest (radians).
+        yaw: f32,
+    },
     /// [`Frame::settle`]: ends a drag.
     Settle,
     /// [`Frame::refine`] for at most `seconds` (`None`: to completion) within `reach`
@@ -70,6 +77,7 @@ impl FrameJob {
         match self {
             FrameJob::Drag { object, translation } => frame.drag(object, translation),
             FrameJob::Translate { object, translation } => frame.translate(object, translation),
+            FrameJob::Turn { object, yaw } => Ok(frame.turn(object, yaw)?.merged),
             FrameJob::Settle => frame.settle(),
             FrameJob::Refine { seconds, reach } => {
                 let deadline = seconds

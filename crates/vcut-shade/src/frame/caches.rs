@@ -4,7 +4,6 @@
 
 use super::merge::FieldCache;
 use super::{Context, Frame, FrameCaches, FrameError};
-use rayon::prelude::*;
 
 impl Context {
     /// Keeps every vertex's SVC decoded and prepared for the merge algorithm (`on`) or decodes
@@ -16,14 +15,7 @@ impl Context {
             if !on {
                 s.svc_refined = Vec::new();
             } else if s.svc_refined.is_empty() {
-                let cached = (0..s.mesh.vertex_count())
-                    .into_par_iter()
-                    .map(|v| {
-                        let svc = s.svc_cut(v).map_err(|e| FrameError::cut(o, v, e))?;
-                        algorithm.prepare(&[&svc]).map_err(|e| FrameError::cut(o, v, e))
-                    })
-                    .collect::<Result<_, _>>()?;
-                s.svc_refined = cached;
+                s.svc_refined = s.prepared_svcs(algorithm).map_err(|(v, e)| FrameError::cut(o, v, e))?;
             }
         }
         Ok(())

@@ -75,6 +75,35 @@ impl Context {
         }
     }
 
+    /// [`Context::ensure_occluders`], and the hierarchy of every turned object as it stands
+    /// (for casts that walk the tree's own directions: refinement's exact factors); those of
+    /// objects turned since are built again.
+    pub(super) fn ensure_turned_occluders(&mut self) {
+        self.ensure_occluders();
+        self.turned_occluders.resize_with(self.objects.len(), || None);
+        for (object, kept) in self.objects.iter().zip(&mut self.turned_occluders) {
+            let yaw = object.turn.yaw;
+            if yaw == 0.0 {
+                *kept = None;
+            } else if kept.as_ref().is_none_or(|(at, _)| *at != yaw) {
+                *kept = Some((yaw, vcut_rays::Occluder::new(&[&object.mesh])));
+            }
+        }
+    }
+
+    /// Object `j`'s hierarchy as it stands turned ([`Context::ensure_turned_occluders`] built
+    /// it).
+    pub(super) fn turned_occluder(&self, j: usize) -> &vcut_rays::Occluder {
+        let yaw = self.objects[j].turn.yaw;
+        if yaw == 0.0 {
+            return &self.occluders[j];
+        }
+        match self.turned_occluders.get(j).and_then(Option::as_ref) {
+            Some((at, occ)) if *at == yaw => occ,
+            _ => unreachable!("the turned hierarchies are built before any cast against them"),
+        }
+    }
+
     /// Chooses the leaves to cast under `rays` for the current light and translations; builds
     /// the objects' hierarchies when there is a candidate and they are not built yet. The
     /// vertices sampled take their kept merged cuts from `states` unless `stale`.

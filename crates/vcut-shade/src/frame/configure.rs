@@ -36,7 +36,7 @@ impl Frame {
         let caches = settings.caches_at_start();
         let mut objects = Vec::with_capacity(data.objects.len());
         for o in 0..data.objects.len() {
-            objects.push(object_data(data, o, caches.stored)?);
+            objects.push(object_data(data, o, caches.stored, tree.turn_shape())?);
         }
         let mut builder = LightTreeBuilder::new(&tree);
         let light = builder.build(env);
@@ -56,6 +56,7 @@ impl Frame {
             sun: None,
             choice: LightChoice::default(),
             occluders: Vec::new(),
+            turned_occluders: Vec::new(),
             origin_offset: data.svc_origin_offset(),
             // Built by `light_state` below, with the sun's leaves out when they are cast.
             nodes: Vec::new(),
@@ -166,9 +167,15 @@ fn flat_leaves(settings: &FrameSettings, tree: &DirectionTree) -> Result<u32, Se
     Ok(leaves)
 }
 
-/// Object `o` of `data` as a frame reads it; its stored cuts left in the file unless `stored`
-/// (one object's arrays at a time, so that the setup never holds the whole file).
-fn object_data(data: &mut Precomputed, o: usize, stored: bool) -> Result<ObjectData, FrameError> {
+/// Object `o` of `data` as a frame reads it, at rest; its stored cuts left in the file unless
+/// `stored` (one object's arrays at a time, so that the setup never holds the whole file);
+/// `shape`, the file's turn shape.
+fn object_data(
+    data: &mut Precomputed,
+    o: usize,
+    stored: bool,
+    shape: Option<vcut_cut::turn::TurnShape>,
+) -> Result<ObjectData, FrameError> {
     let mut svc = data.svc_arrays(o)?;
     let mut field = data.field_arrays(o)?;
     if !stored {
@@ -189,6 +196,10 @@ fn object_data(data: &mut Precomputed, o: usize, stored: bool) -> Result<ObjectD
         pow: brdf::PowTable::new(s.material.exponent),
         motion: s.motion,
         translation: Vec3::ZERO,
+        turn: Default::default(),
+        centre: data.layouts[o].map_or(s.mesh.bounds().center, |l| l.center),
+        rest_mesh: None,
+        shape,
         svc,
         svc_starts,
         layout: data.layouts[o],

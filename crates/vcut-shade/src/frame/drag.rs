@@ -110,7 +110,7 @@ impl Drag {
         };
         keys.iter().filter(|key| key.object == self.object as u32).all(|key| match key.input {
             Input::Samples(samples) => samples.iter().filter(|x| x.weight > 0.0).all(|x| {
-                let id = SampleId { object: key.object, sphere: x.sphere, point: x.point };
+                let id = SampleId::of(key, x);
                 self.shadows.get(&id).is_some_and(|runs| runs.iter().all(covered))
             }),
             _ => false,
@@ -121,9 +121,7 @@ impl Drag {
     fn shadows_of<'k>(&mut self, ctx: &Context, keys: impl Iterator<Item = &'k FieldKey>) -> Result<(), FrameError> {
         let mut missing: Vec<SampleId> = keys
             .filter_map(|key| match key.input {
-                Input::Samples(samples) => {
-                    Some(samples.map(|x| SampleId { object: key.object, sphere: x.sphere, point: x.point }))
-                }
+                Input::Samples(samples) => Some(samples.map(|x| SampleId::of(key, &x))),
                 _ => None,
             })
             .flatten()
@@ -238,7 +236,7 @@ impl Frame {
             if !which.contains(&true) {
                 continue;
             }
-            let super::object::MergeState { keys, lists, decoded, merged, pending } = state;
+            let super::object::MergeState { keys, lists, decoded, merged, pending, .. } = state;
             let kept = ctx.caches.merged.then_some(&mut merged[..]);
             match ctx.merge_all(k, keys, which, kept, lists, decoded, None, &mut MoveTiming::default()) {
                 Ok(n) => total += n,

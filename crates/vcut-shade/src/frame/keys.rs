@@ -3,14 +3,19 @@
 //! translations.
 
 use super::object::MergeState;
+use super::turn::Turn;
 use super::{Context, Frame};
 use vcut_data::{FieldLayout, FieldSample};
 use vcut_scene::Motion;
 
-/// One occluder's contribution to a vertex: the object, and what gives its shadow there.
+/// One occluder's contribution to a vertex: the object, its turn, and what gives its shadow
+/// there.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub(super) struct FieldKey {
     pub(super) object: u32,
+    /// The occluder's turn ([`super::turn`]): its samples' cuts turn by its steps, and a flat
+    /// outline stands turned by its yaw.
+    pub(super) turn: Turn,
     pub(super) input: Input,
 }
 
@@ -32,7 +37,7 @@ pub(super) enum Input {
 impl FieldKey {
     /// The one key of a vertex whose merge failed ([`Input::Failed`]).
     pub(super) fn failed() -> FieldKey {
-        FieldKey { object: 0, input: Input::Failed }
+        FieldKey { object: 0, turn: Turn::default(), input: Input::Failed }
     }
 
     /// Whether this input hides every direction (the vertex's cut is one zero node).
@@ -49,13 +54,22 @@ impl FieldKey {
     }
 }
 
-/// One stored field cut: object `object`'s field, sphere `sphere`, point `point` on it. Ordered
-/// by object, then sphere, then point (the order a file stores them in).
+/// One stored field cut: object `object`'s field, sphere `sphere`, point `point` on it, turned
+/// by `steps` wedges. Ordered by object, then sphere, then point (the order a file stores them
+/// in), then turn.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, PartialOrd, Ord, Hash)]
 pub(super) struct SampleId {
     pub(super) object: u32,
     pub(super) sphere: u32,
     pub(super) point: u32,
+    pub(super) steps: u32,
+}
+
+impl SampleId {
+    /// Sample `x` of lookup `k`.
+    pub(super) fn of(k: &FieldKey, x: &FieldSample) -> SampleId {
+        SampleId { object: k.object, sphere: x.sphere, point: x.point, steps: k.turn.steps }
+    }
 }
 
 /// A field lookup's kept samples, in lookup order (the order of the sum): the cuts one factor
@@ -75,7 +89,7 @@ impl CellKey {
         let mut cell = CellKey { samples: [SampleId::default(); 8], len: 0 };
         let mut weights = [0.0f32; 8];
         for x in samples.iter().filter(|x| x.weight > 0.0) {
-            cell.samples[usize::from(cell.len)] = SampleId { object: k.object, sphere: x.sphere, point: x.point };
+            cell.samples[usize::from(cell.len)] = SampleId::of(k, x);
             weights[usize::from(cell.len)] = x.weight;
             cell.len += 1;
         }
@@ -166,7 +180,7 @@ impl Context {
             if self.settings.horizon_culling && outline.corners().iter().all(|c| (*c - at).dot(n) <= 0.0) {
                 return None;
             }
-            return Some(FieldKey { object: j as u32, input: Input::Flat(at) });
+            return Some(FieldKey { object: j as u32, turn: other.turn, input: Input::Flat(at) });
         }
         let layout = other.layout?;
         if self
@@ -182,12 +196,13 @@ impl Context {
         {
             return None;
         }
-        let mut samples = layout.lookup(p - other.translation)?;
+        let mut samples = layout.lookup(other.turn.back_to_rest(p - other.translation, other.centre))?;
         let kept = self
             .settings
             .inside_samples
             .apply(&mut samples, |x| other.field[x.sphere as usize].inside(x.point as usize));
-        Some(FieldKey { object: j as u32, input: if kept > 0 { Input::Samples(samples) } else { Input::Inside } })
+        let input = if kept > 0 { Input::Samples(samples) } else { Input::Inside };
+        Some(FieldKey { object: j as u32, turn: other.turn, input })
     }
 
     /// Vertex `v` of object `o`'s field inputs if they differ from those it keeps (`None`: the
@@ -202,18 +217,21 @@ impl Context {
         changed: Changed,
     ) -> Option<Vec<FieldKey>> {
         let kept = &state.keys[v];
-        let current = !state.pending[v] && kept.iter().all(|k| k.input != Input::Failed);
+        // A turn of the object turns its SVC: its vertices merge again whatever their inputs.
+        let svc_stale = state.svc_turn(v) != self.objects[o].turn.svc_stamp();
+        let current = !state.pending[v] && !svc_stale && kept.iter().all(|k| k.input != Input::Failed);
         let j = match changed {
             Changed::Nothing if current => return None,
             Changed::Object(j) if j != o && current => j,
             Changed::Settings { keys: lookups, flat } => {
                 // A cut with a flat occluder in it is another cut when flat cuts changed.
                 let keys = if current && !lookups { kept.clone() } else { self.keys(o, v) };
-                return (keys != *kept || (flat && keys.iter().any(|k| k.flat().is_some()))).then_some(keys);
+                let flat = flat && keys.iter().any(|k| k.flat().is_some());
+                return (keys != *kept || flat || svc_stale).then_some(keys);
             }
             _ => {
                 let keys = self.keys(o, v);
-                return (keys != *kept).then_some(keys);
+                return (keys != *kept || svc_stale).then_some(keys);
             }
         };
         let entry = self.key_of(o, v, j);

@@ -124,9 +124,10 @@ impl Frame {
 }
 
 impl Context {
-    /// The stored field cut of sample `s`, decoded.
-    pub(super) fn sample_cut(&self, s: SampleId) -> Result<Cut, vcut_data::sections::CutDecodeError> {
-        self.objects[s.object as usize].field[s.sphere as usize].cut(s.point as usize)
+    /// The stored field cut of sample `s`, decoded and turned by its steps.
+    pub(super) fn sample_cut(&self, s: SampleId) -> Result<Cut, CutFailure> {
+        let object = &self.objects[s.object as usize];
+        super::object::turned(object.field[s.sphere as usize].cut(s.point as usize)?, object.shape, s.steps)
     }
 
     /// Decodes the field cuts of `wanted` (sorted samples), taking those `old` holds (sorted
@@ -351,8 +352,7 @@ impl Context {
         let svc = match me.svc_refined.get(v) {
             Some(cached) => cached,
             None => {
-                let cut = me.svc_cut(v).map_err(|e| err(e.into()))?;
-                self.settings.merge_algorithm.prepare_into(&[&cut], decoded).map_err(|e| err(e.into()))?;
+                me.prepare_svc(v, self.settings.merge_algorithm, decoded).map_err(err)?;
                 &*decoded
             }
         };
@@ -371,7 +371,9 @@ impl Context {
         // Where the SVC is zero (below the horizon, where the object hides itself) the product
         // is zero whatever a flat occluder hides: its cut is not walked there.
         self.prepare_flats(&planes, svc, flats, zeros, nodes).map_err(|e| err(e.into()))?;
-        product(svc, &fields, exact, &flats[..planes.len()], cell, out).map_err(|e| err(e.into()))?;
+        let weights = me.turn.svc_weights();
+        product((svc, weights.as_slice()), &fields, exact, &flats[..planes.len()], cell, out)
+            .map_err(|e| err(e.into()))?;
         Ok(Some(svc.ends()))
     }
 
@@ -430,7 +432,7 @@ impl Context {
         let lookups: Vec<Field> = mine().filter_map(CellKey::of).map(|(c, w)| Field::Cell(c, w)).collect();
         let planes: Vec<(usize, Vec3)> = mine().filter_map(|k| Some((m as usize, k.flat()?))).collect();
         self.prepare_flats(&planes, rest, flats, zeros, nodes).map_err(|e| err(e.into()))?;
-        product(rest, &lookups, exact, &flats[..planes.len()], cell, out).map_err(|e| err(e.into()))?;
+        product((rest, &[1.0]), &lookups, exact, &flats[..planes.len()], cell, out).map_err(|e| err(e.into()))?;
         Ok(self.objects[o].svc_ends(v))
     }
 
@@ -448,12 +450,8 @@ impl Context {
         let err = |e: CutFailure| FrameError::cut(o, v, e);
         let mut local: Vec<(CellKey, Prepared)> = Vec::new();
         for (cell, _) in keys.iter().filter_map(CellKey::of) {
-            let cuts = cell
-                .samples()
-                .iter()
-                .map(|&s| self.sample_cut(s))
-                .collect::<Result<Vec<Cut>, _>>()
-                .map_err(|e| err(e.into()))?;
+            let cuts =
+                cell.samples().iter().map(|&s| self.sample_cut(s)).collect::<Result<Vec<Cut>, _>>().map_err(err)?;
             local.push((
                 cell,
                 self.settings.merge_algorithm.prepare(&cuts.iter().collect::<Vec<_>>()).map_err(|e| err(e.into()))?,
@@ -497,11 +495,12 @@ impl Context {
     }
 }
 
-/// Merges into `out` the product `first` (an SVC or a rest product) × each field factor (a
-/// lookup's cell, `cell` gives it, weighted by the lookup's weights, or an exact factor of
-/// `exact`) × each of `flats`, in that order (the order a merged cut's rounding follows).
+/// Merges into `out` the product `first` (an SVC, with its members' weights, or a rest
+/// product) × each field factor (a lookup's cell, `cell` gives it, weighted by the lookup's
+/// weights, or an exact factor of `exact`) × each of `flats`, in that order (the order a
+/// merged cut's rounding follows).
 fn product<'a, 'r: 'a>(
-    first: &'a Prepared,
+    first: (&'a Prepared, &'a [f32]),
     fields: &'a [Field],
     exact: &'a [Prepared],
     flats: &'a [Prepared],
@@ -509,7 +508,7 @@ fn product<'a, 'r: 'a>(
     out: &mut MergedCut,
 ) -> Result<usize, vcut_merge::MergeError> {
     let mut factors: Vec<(&'a Prepared, &'a [f32])> = Vec::with_capacity(1 + fields.len() + flats.len());
-    factors.push((first, &[1.0]));
+    factors.push(first);
     for field in fields {
         factors.push(match field {
             Field::Cell(c, weights) => (cell(c), &weights[..usize::from(c.len)]),
@@ -567,6 +566,7 @@ impl Frame {
             let me = &ctx.objects[k];
             let mut merge: Vec<bool> =
                 (0..n).map(|v| how.all || (fresh[v].is_some() && eye.is_none_or(|e| me.seen(v, e)))).collect();
+            let steps = me.turn.svc_stamp();
             timing.keys_s += start.elapsed().as_secs_f64();
             // A waiting vertex keeps the keys of its merged cut (the next move compares with
             // them) and no list; one whose inputs are back to its cut's waits no more.
@@ -577,6 +577,7 @@ impl Frame {
                     timing.deferred += 1;
                 } else if let Some(new) = new {
                     state.keys[v] = new;
+                    state.set_svc_turn(v, steps);
                 }
             }
             if let Some(drag) = self.drag.as_mut().filter(|_| how.on_rest) {

@@ -66,6 +66,11 @@
 //! keeping them, and [`Frame::merge_pending`] merges all. Images are bit for bit the eager
 //! frame's (tested). With deferral off a camera change never merges (with the merged cache on).
 //!
+//! **Turns** ([`Frame::turn`], `turn.rs`). Over a file precomputed with a direction set
+//! symmetric about +Y (`turn_steps`), an object turns about the vertical through its
+//! bounding-sphere centre: its geometry by the yaw asked for, its cuts (SVCs and field samples)
+//! relabelled by the nearest whole wedge. A turn and back restores every cut bit for bit.
+//!
 //! **Drags** ([`Frame::drag`], `drag.rs`). While one object moves step after step, each vertex
 //! its field reaches merges on the product of its other factors, prepared once, and the moved
 //! field alone; [`Frame::settle`] gives back the full product bit for bit.
@@ -101,6 +106,7 @@ mod shading;
 mod stats;
 #[cfg(test)]
 mod tests;
+mod turn;
 
 use crate::sun::Sun;
 #[cfg(feature = "clap")]
@@ -119,6 +125,7 @@ pub use settings::{
 };
 pub use shading::Parts;
 pub use stats::{FrameMemory, FrameStats};
+pub use turn::{TurnRefusal, Turned};
 use vcut_cut::Cut;
 use vcut_data::FileError;
 use vcut_dirtree::DirectionTree;
@@ -172,6 +179,16 @@ pub enum FrameError {
     /// job left it when it panicked.
     #[error("the frame's worker failed (a bug, please report it): {0}")]
     Panicked(String),
+    /// A turn the object cannot take ([`Frame::turn`]): the frame is left as it was.
+    #[error("object {object} ({name}) cannot turn: {reason}")]
+    Turn {
+        /// Object index.
+        object: usize,
+        /// Its name.
+        name: String,
+        /// Why not.
+        reason: TurnRefusal,
+    },
     /// The direction tree has more nodes than a shading list entry can name.
     #[error("the direction tree has {nodes} nodes; a frame shades at most {max} (65,536 directions)")]
     TooManyNodes {
@@ -192,6 +209,10 @@ pub enum CutFailure {
     /// The merge refused its inputs.
     #[error(transparent)]
     Merge(#[from] vcut_merge::MergeError),
+    /// A stored cut has a node a turn cannot relabel (a file whose cuts do not match its
+    /// symmetric direction set).
+    #[error(transparent)]
+    Turn(#[from] vcut_cut::CutError),
 }
 
 impl FrameError {
@@ -244,7 +265,7 @@ pub struct MoveTiming {
 }
 
 /// What every merge, list and shading of a frame reads: the trees, the light, the objects with
-/// their stored cuts and translations, and the settings. Per-object merge results live beside
+/// their stored cuts, translations and turns, and the settings. Per-object merge results live beside
 /// it ([`MergeState`]), so a merge borrows this and writes one state.
 pub(crate) struct Context {
     tree: DirectionTree,
@@ -265,6 +286,9 @@ pub(crate) struct Context {
     /// Every object's hierarchy at rest, for the sun's rays (built at the first choice that
     /// has a candidate leaf).
     occluders: Vec<vcut_rays::Occluder>,
+    /// Per object, its hierarchy as it stands turned and the yaw it was built at (`None`: not
+    /// turned, or not built yet; [`Context::ensure_turned_occluders`]).
+    turned_occluders: Vec<Option<(f32, vcut_rays::Occluder)>>,
     /// Where the SVCs' rays start: this fraction of an object's bounding radius along the normal.
     origin_offset: f32,
     /// Per tree node (level order): what shading needs (under the light less the sun's leaves
@@ -350,8 +374,8 @@ impl Frame {
         Ok(std::borrow::Cow::Owned(cut))
     }
 
-    /// The SVC of vertex `v` of object `o`.
-    pub fn svc(&self, o: usize, v: usize) -> Result<Cut, vcut_data::sections::CutDecodeError> {
+    /// The SVC of vertex `v` of object `o`, turned as the object stands ([`Frame::turn`]).
+    pub fn svc(&self, o: usize, v: usize) -> Result<Cut, CutFailure> {
         self.ctx.objects[o].svc_cut(v)
     }
 }

@@ -1,5 +1,5 @@
 //! An object at run time: what every merge reads (`ObjectData`: its mesh and material, its
-//! translation, its stored cuts) and what its vertices' last merge left (`MergeState`: merged
+//! translation and turn, its stored cuts) and what its vertices' last merge left (`MergeState`: merged
 //! cuts, shading lists, field inputs, the decoded field cuts and refined cells kept for the
 //! next move, which merges wait); and [`FrameObject`], how a frame shows an object.
 
@@ -7,6 +7,7 @@ use super::kept::KeptCut;
 use super::keys::FieldKey;
 use super::lists::{ShadeList, ShadeNode};
 use super::merge::FieldCache;
+use super::turn::Turn;
 use crate::brdf;
 use crate::sun::Placed;
 use glam::Vec3;
@@ -16,10 +17,11 @@ use vcut_data::sections::CutArray;
 use vcut_merge::Prepared;
 use vcut_scene::{Material, Mesh, Motion};
 
-/// An object at run time, as every merge reads it: its mesh and material, its translation,
-/// its stored cuts and its decoded SVCs.
+/// An object at run time, as every merge reads it: its mesh and material, its translation
+/// and turn, its stored cuts and its decoded SVCs.
 pub(super) struct ObjectData {
     pub(super) name: String,
+    /// Its mesh as it stands turned (the rest mesh while it has not turned), at no translation.
     pub(super) mesh: Mesh,
     pub(super) material: Material,
     /// Its glTF material's textures (the base colour multiplies `material.kd`).
@@ -34,6 +36,14 @@ pub(super) struct ObjectData {
     pub(super) pow: Option<brdf::PowTable>,
     pub(super) motion: Motion,
     pub(super) translation: Vec3,
+    /// Its turn about the vertical axis through `centre` ([`super::turn`]).
+    pub(super) turn: Turn,
+    /// Its bounding-sphere centre at rest: what it turns about.
+    pub(super) centre: Vec3,
+    /// Its mesh at rest, kept once it has turned (`mesh` is then the rest mesh turned).
+    pub(super) rest_mesh: Option<Box<Mesh>>,
+    /// The file's direction set's turn shape (`None`: not symmetric; nothing turns).
+    pub(super) shape: Option<vcut_cut::turn::TurnShape>,
     pub(super) svc: Vec<CutArray>,
     /// First vertex of every SVC chunk.
     pub(super) svc_starts: Vec<usize>,
@@ -68,6 +78,28 @@ pub(super) struct MergeState {
     /// inputs changed while they faced away from the eye; `merged` and `keys` are still the
     /// last merge's.
     pub(super) pending: Vec<bool>,
+    /// Per vertex, the turn its kept cut's SVC took ([`Turn::svc_stamp`]; empty: none ever
+    /// turned), so a turn of the object merges its vertices again even where no field input
+    /// changes.
+    pub(super) svc_turns: Vec<u64>,
+}
+
+impl MergeState {
+    /// The turn vertex `v`'s kept cut took its SVC at ([`Turn::svc_stamp`]).
+    pub(super) fn svc_turn(&self, v: usize) -> u64 {
+        self.svc_turns.get(v).copied().unwrap_or(0)
+    }
+
+    /// Records that vertex `v`'s kept cut takes its SVC turned as `steps` says
+    /// ([`Turn::svc_stamp`]).
+    pub(super) fn set_svc_turn(&mut self, v: usize, steps: u64) {
+        if self.svc_turns.is_empty() && steps != 0 {
+            self.svc_turns = vec![0; self.pending.len()];
+        }
+        if let Some(s) = self.svc_turns.get_mut(v) {
+            *s = steps;
+        }
+    }
 }
 
 /// One object of a [`super::Frame`], as [`super::Frame::object`] shows it.
@@ -75,7 +107,8 @@ pub(super) struct MergeState {
 pub struct FrameObject<'a> {
     /// Its name (unique in the scene).
     pub name: &'a str,
-    /// Its mesh at rest.
+    /// Its mesh as it stands turned ([`super::Frame::turn`]; at rest until it turns), at no
+    /// translation: [`FrameObject::positions`] adds it.
     pub mesh: &'a Mesh,
     /// Its BRDF parameters now.
     pub material: &'a Material,
@@ -85,6 +118,10 @@ pub struct FrameObject<'a> {
     pub motion: Motion,
     /// Its translation from rest now.
     pub translation: Vec3,
+    /// Its yaw about +Y now (radians in `[0, 2π)`; [`super::Frame::turn`]).
+    pub yaw: f32,
+    /// The whole wedges of the direction set its cuts are turned by (its yaw snapped).
+    pub turn_steps: u32,
     data: &'a ObjectData,
 }
 
@@ -94,6 +131,7 @@ impl std::fmt::Debug for FrameObject<'_> {
             .field("name", &self.name)
             .field("motion", &self.motion)
             .field("translation", &self.translation)
+            .field("yaw", &self.yaw)
             .finish_non_exhaustive()
     }
 }
@@ -107,6 +145,8 @@ impl<'a> FrameObject<'a> {
             textures: &data.textures,
             motion: data.motion,
             translation: data.translation,
+            yaw: data.turn.yaw,
+            turn_steps: data.turn.steps,
             data,
         }
     }
@@ -140,7 +180,18 @@ impl<'a> FrameObject<'a> {
         Vec3::from(self.data.material(v).kd)
     }
 
-    /// World positions of its vertices at its current translation.
+    /// What it turns about ([`super::Frame::turn`]): the vertical through this point, its
+    /// bounding-sphere centre at rest.
+    pub fn turn_centre(&self) -> Vec3 {
+        self.data.centre
+    }
+
+    /// Its mesh at rest (before any turn).
+    pub fn rest_mesh(&self) -> &'a Mesh {
+        self.data.rest_mesh.as_deref().unwrap_or(self.mesh)
+    }
+
+    /// World positions of its vertices at its current translation and turn.
     pub fn positions(&self) -> Vec<Vec3> {
         self.mesh.positions().iter().map(|&p| p + self.translation).collect()
     }
@@ -257,9 +308,51 @@ impl ObjectData {
         list.rebuild(merged.nodes(), self.mesh.normals()[v], nodes, self.svc_ends(v).as_deref(), below);
     }
 
-    pub(super) fn svc_cut(&self, v: usize) -> Result<Cut, vcut_data::sections::CutDecodeError> {
+    /// Vertex `v`'s SVC turned by the nearest whole step of the object's yaw.
+    pub(super) fn svc_cut(&self, v: usize) -> Result<Cut, super::CutFailure> {
+        turned(self.stored_svc(v)?, self.shape, self.turn.steps)
+    }
+
+    /// Vertex `v`'s SVC as it is stored (at rest).
+    fn stored_svc(&self, v: usize) -> Result<Cut, vcut_data::sections::CutDecodeError> {
         let chunk = self.svc_starts.partition_point(|&s| s <= v) - 1;
         self.svc[chunk].cut(v - self.svc_starts[chunk])
+    }
+
+    /// Vertex `v`'s SVC as the object stands, prepared for `algorithm` into `into`: the stored
+    /// cut turned by each whole turn [`Turn::svc_weights`] weighs (one at a whole step, the two
+    /// around the yaw between steps).
+    pub(super) fn prepare_svc(
+        &self,
+        v: usize,
+        algorithm: vcut_merge::Algorithm,
+        into: &mut Prepared,
+    ) -> Result<(), super::CutFailure> {
+        let stored = self.stored_svc(v)?;
+        let wedges = self.shape.map_or(1, |s| s.wedges() as u32);
+        let cuts = self
+            .turn
+            .svc_steps(wedges)
+            .map(|k| turned(stored.clone(), self.shape, k))
+            .collect::<Result<Vec<Cut>, _>>()?;
+        algorithm.prepare_into(&cuts.iter().collect::<Vec<_>>(), into)?;
+        Ok(())
+    }
+
+    /// Every vertex's SVC decoded and prepared for `algorithm` (the SVC cache).
+    pub(super) fn prepared_svcs(
+        &self,
+        algorithm: vcut_merge::Algorithm,
+    ) -> Result<Vec<Prepared>, (usize, super::CutFailure)> {
+        use rayon::prelude::*;
+        (0..self.mesh.vertex_count())
+            .into_par_iter()
+            .map(|v| {
+                let mut svc = Prepared::default();
+                self.prepare_svc(v, algorithm, &mut svc).map_err(|e| (v, e))?;
+                Ok(svc)
+            })
+            .collect()
     }
 
     /// The node ends (leaves) of vertex `v`'s SVC: kept when the SVCs are, decoded otherwise
@@ -268,13 +361,36 @@ impl ObjectData {
         if let Some(r) = self.svc_refined.get(v) {
             return Some(r.ends());
         }
-        Some(std::borrow::Cow::Owned(node_ends(&self.svc_cut(v).ok()?)))
+        if self.turn.blend == 0.0 {
+            return Some(std::borrow::Cow::Owned(node_ends(&self.svc_cut(v).ok()?)));
+        }
+        // Two turns blended: the ends of their common refinement.
+        let mut svc = Prepared::default();
+        self.prepare_svc(v, vcut_merge::Algorithm::Counter, &mut svc).ok()?;
+        Some(std::borrow::Cow::Owned(svc.ends().into_owned()))
     }
 }
 
-/// The objects at their translations, as the sun's rays see them.
+/// The objects at their translations and turns, as the sun's rays see them.
 pub(super) fn placed(objects: &[ObjectData]) -> Vec<Placed<'_>> {
-    objects.iter().map(|s| Placed { mesh: &s.mesh, translation: s.translation }).collect()
+    objects
+        .iter()
+        .map(|s| Placed {
+            mesh: &s.mesh,
+            rest: s.rest_mesh.as_deref().unwrap_or(&s.mesh),
+            translation: s.translation,
+            yaw: s.turn.yaw,
+            centre: s.centre,
+        })
+        .collect()
+}
+
+/// A stored cut `cut` turned by `steps` wedges of `shape` (as it is without a turn).
+pub(super) fn turned(cut: Cut, shape: Option<vcut_cut::turn::TurnShape>, steps: u32) -> Result<Cut, super::CutFailure> {
+    match shape {
+        Some(shape) if steps != 0 => Ok(cut.turned(shape, steps)?),
+        _ => Ok(cut),
+    }
 }
 
 /// The leaf where each of `cut`'s nodes ends, left to right.

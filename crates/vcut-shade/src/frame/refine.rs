@@ -9,8 +9,9 @@
 //! ray origin lies within [`Refinement::reach`] of j's bounding radii from j's centre. Flat
 //! occluders are exact already.
 //!
-//! **Kept per pair.** Each exact factor is kept with the ray origin relative to j's placement it
-//! was cast at ([`ExactFactor::at`]): every merge (a move's, a drag's rest products, a merge on
+//! **Kept per pair.** Each exact factor is kept with the ray origin relative to j's translation
+//! it was cast at ([`ExactFactor::at`]) and j's yaw (cast against j's hierarchy as it stands
+//! turned): every merge (a move's, a drag's rest products, a merge on
 //! the spot) uses it while the pair stands where it was cast and the lookup otherwise, so a
 //! pair that has not moved is never cast twice, and a move and back finds it again. A vertex
 //! keeps at most one factor per source (a cast at a new place replaces the old one).
@@ -93,11 +94,13 @@ impl RefineStats {
 }
 
 /// One exact field factor of a vertex: source `object`'s cut cast from ray origin `at`
-/// (relative to the source's placement). Kept as a cut (prepared by each merge that takes it,
-/// as flat occluders' cuts are), so it serves either merge algorithm.
+/// (relative to the source's translation) against the source turned by `yaw`. Kept as a cut
+/// (prepared by each merge that takes it, as flat occluders' cuts are), so it serves either
+/// merge algorithm.
 pub(super) struct ExactFactor {
     pub(super) object: u32,
     pub(super) at: Vec3,
+    pub(super) yaw: f32,
     pub(super) cut: Cut,
 }
 
@@ -133,7 +136,8 @@ impl Context {
             return None;
         }
         let at = self.exact_origin(o, v, k.object as usize);
-        kept.iter().find(|f| f.object == k.object && f.at == at).map(|f| &f.cut)
+        let yaw = self.objects[k.object as usize].turn.yaw;
+        kept.iter().find(|f| f.object == k.object && f.at == at && f.yaw == yaw).map(|f| &f.cut)
     }
 
     /// The pair of vertex `v` of object `o` and the source of input `k`, with its distance from
@@ -167,7 +171,7 @@ impl Frame {
             }));
         }
         self.settle()?;
-        self.ctx.ensure_occluders();
+        self.ctx.ensure_turned_occluders();
         let mut stats = RefineStats::default();
         // Cancelled at once; out of time only once a batch has run, so that every pass makes
         // progress.
@@ -200,7 +204,8 @@ impl Frame {
                 let mut touched: Vec<(usize, usize)> = Vec::new();
                 for (pair, factor) in pairs.iter().zip(cast) {
                     let Some((cut, _)) = factor else { continue };
-                    let factor = ExactFactor { object: pair.j, at: pair.at, cut };
+                    let yaw = self.ctx.objects[pair.j as usize].turn.yaw;
+                    let factor = ExactFactor { object: pair.j, at: pair.at, yaw, cut };
                     if room.is_some_and(|r| factor.bytes() > r) {
                         full = true;
                         continue;
@@ -269,7 +274,7 @@ impl Frame {
                 let j = p.j as usize;
                 let layout = ctx.objects[j].layout.unwrap_or_else(|| unreachable!("a pair's source has a field"));
                 let (cut, rays) = vcut_precompute::field::exact_point_cut(
-                    &ctx.occluders[j],
+                    ctx.turned_occluder(j),
                     &ctx.tree,
                     p.at,
                     layout.center,

@@ -124,7 +124,12 @@ impl Frame {
     pub fn memory(&self) -> FrameMemory {
         let ctx = &self.ctx;
         let mut m = FrameMemory {
-            rays: ctx.occluders.iter().map(vcut_rays::Occluder::bytes).sum::<usize>()
+            rays: ctx
+                .occluders
+                .iter()
+                .chain(ctx.turned_occluders.iter().flatten().map(|(_, o)| o))
+                .map(vcut_rays::Occluder::bytes)
+                .sum::<usize>()
                 + ctx.sun.as_ref().map_or(0, crate::sun::Sun::bytes),
             drag: self.drag.as_ref().map_or(0, super::drag::Drag::bytes),
             exact: self.exact_bytes(),

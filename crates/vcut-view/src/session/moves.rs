@@ -50,6 +50,29 @@ impl Session {
         Ok(())
     }
 
+    /// Turns object `o` to `yaw` radians about +Y from rest ([`vcut_shade::Frame::turn`]) and
+    /// waits for the merge and the shading.
+    pub fn turn(&mut self, o: usize, yaw: f32) -> Result<(), SessionError> {
+        let job = FrameJob::Turn { object: o, yaw };
+        self.check_turn(o, yaw)?.map_or(Ok(()), |_| self.run(job))
+    }
+
+    /// [`Session::turn`] without waiting: object `o` is drawn turned at once, its merge and the
+    /// shading after it run on the frame's worker ([`Session::poll`] takes them in; a refused
+    /// turn draws it back).
+    pub fn post_turn(&mut self, o: usize, yaw: f32) -> Result<(), SessionError> {
+        if self.check_turn(o, yaw)?.is_some() {
+            self.post(FrameJob::Turn { object: o, yaw });
+        }
+        Ok(())
+    }
+
+    /// The wedges of the frame's direction set, if it is symmetric about +Y (objects can turn,
+    /// by multiples of 360°/M for their cuts).
+    pub fn turn_wedges(&self) -> Option<u32> {
+        self.wedges
+    }
+
     /// Ends a drag ([`vcut_shade::Frame::settle`]): the dragged vertices merged again in full.
     /// Waits for it and the shading.
     pub fn settle(&mut self) -> Result<(), SessionError> {
@@ -81,6 +104,20 @@ impl Session {
         Ok((object.translation != translation).then_some(()))
     }
 
+    /// Refuses a turn of object `o` to `yaw` that cannot be made (a static object, a yaw that
+    /// is not finite; a file without a symmetric set is the frame's refusal); `None`: it is
+    /// turned so already.
+    fn check_turn(&self, o: usize, yaw: f32) -> Result<Option<()>, SessionError> {
+        let object = self.objects.get(o).ok_or(SessionError::NoObject(o))?;
+        if object.motion != Motion::Movable {
+            return Err(SessionError::Static(object.name.clone()));
+        }
+        if !yaw.is_finite() {
+            return Err(SessionError::NotFiniteYaw(yaw));
+        }
+        Ok((object.yaw != yaw).then_some(()))
+    }
+
     /// Refines the frame while nothing moves: when the worker is idle and the frame is not yet
     /// refined since the last move, posts a slice of [`vcut_shade::Frame::refine`]
     /// ([`REFINE_SLICE_S`]; the shading after it shows its progress). The next move cancels
@@ -100,9 +137,16 @@ impl Session {
         if !matches!(job, FrameJob::Refine { .. }) {
             (self.refined, self.last_change) = (None, ticket);
         }
-        if let FrameJob::Drag { object, translation } | FrameJob::Translate { object, translation } = job {
-            self.objects[object].translation = translation;
-            self.geometry_version += 1;
+        match job {
+            FrameJob::Drag { object, translation } | FrameJob::Translate { object, translation } => {
+                self.objects[object].translation = translation;
+                self.geometry_version += 1;
+            }
+            FrameJob::Turn { object, yaw } => {
+                self.objects[object].yaw = yaw;
+                self.geometry_version += 1;
+            }
+            FrameJob::Settle | FrameJob::Refine { .. } => {}
         }
         self.requested_eye = None;
         ticket
@@ -172,8 +216,9 @@ impl Session {
     fn take_in(&mut self, f: FinishedJob) -> Result<(), SessionError> {
         let moved = match f.job {
             FrameJob::Drag { object, translation } | FrameJob::Translate { object, translation } => {
-                Some((object, translation))
+                Some((object, Placing::Translation(translation)))
             }
+            FrameJob::Turn { object, yaw } => Some((object, Placing::Yaw(yaw))),
             FrameJob::Settle => None,
             FrameJob::Refine { .. } => {
                 // Posted before the last move (cancelled or not), it says nothing of the frame now.
@@ -185,17 +230,21 @@ impl Session {
         };
         self.last_move = Some((f.ticket, f.posted));
         match (f.merged, moved) {
-            (Ok(n), Some((o, translation))) => {
+            (Ok(n), Some((o, placing))) => {
                 self.timings.merge_ms = f.merge_s * 1e3;
                 self.timings.merged_vertices = n;
-                self.objects[o].placed = translation;
+                let object = &mut self.objects[o];
+                match placing {
+                    Placing::Translation(t) => object.placed = t,
+                    Placing::Yaw(yaw) => object.placed_yaw = yaw,
+                }
             }
             (Ok(n), None) if n > 0 => self.timings.settle_ms = f.merge_s * 1e3,
             (Ok(_), None) => {}
             (Err(e), moved) => {
                 if let Some((o, _)) = moved {
                     let object = &mut self.objects[o];
-                    object.translation = object.placed;
+                    (object.translation, object.yaw) = (object.placed, object.placed_yaw);
                     self.geometry_version += 1;
                 }
                 return Err(e.into());
@@ -203,4 +252,10 @@ impl Session {
         }
         Ok(())
     }
+}
+
+/// Where a finished move put its object.
+enum Placing {
+    Translation(Vec3),
+    Yaw(f32),
 }

@@ -27,6 +27,13 @@ pub fn sky() -> EnvMap {
 /// precomputed at 1,024 directions, seen from (2.5, 2, 3.5).
 #[allow(dead_code)]
 pub fn session_of(name: &str, text: &str, files: impl FnOnce(&Path)) -> Session {
+    session_with(name, text, &[], files)
+}
+
+/// [`session_of`] with precompute parameters `params` (each `(key, value)` as `--set` takes
+/// it) on top.
+#[allow(dead_code)]
+pub fn session_with(name: &str, text: &str, params: &[(&str, &str)], files: impl FnOnce(&Path)) -> Session {
     let dir = std::env::temp_dir().join(format!("vcut-view-{}-{name}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).unwrap();
@@ -35,7 +42,7 @@ pub fn session_of(name: &str, text: &str, files: impl FnOnce(&Path)) -> Session 
     let file = dir.join("test.toml");
     let scene: Scene = SceneDesc::parse(text, &file).unwrap().instantiate(&dir, &file).unwrap();
     let mut p = PrecomputeParams::fast();
-    for (k, v) in [("directions", "1024"), ("field_spheres", "12"), ("field_resolution", "8")] {
+    for &(k, v) in [("directions", "1024"), ("field_spheres", "12"), ("field_resolution", "8")].iter().chain(params) {
         p.set(k, v).unwrap();
     }
     let job = Job {

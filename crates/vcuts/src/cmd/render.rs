@@ -17,10 +17,10 @@ use vcut_shade::reference::{MonteCarloParams, errors, exact_direction, monte_car
 use vcut_shade::{Frame, FrameArgs, Parts};
 
 use crate::frame_report::FrameReport;
-pub use crate::open::{Opened, apply_edits, auto_camera, camera, open, open_with};
+pub use crate::open::{Edits, Opened, TurnReport, apply_edits, auto_camera, camera, open, open_with};
 use crate::outcome::ms_since;
 use crate::ssdo::ScreenMode;
-use crate::values::{BrdfEdit, Move};
+use crate::values::{BrdfEdit, Move, TurnTo};
 
 /// What `render` draws.
 #[derive(clap::ValueEnum, Clone, Copy, PartialEq, Eq, Debug)]
@@ -110,6 +110,10 @@ pub struct RenderArgs {
     /// Move an object: NAME=dx,dy,dz (repeatable; from its rest position).
     #[arg(long = "move", value_name = "NAME=DX,DY,DZ", allow_hyphen_values = true)]
     pub moves: Vec<Move>,
+    /// Turn an object about +Y: NAME=DEGREES from its rest orientation (repeatable; the file
+    /// needs `precompute --set turn_steps=M`; its cuts turn by multiples of 360°/M).
+    #[arg(long = "turn", value_name = "NAME=DEGREES", allow_hyphen_values = true)]
+    pub turns: Vec<TurnTo>,
     /// Edit a BRDF: NAME=MODEL[:KEY=VALUE,...], e.g. teapot=blinn-phong:alpha=70 (repeatable).
     #[arg(long = "brdf", value_name = "NAME=SPEC")]
     pub brdfs: Vec<BrdfEdit>,
@@ -197,6 +201,7 @@ impl RenderArgs {
             env: None,
             reconstruction: None,
             moves: Vec::new(),
+            turns: Vec::new(),
             brdfs: Vec::new(),
             camera: None,
             width: 640,
@@ -227,10 +232,13 @@ pub struct RenderOutcome {
     pub inside_samples: &'static str,
     /// The nodes across a ground's edges whose share is estimated, in leaves (1: exact).
     pub flat_edge_leaves: u32,
-    /// The moves and BRDF edits asked for: their time (ms).
+    /// The moves and turns asked for: their time (ms).
     pub move_merge_ms: f64,
-    /// Vertices the moves re-merged.
+    /// Vertices the moves and turns re-merged.
     pub move_merged_vertices: usize,
+    /// The object turns asked for (`--turn`), each with its snap to the direction set's wedges.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub object_turns: Vec<TurnReport>,
     /// Vertices a camera turn after the moves merged (they faced away from the eye before).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub turn_merged_vertices: Option<usize>,
@@ -371,7 +379,7 @@ pub fn run(args: &RenderArgs) -> Result<RenderOutcome> {
             );
         }
     }
-    let (move_ms, moved) = apply_edits(&mut frame, &args.brdfs, &args.moves)?;
+    let Edits { move_ms, moved, turns } = apply_edits(&mut frame, &args.brdfs, &args.moves, &args.turns)?;
     let camera = camera(view.as_ref(), args.camera.as_deref(), &frame)?;
     // A framing camera may have shifted with the moves: the vertices now facing it that a
     // move left are merged here.
@@ -391,6 +399,7 @@ pub fn run(args: &RenderArgs) -> Result<RenderOutcome> {
         flat_edge_leaves: settings.flat_edge_leaves.leaves(frame.tree().leaf_count()),
         move_merge_ms: move_ms,
         move_merged_vertices: moved,
+        object_turns: turns,
         turn_merged_vertices: (turned > 0).then_some(turned),
         turn_ms: (turned > 0).then_some(turn_ms),
         screen: None,

@@ -131,7 +131,7 @@ pub fn run(args: &ViewArgs) -> Result<ViewOutcome> {
     let opened =
         crate::render::open_with(&input, args.env.as_deref(), args.reconstruction, &settings, args.camera.as_deref())?;
     let crate::render::Opened { data, mut frame, env, env_name, view, setup_s } = opened;
-    crate::render::apply_edits(&mut frame, &args.brdfs, &args.moves)?;
+    crate::render::apply_edits(&mut frame, &args.brdfs, &args.moves, &[])?;
     let camera = crate::render::camera(view.as_ref(), args.camera.as_deref(), &frame)?;
     let vertices: usize = (0..frame.object_count()).map(|o| frame.object(o).mesh.vertex_count()).sum();
     let summary = vec![

@@ -219,18 +219,24 @@ pub fn cached_or_run(scene: &str, preset: &str) -> Result<PathBuf> {
 
 /// [`cached_or_run`] into `file`.
 pub fn cached_or_run_at(scene: &str, preset: &str, file: &Path) -> Result<PathBuf> {
-    let params = PrecomputeParams::preset(preset).with_context(|| format!("--preset {preset}"))?;
-    let file = file.to_path_buf();
-    let cached = vcut_data::Precomputed::open(&file)
+    cached_or_run_with(scene, preset, &[], file)
+}
+
+/// [`cached_or_run_at`] with parameters `sets` (`KEY=VALUE`, as `--set` takes them) on top of
+/// the preset: a file there is reused when it holds this scene with exactly those parameters.
+pub fn cached_or_run_with(scene: &str, preset: &str, sets: &[String], file: &Path) -> Result<PathBuf> {
+    let mut args = PrecomputeArgs::new(scene, preset);
+    args.set = sets.to_vec();
+    args.output = Some(file.to_path_buf());
+    let params = resolve_params(&args, None)?;
+    let cached = vcut_data::Precomputed::open(file)
         .map(|d| d.record.scene == scene && d.record.params == params)
         .unwrap_or(false);
     if cached {
         log::info!("precompute: cached in {} (delete it to precompute again)", file.display());
-        Ok(file)
+        Ok(file.to_path_buf())
     } else {
         log::info!("precompute {scene}, preset {preset} (SVCs and fields into a .vcuts file)");
-        let mut args = PrecomputeArgs::new(scene, preset);
-        args.output = Some(file);
         let outcome = run(&args)?;
         crate::outcome::print(&outcome);
         Ok(outcome.file)
