@@ -171,6 +171,18 @@ fn precompute_logs_progress_without_a_terminal_and_render_works_from_another_fol
         assert!(text(&o).contains(says), "no {says:?}: {}", text(&o));
     }
     assert!(!elsewhere.join("moved.png").exists(), "an image was written");
+    // A turn of an object of a file made without a symmetric set is refused naming --turn and
+    // the key that makes one, and nothing is written; a yaw that is not a number is clap's.
+    let turn = ["render", file.to_str().unwrap(), "-o", "turned.png", "--turn", "ball=30"];
+    let o = vcuts(&elsewhere, &turn);
+    assert_eq!(o.status.code(), Some(1), "{}", text(&o));
+    for says in ["--turn ball=30", "(ball) cannot turn", "turn_steps"] {
+        assert!(text(&o).contains(says), "no {says:?}: {}", text(&o));
+    }
+    assert!(!elsewhere.join("turned.png").exists(), "an image was written");
+    let o = vcuts(&elsewhere, &["render", file.to_str().unwrap(), "--turn", "ball=nan"]);
+    assert_eq!(o.status.code(), Some(2), "{}", text(&o));
+    assert!(text(&o).contains("--turn") && text(&o).contains("not finite"), "{}", text(&o));
     // An image larger than memory is refused naming its size, before anything is allocated.
     let free = vcut_scene::budget::available_memory().unwrap_or(0);
     if free < 16_384 * 16_384 * vcuts::resources::ImageCost::Cuts as u64 {
