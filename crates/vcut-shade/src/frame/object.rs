@@ -329,13 +329,13 @@ impl ObjectData {
         into: &mut Prepared,
     ) -> Result<(), super::CutFailure> {
         let stored = self.stored_svc(v)?;
-        let wedges = self.shape.map_or(1, |s| s.wedges() as u32);
-        let cuts = self
-            .turn
-            .svc_steps(wedges)
-            .map(|k| turned(stored.clone(), self.shape, k))
-            .collect::<Result<Vec<Cut>, _>>()?;
-        algorithm.prepare_into(&cuts.iter().collect::<Vec<_>>(), into)?;
+        if self.turn.blend == 0.0 {
+            algorithm.prepare_into(&[&turned(stored, self.shape, self.turn.base)?], into)?;
+            return Ok(());
+        }
+        let next = (self.turn.base + 1) % self.shape.map_or(1, |s| s.wedges() as u32);
+        let base = turned(stored.clone(), self.shape, self.turn.base)?;
+        algorithm.prepare_into(&[&base, &turned(stored, self.shape, next)?], into)?;
         Ok(())
     }
 

@@ -63,12 +63,6 @@ impl Turn {
         if self.blend == 0.0 { SvcWeights([1.0, 0.0], 1) } else { SvcWeights([1.0 - self.blend, self.blend], 2) }
     }
 
-    /// The whole turns (wedges) of the SVCs' members, as [`Turn::svc_weights`] weighs them.
-    pub(super) fn svc_steps(&self, wedges: u32) -> impl Iterator<Item = u32> {
-        let n = if self.blend == 0.0 { 1 } else { 2 };
-        (0..n).map(move |i| (self.base + i) % wedges.max(1))
-    }
-
     /// What a vertex's merged cut records of its SVC's turn ([`super::object::MergeState`]).
     pub(super) fn svc_stamp(&self) -> u64 {
         u64::from(self.base) << 32 | u64::from(self.blend.to_bits())
